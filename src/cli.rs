@@ -1,0 +1,128 @@
+//! The command line: `render`, `lens` (later `view`, `bench`, `converge`).
+//! Each command parses its arguments, calls the library and reports; errors
+//! travel up as `anyhow` chains and are printed by `main`.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use lensview::render::{RenderSettings, render};
+use lensview::scene::{Scene, SceneFile};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "lensview",
+    version,
+    about = "A ray tracer that shows how a thick biconvex glass lens distorts a 3D scene"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Open the interactive viewer on SCENE (the embedded default without one).
+    View(ViewArgs),
+    /// Render a scene to a PNG file without a window.
+    Render(RenderArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene file (TOML); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (TOML); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output PNG file.
+    #[arg(short, long, default_value = "lensview.png")]
+    pub output: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 800)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 600)]
+    pub height: u32,
+    /// Samples per pixel (default: the scene's `render.spp`).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Seed of the sample pattern.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+/// Loads `path`, or the embedded default scene.
+pub fn load_scene(path: Option<&Path>) -> Result<(SceneFile, Scene)> {
+    match path {
+        Some(p) => Ok(Scene::load(p)?),
+        None => Ok(Scene::default_scene()),
+    }
+}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        None => view(ViewArgs { scene: None }),
+        Some(Command::View(a)) => view(a),
+        Some(Command::Render(a)) => render_cmd(a),
+    }
+}
+
+fn view(a: ViewArgs) -> Result<()> {
+    // Validate the scene first so a bad file is reported either way.
+    load_scene(a.scene.as_deref())?;
+    bail!(
+        "the interactive viewer is not part of this build yet (issue #4); render headless instead: lensview render {} -o out.png",
+        a.scene.as_deref().map_or(String::new(), |p| p.display().to_string())
+    )
+}
+
+fn render_cmd(a: RenderArgs) -> Result<()> {
+    let (_, scene) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
+    }
+    if a.width > 16384 || a.height > 16384 {
+        bail!(
+            "--width and --height must be at most 16384 (got {}×{})",
+            a.width,
+            a.height
+        );
+    }
+    let spp = a.spp.unwrap_or(scene.spp);
+    if spp == 0 {
+        bail!("--spp must be at least 1");
+    }
+    let settings = RenderSettings {
+        width: a.width,
+        height: a.height,
+        spp,
+        seed: a.seed,
+    };
+    let tty = std::io::stderr().is_terminal();
+    let show = |f: f64| eprint!("\rrendering {:3.0}%", f * 100.0);
+    let start = Instant::now();
+    let img = render(&scene, &settings, if tty { Some(&show) } else { None });
+    let secs = start.elapsed().as_secs_f64();
+    if tty {
+        eprint!("\r");
+    }
+    img.write_png(&a.output)
+        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    let samples = a.width as f64 * a.height as f64 * spp as f64;
+    println!(
+        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",
+        a.width,
+        a.height,
+        spp,
+        secs,
+        samples / secs / 1e6,
+        rayon::current_num_threads(),
+        a.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,462 @@
+//! The thick biconvex lens: the intersection of two balls (DESIGN.md §2).
+//!
+//! A lens has centre `C`, unit axis `a`, diameter `d`, radii `r1, r2 ≥ d/2`
+//! and an index. Face S1 faces `+a`: its sphere centre is `C − a·√(r1² − (d/2)²)`
+//! and its vertex `V1 = C + a·sag1`. Face S2 faces `−a`: centre
+//! `C + a·√(r2² − (d/2)²)`, vertex `V2 = C − a·sag2`. The rims meet in the
+//! plane through `C`.
+//!
+//! Each face is handled in *vertex form*: for a cap with vertex `V`, outward
+//! vertex normal `m` and radius `r`, the sphere is
+//! `f(x) = |x − V|² + 2r·(x − V)·m = 0` (inside the ball when `f < 0`). With
+//! `x = p + t·u` this is `t² + 2Bt + C = 0`, `B = (p−V)·u + r·(u·m)`,
+//! `C = |p−V|² + 2r·(p−V)·m`. Every term is computed from differences of
+//! points near the lens, so a nearly flat face (r = 10⁷·d) loses nothing to
+//! cancellation, and the roots come from the stable quadratic. The ray origin
+//! is first moved to the point nearest `C`, so a tiny lens far from the
+//! origin is solved in its own scale.
+//!
+//! The solid is convex, so a ray meets it on one interval: entry at the larger
+//! of the two near roots, exit at the smaller of the two far roots. Inside the
+//! glass only the far roots are used, which needs no epsilon: a ray starting
+//! on a face going inward has its near root at ≈0 on that face and the far
+//! roots ahead.
+
+use super::{Aabb, Hit};
+use crate::math::{Ray, solve_half_b_quadratic};
+use crate::optics::{self, Index, ThickLens};
+use glam::DVec3;
+
+/// The most total internal reflections followed inside the glass before a
+/// ray is reported as trapped.
+pub const MAX_INTERNAL_REFLECTIONS: u32 = 64;
+
+/// Why a lens description is impossible.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LensError {
+    #[error("diameter d must be positive and finite, got {0}")]
+    Diameter(f64),
+    #[error("radius {name} = {r} is smaller than d/2 = {half}: the sphere cannot span the aperture")]
+    Radius { name: &'static str, r: f64, half: f64 },
+    #[error("index {0} must be ≥ 1 and finite")]
+    Index(f64),
+    #[error("axis must be a non-zero finite vector")]
+    Axis,
+    #[error("centre must be finite")]
+    Centre,
+}
+
+/// Which face: S1 faces +axis, S2 faces −axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LensSurface {
+    S1,
+    S2,
+}
+
+impl LensSurface {
+    pub fn name(self) -> &'static str {
+        match self {
+            LensSurface::S1 => "S1",
+            LensSurface::S2 => "S2",
+        }
+    }
+    fn from_part(part: u8) -> Self {
+        if part == 0 { LensSurface::S1 } else { LensSurface::S2 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LensTraceStatus {
+    /// The ray entered (or started inside) and left the glass.
+    Transmitted,
+    /// The ray does not meet the glass.
+    Miss,
+    /// More than [`MAX_INTERNAL_REFLECTIONS`] total internal reflections.
+    Trapped,
+}
+
+/// A real ray through the lens.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LensPath {
+    pub status: LensTraceStatus,
+    /// Entry face, point, and unit direction inside the glass after the first
+    /// refraction; `None` for a miss or a ray that starts inside the glass.
+    pub entry: Option<(LensSurface, DVec3, DVec3)>,
+    /// Exit face, point, and unit direction in air after the last refraction.
+    pub exit: Option<(LensSurface, DVec3, DVec3)>,
+    pub internal_reflections: u32,
+}
+
+/// One face in vertex form.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Cap {
+    vertex: DVec3,
+    /// Outward normal at the vertex (±axis).
+    m: DVec3,
+    r: f64,
+}
+
+impl Cap {
+    /// Both roots `(near, far)` for the unit direction `u` from `p`.
+    #[inline]
+    fn roots(&self, p: DVec3, u: DVec3) -> Option<(f64, f64)> {
+        let q = p - self.vertex;
+        let b = q.dot(u) + self.r * u.dot(self.m);
+        let c = q.length_squared() + 2.0 * self.r * q.dot(self.m);
+        solve_half_b_quadratic(b, c)
+    }
+
+    /// Outward unit normal at `x` on the sphere: `(x − centre)/r`, written as
+    /// `m + (x − V)/r` to avoid the large `x − centre` of a flat face.
+    #[inline]
+    fn normal(&self, x: DVec3) -> DVec3 {
+        (self.m + (x - self.vertex) / self.r).normalize()
+    }
+
+    fn f(&self, x: DVec3) -> f64 {
+        let q = x - self.vertex;
+        q.length_squared() + 2.0 * self.r * q.dot(self.m)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lens {
+    pub center: DVec3,
+    pub axis: DVec3,
+    pub d: f64,
+    pub r1: f64,
+    pub r2: f64,
+    pub index: Index,
+    caps: [Cap; 2],
+}
+
+impl Lens {
+    /// A validated lens. `axis` need not be unit.
+    pub fn new(center: DVec3, axis: DVec3, d: f64, r1: f64, r2: f64, index: Index) -> Result<Self, LensError> {
+        if !center.is_finite() {
+            return Err(LensError::Centre);
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(LensError::Diameter(d));
+        }
+        let half = 0.5 * d;
+        for (name, r) in [("r1", r1), ("r2", r2)] {
+            if !(r >= half && r.is_finite()) {
+                return Err(LensError::Radius { name, r, half });
+            }
+        }
+        let check_n = |n: f64| {
+            if n >= 1.0 && n.is_finite() {
+                Ok(())
+            } else {
+                Err(LensError::Index(n))
+            }
+        };
+        match index {
+            Index::Constant(n) => check_n(n)?,
+            Index::Cauchy { .. } => {
+                // Must be physical over the visible range used for rendering.
+                check_n(index.at(0.38))?;
+                check_n(index.at(0.78))?;
+                check_n(index.nominal())?;
+            }
+        }
+        let len = axis.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return Err(LensError::Axis);
+        }
+        let a = axis / len;
+        let sag1 = optics::sagitta(r1, half);
+        let sag2 = optics::sagitta(r2, half);
+        Ok(Lens {
+            center,
+            axis: a,
+            d,
+            r1,
+            r2,
+            index,
+            caps: [
+                Cap {
+                    vertex: center + a * sag1,
+                    m: a,
+                    r: r1,
+                },
+                Cap {
+                    vertex: center - a * sag2,
+                    m: -a,
+                    r: r2,
+                },
+            ],
+        })
+    }
+
+    /// Sphere centre of face S1 or S2 (DESIGN.md §2).
+    pub fn sphere_centre(&self, s: LensSurface) -> DVec3 {
+        let half = 0.5 * self.d;
+        match s {
+            LensSurface::S1 => self.center - self.axis * optics::centre_offset(self.r1, half),
+            LensSurface::S2 => self.center + self.axis * optics::centre_offset(self.r2, half),
+        }
+    }
+
+    pub fn vertex(&self, s: LensSurface) -> DVec3 {
+        self.caps[s as usize].vertex
+    }
+
+    /// Paraxial data at index `n`.
+    pub fn paraxial(&self, n: f64) -> ThickLens {
+        ThickLens::new(self.d, self.r1, self.r2, n)
+    }
+
+    /// Roots of both faces for a ray, each shifted back to the ray's own `t`.
+    #[inline]
+    fn all_roots(&self, origin: DVec3, u: DVec3) -> Option<[(f64, f64); 2]> {
+        let t0 = (self.center - origin).dot(u);
+        let p = origin + t0 * u;
+        let (a0, a1) = self.caps[0].roots(p, u)?;
+        let (b0, b1) = self.caps[1].roots(p, u)?;
+        Some([(a0 + t0, a1 + t0), (b0 + t0, b1 + t0)])
+    }
+
+    /// Closest crossing of the lens surface in `(t_min, t_max)`; part 0 is S1,
+    /// part 1 is S2. `ray.dir` must be unit.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let [(n1, f1), (n2, f2)] = self.all_roots(ray.origin, ray.dir)?;
+        let (t_in, p_in) = if n1 >= n2 { (n1, 0) } else { (n2, 1) };
+        let (t_out, p_out) = if f1 <= f2 { (f1, 0) } else { (f2, 1) };
+        if t_in >= t_out {
+            return None;
+        }
+        if t_in > t_min && t_in < t_max {
+            Some(Hit { t: t_in, part: p_in })
+        } else if t_out > t_min && t_out < t_max {
+            Some(Hit { t: t_out, part: p_out })
+        } else {
+            None
+        }
+    }
+
+    /// The exit from inside the glass: the nearer of the two far roots.
+    /// `origin` is inside or on the surface, `u` unit.
+    #[inline]
+    pub fn exit_from_inside(&self, origin: DVec3, u: DVec3) -> Option<(f64, LensSurface)> {
+        let [(_, f1), (_, f2)] = self.all_roots(origin, u)?;
+        let (t, part) = if f1 <= f2 { (f1, 0) } else { (f2, 1) };
+        (t >= 0.0).then_some((t, LensSurface::from_part(part)))
+    }
+
+    /// Outward unit normal of face `part` at `p`.
+    pub fn normal(&self, p: DVec3, part: u8) -> DVec3 {
+        self.caps[part as usize & 1].normal(p)
+    }
+
+    pub fn surface_normal(&self, p: DVec3, s: LensSurface) -> DVec3 {
+        self.caps[s as usize].normal(p)
+    }
+
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.caps[0].f(p) <= 0.0 && self.caps[1].f(p) <= 0.0
+    }
+
+    /// A box around the cylinder of radius d/2 from V2 to V1.
+    pub fn bounds(&self) -> Aabb {
+        let a = self.axis;
+        let rim = 0.5 * self.d * (DVec3::ONE - a * a).max(DVec3::ZERO).powf(0.5);
+        let (p, q) = (self.caps[0].vertex, self.caps[1].vertex);
+        let lo = (self.center - rim).min(p).min(q);
+        let hi = (self.center + rim).max(p).max(q);
+        Aabb::new(lo, hi)
+    }
+
+    /// Traces a real ray through the lens in air at index `n`: refraction by
+    /// Snell's law at entry, total internal reflections inside (counted, at
+    /// most [`MAX_INTERNAL_REFLECTIONS`]), refraction at exit. A ray whose
+    /// origin lies inside the glass starts there without an entry; one whose
+    /// origin lies on a face (within 1e-10·d) and points inward enters there.
+    pub fn trace(&self, origin: DVec3, dir: DVec3, n: f64) -> LensPath {
+        let u = dir.normalize();
+        let miss = LensPath {
+            status: LensTraceStatus::Miss,
+            entry: None,
+            exit: None,
+            internal_reflections: 0,
+        };
+        let Some([(n1, f1), (n2, f2)]) = self.all_roots(origin, u) else {
+            return miss;
+        };
+        let (t_in, s_in) = if n1 >= n2 {
+            (n1, LensSurface::S1)
+        } else {
+            (n2, LensSurface::S2)
+        };
+        let t_out = f1.min(f2);
+        let tol = 1e-10 * self.d;
+        if t_in >= t_out || t_out <= tol {
+            return miss;
+        }
+        if t_in >= -tol {
+            let x = if t_in > 0.0 { origin + t_in * u } else { origin };
+            let normal = self.surface_normal(x, s_in);
+            // From air into glass (n ≥ 1) there is no total reflection.
+            let Some(inside) = optics::refract(u, normal, 1.0, n) else {
+                return miss;
+            };
+            let mut path = self.propagate_inside(x, inside, n);
+            path.entry = Some((s_in, x, inside));
+            path
+        } else {
+            self.propagate_inside(origin, u, n)
+        }
+    }
+
+    /// Follows a ray inside the glass from `x` in direction `u` until it
+    /// leaves (the renderer calls this after its own entry refraction).
+    pub fn propagate_inside(&self, mut x: DVec3, mut u: DVec3, n: f64) -> LensPath {
+        let mut reflections = 0;
+        loop {
+            let Some((t, s)) = self.exit_from_inside(x, u) else {
+                return LensPath {
+                    status: LensTraceStatus::Miss,
+                    entry: None,
+                    exit: None,
+                    internal_reflections: reflections,
+                };
+            };
+            let y = x + t * u;
+            let normal = self.surface_normal(y, s);
+            // Inside, the face's outward normal points away from the incident
+            // side, so Snell's law takes −normal.
+            match optics::refract(u, -normal, n, 1.0) {
+                Some(out) => {
+                    return LensPath {
+                        status: LensTraceStatus::Transmitted,
+                        entry: None,
+                        exit: Some((s, y, out)),
+                        internal_reflections: reflections,
+                    };
+                }
+                None => {
+                    if reflections >= MAX_INTERNAL_REFLECTIONS {
+                        return LensPath {
+                            status: LensTraceStatus::Trapped,
+                            entry: None,
+                            exit: None,
+                            internal_reflections: reflections,
+                        };
+                    }
+                    reflections += 1;
+                    u = optics::reflect(u, normal).normalize();
+                    x = y;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn lens(d: f64, r1: f64, r2: f64, n: f64) -> Lens {
+        Lens::new(DVec3::ZERO, DVec3::Z, d, r1, r2, Index::Constant(n)).unwrap()
+    }
+
+    #[test]
+    fn rejects_impossible_lenses() {
+        assert!(matches!(
+            Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 0.99, 5.0, Index::Constant(1.5)),
+            Err(LensError::Radius { name: "r1", .. })
+        ));
+        assert!(Lens::new(DVec3::ZERO, DVec3::Z, 0.0, 5.0, 5.0, Index::Constant(1.5)).is_err());
+        assert!(Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 5.0, 5.0, Index::Constant(0.9)).is_err());
+        assert!(Lens::new(DVec3::ZERO, DVec3::ZERO, 2.0, 5.0, 5.0, Index::Constant(1.5)).is_err());
+        assert!(Lens::new(DVec3::ZERO, DVec3::Z, f64::NAN, 5.0, 5.0, Index::Constant(1.5)).is_err());
+        assert!(Lens::new(DVec3::ZERO, DVec3::Z, 2.0, f64::INFINITY, 5.0, Index::Constant(1.5)).is_err());
+    }
+
+    #[test]
+    fn geometry_follows_the_contract() {
+        let l = Lens::new(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(0.0, 0.0, 2.0),
+            2.0,
+            5.0,
+            3.0,
+            Index::Constant(1.5),
+        )
+        .unwrap();
+        let h1 = (25.0f64 - 1.0).sqrt();
+        let h2 = (9.0f64 - 1.0).sqrt();
+        assert!((l.sphere_centre(LensSurface::S1) - DVec3::new(1.0, 2.0, 3.0 - h1)).length() < 1e-14);
+        assert!((l.sphere_centre(LensSurface::S2) - DVec3::new(1.0, 2.0, 3.0 + h2)).length() < 1e-14);
+        assert_relative_eq!(l.vertex(LensSurface::S1).z, 3.0 + 5.0 - h1, epsilon = 1e-14);
+        assert_relative_eq!(l.vertex(LensSurface::S2).z, 3.0 - (3.0 - h2), epsilon = 1e-14);
+        // The rim circle in the plane through C lies on both spheres.
+        let rim = DVec3::new(2.0, 2.0, 3.0);
+        assert_relative_eq!((rim - l.sphere_centre(LensSurface::S1)).length(), 5.0, epsilon = 1e-14);
+        assert_relative_eq!((rim - l.sphere_centre(LensSurface::S2)).length(), 3.0, epsilon = 1e-14);
+    }
+
+    #[test]
+    fn axial_ray_passes_undeviated() {
+        let l = lens(20.0, 50.0, 50.0, 1.5);
+        let p = l.trace(DVec3::new(0.0, 0.0, 30.0), DVec3::NEG_Z, 1.5);
+        assert_eq!(p.status, LensTraceStatus::Transmitted);
+        let (s, x, u) = p.entry.unwrap();
+        assert_eq!(s, LensSurface::S1);
+        assert_relative_eq!(x.z, optics::sagitta(50.0, 10.0), epsilon = 1e-15);
+        assert_eq!(u, DVec3::NEG_Z);
+        let (s, x, u) = p.exit.unwrap();
+        assert_eq!(s, LensSurface::S2);
+        assert_relative_eq!(x.z, -optics::sagitta(50.0, 10.0), epsilon = 1e-15);
+        assert_eq!(u, DVec3::NEG_Z);
+    }
+
+    #[test]
+    fn paraxial_ray_focuses_near_back_focal_distance() {
+        let l = lens(20.0, 50.0, 50.0, 1.5);
+        let px = l.paraxial(1.5);
+        let h = 1e-4;
+        let p = l.trace(DVec3::new(h, 0.0, 30.0), DVec3::NEG_Z, 1.5);
+        let (_, x, u) = p.exit.unwrap();
+        // Where the exiting ray crosses the axis, measured from V2.
+        let t = -x.x / u.x;
+        let z = x.z + t * u.z;
+        let bfd = l.vertex(LensSurface::S2).z - z;
+        assert_relative_eq!(bfd, px.bfd, max_relative = 1e-7);
+    }
+
+    #[test]
+    fn misses_and_rays_from_inside() {
+        let l = lens(2.0, 5.0, 5.0, 1.5);
+        assert_eq!(
+            l.trace(DVec3::new(1.01, 0.0, 5.0), DVec3::NEG_Z, 1.5).status,
+            LensTraceStatus::Miss
+        );
+        assert_eq!(
+            l.trace(DVec3::new(0.0, 0.0, -5.0), DVec3::NEG_Z, 1.5).status,
+            LensTraceStatus::Miss
+        );
+        let p = l.trace(DVec3::ZERO, DVec3::X, 1.5);
+        assert!(p.entry.is_none());
+        assert_eq!(p.status, LensTraceStatus::Transmitted);
+    }
+
+    #[test]
+    fn ball_lens_traps_nothing_and_index_four_reflects() {
+        // A ball lens: both faces hemispheres.
+        let ball = lens(2.0, 1.0, 1.0, 1.5);
+        let p = ball.trace(DVec3::new(0.5, 0.0, 5.0), DVec3::NEG_Z, 1.5);
+        assert_eq!(p.status, LensTraceStatus::Transmitted);
+        assert_eq!(p.internal_reflections, 0);
+        let (_, x, _) = p.exit.unwrap();
+        assert_relative_eq!(x.length(), 1.0, epsilon = 1e-15);
+        // A ray inside a ball is never trapped by TIR (the chord angle is
+        // preserved), but inside a thin lens at n = 4 a ray is.
+        let l = lens(2.0, 5.0, 5.0, 4.0);
+        let p = l.trace(DVec3::ZERO, DVec3::new(1.0, 0.0, 0.05), 4.0);
+        assert!(p.internal_reflections >= 1, "{p:?}");
+    }
+}

@@ -1,0 +1,106 @@
+//! The closed set of shapes, dispatched by `match`.
+//!
+//! A shape is geometry only, in its own object space (the lens, which is
+//! defined by its centre and axis, lives in world space so that its exactness
+//! does not depend on a matrix). Intersection is two-phase: [`Shape::intersect`]
+//! returns the distance and which part was hit, and [`Shape::normal`] computes
+//! surface data only for the closest hit.
+
+mod aabb;
+mod cuboid;
+mod lens;
+mod polytope;
+mod prism;
+mod pyramid;
+mod sphere;
+
+pub use aabb::Aabb;
+pub use cuboid::Cuboid;
+pub use lens::{Lens, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
+pub use prism::Prism;
+pub use pyramid::Pyramid;
+pub use sphere::Sphere;
+
+use crate::math::Ray;
+use glam::DVec3;
+
+/// The result of the cheap intersection phase: distance along the ray and an
+/// index naming the face or cap that was hit (its meaning is per shape).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub part: u8,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Sphere(Sphere),
+    Cuboid(Cuboid),
+    Prism(Prism),
+    Pyramid(Pyramid),
+    Lens(Lens),
+}
+
+impl Shape {
+    /// The closest intersection with `t` in the open interval `(t_min, t_max)`.
+    /// `ray.dir` must be unit length.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_min, t_max),
+            Shape::Cuboid(s) => s.intersect(ray, t_min, t_max),
+            Shape::Prism(s) => s.intersect(ray, t_min, t_max),
+            Shape::Pyramid(s) => s.intersect(ray, t_min, t_max),
+            Shape::Lens(s) => s.intersect(ray, t_min, t_max),
+        }
+    }
+
+    /// Outward unit normal at a point `p` of part `part`.
+    pub fn normal(&self, p: DVec3, part: u8) -> DVec3 {
+        match self {
+            Shape::Sphere(s) => s.normal(p),
+            Shape::Cuboid(s) => s.normal(part),
+            Shape::Prism(s) => s.normal(part),
+            Shape::Pyramid(s) => s.normal(part),
+            Shape::Lens(s) => s.normal(p, part),
+        }
+    }
+
+    /// Bounds in the shape's own space.
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Cuboid(s) => s.bounds(),
+            Shape::Prism(s) => s.bounds(),
+            Shape::Pyramid(s) => s.bounds(),
+            Shape::Lens(s) => s.bounds(),
+        }
+    }
+
+    /// A characteristic size, used to scale the offset of spawned rays.
+    pub fn scale(&self) -> f64 {
+        let b = self.bounds();
+        (b.max - b.min).max_element()
+    }
+
+    /// Whether `p` (shape space) lies inside the solid.
+    pub fn contains(&self, p: DVec3) -> bool {
+        match self {
+            Shape::Sphere(s) => s.contains(p),
+            Shape::Cuboid(s) => s.polytope().contains(p),
+            Shape::Prism(s) => s.polytope().contains(p),
+            Shape::Pyramid(s) => s.polytope().contains(p),
+            Shape::Lens(s) => s.contains(p),
+        }
+    }
+
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Cuboid(_) => "cuboid",
+            Shape::Prism(_) => "prism",
+            Shape::Pyramid(_) => "pyramid",
+            Shape::Lens(_) => "lens",
+        }
+    }
+}

@@ -1,0 +1,197 @@
+//! Whitted radiance: ambient + Lambert diffuse + Phong specular for each
+//! light, hard shadows, mirror reflection and Snell refraction with total
+//! internal reflection, to a maximum depth.
+//!
+//! Light through a lens follows the lens's own exact tracer
+//! ([`Lens::propagate_inside`]): the same code `lensview lens trace` reports.
+
+use crate::color::Rgb;
+use crate::geometry::{Hit, Lens, LensTraceStatus};
+use crate::math::{Ray, surface_offset};
+use crate::optics::{self, fresnel_dielectric};
+use crate::scene::{Object, Scene};
+use glam::DVec3;
+
+/// Below this path weight a branch is not traced further.
+const MIN_WEIGHT: f64 = 1e-4;
+
+/// The closest hit: object index and the shape's hit record.
+#[inline]
+pub fn closest_hit(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
+    let inv = ray.dir.recip();
+    let mut best: Option<(usize, Hit)> = None;
+    let mut t_max = t_max;
+    for (i, o) in scene.objects.iter().enumerate() {
+        if !o.world_bounds.hit(ray, inv, 0.0, t_max) {
+            continue;
+        }
+        if let Some(h) = o.shape.intersect(&o.to_object(ray), 0.0, t_max) {
+            t_max = h.t;
+            best = Some((i, h));
+        }
+    }
+    best
+}
+
+/// Light that reaches from `p` to a light `dist` away along `dir`: zero
+/// behind an opaque object, filtered by each transparent object crossed.
+pub fn transmittance(scene: &Scene, p: DVec3, dir: DVec3, dist: f64) -> Rgb {
+    let ray = Ray { origin: p, dir };
+    let inv = dir.recip();
+    let mut t = Rgb::ONE;
+    for o in &scene.objects {
+        if !o.world_bounds.hit(&ray, inv, 0.0, dist) {
+            continue;
+        }
+        if o.shape.intersect(&o.to_object(&ray), 0.0, dist).is_some() {
+            t *= o.material.shadow_transmittance();
+            if t == Rgb::ZERO {
+                return t;
+            }
+        }
+    }
+    t
+}
+
+/// Where a ray leaves a surface: pushed off by a few rounding errors of the
+/// point's coordinates, on the side it travels to.
+#[inline]
+pub fn spawn_ray(p: DVec3, normal: DVec3, dir: DVec3, scale: f64) -> Ray {
+    let side = if dir.dot(normal) >= 0.0 { normal } else { -normal };
+    Ray {
+        origin: p + side * surface_offset(p, scale),
+        dir,
+    }
+}
+
+/// Radiance arriving along `ray` at wavelength `lambda_um` (used only by
+/// dispersive glass), `depth` bounces deep.
+pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
+    radiance_weighted(scene, ray, depth, lambda_um, 1.0)
+}
+
+fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weight: f64) -> Rgb {
+    let Some((idx, hit)) = closest_hit(scene, ray, f64::INFINITY) else {
+        return scene.background;
+    };
+    let obj = &scene.objects[idx];
+    let m = &obj.material;
+    let p = ray.at(hit.t);
+    let n = obj.world_normal(p, hit.part);
+    let entering = ray.dir.dot(n) < 0.0;
+    // The normal on the side the ray came from.
+    let nf = if entering { n } else { -n };
+    let scale = obj.shape.scale();
+    let view = -ray.dir;
+
+    let mut color = Rgb::ZERO;
+    let opacity = 1.0 - m.transparency;
+
+    // Local Phong shading.
+    color += m.color * scene.ambient * (m.ambient * opacity);
+    for light in &scene.lights {
+        let ls = light.sample(p);
+        let cos = nf.dot(ls.to_light);
+        if cos <= 0.0 {
+            continue;
+        }
+        let mut e = ls.irradiance;
+        if scene.shadows {
+            let sr = spawn_ray(p, nf, ls.to_light, scale);
+            let dist = if ls.distance.is_finite() {
+                (ls.distance - (sr.origin - p).length()).max(0.0)
+            } else {
+                f64::INFINITY
+            };
+            e *= transmittance(scene, sr.origin, ls.to_light, dist);
+            if e == Rgb::ZERO {
+                continue;
+            }
+        }
+        if m.diffuse > 0.0 && opacity > 0.0 {
+            color += m.color * e * (m.diffuse * opacity * cos);
+        }
+        if m.specular > 0.0 {
+            let r = optics::reflect(-ls.to_light, nf);
+            let rv = r.dot(view);
+            if rv > 0.0 {
+                color += e * (m.specular * rv.powf(m.shininess));
+            }
+        }
+    }
+
+    if depth >= scene.max_depth {
+        return color;
+    }
+
+    let mut kr = m.reflectivity;
+    if m.transparency > 0.0 {
+        let ior = m.ior.at(lambda_um);
+        let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
+        let f = fresnel_dielectric(nf.dot(view), n1, n2);
+        kr += m.transparency * f;
+        let kt = m.transparency * (1.0 - f);
+        if kt * weight > MIN_WEIGHT {
+            if let Some(t) = optics::refract(ray.dir, nf, n1, n2) {
+                let tint = m.color;
+                let through = match obj.lens() {
+                    Some(lens) if entering => through_lens(scene, lens, p, t, ior, depth, lambda_um, weight * kt),
+                    _ => radiance_weighted(scene, &spawn_ray(p, nf, t, scale), depth + 1, lambda_um, weight * kt),
+                };
+                color += tint * through * kt;
+            }
+        }
+    }
+    if kr * weight > MIN_WEIGHT {
+        let r = optics::reflect(ray.dir, nf);
+        color += radiance_weighted(scene, &spawn_ray(p, nf, r, scale), depth + 1, lambda_um, weight * kr) * kr;
+    }
+    color
+}
+
+/// Continues a ray that has just refracted into `lens` at `p`: the lens's
+/// exact inside path (with its total internal reflections), then the scene
+/// beyond the exit face.
+#[allow(clippy::too_many_arguments)]
+fn through_lens(
+    scene: &Scene,
+    lens: &Lens,
+    p: DVec3,
+    inside: DVec3,
+    ior: f64,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+) -> Rgb {
+    let path = lens.propagate_inside(p, inside, ior);
+    match (path.status, path.exit) {
+        (LensTraceStatus::Transmitted, Some((s, y, out))) => {
+            let bounces = 1 + path.internal_reflections;
+            if depth + bounces > scene.max_depth {
+                return Rgb::ZERO;
+            }
+            let n = lens.surface_normal(y, s);
+            // Fresnel loss at the exit face.
+            let cos_out = out.dot(n).abs();
+            let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+            let t_exit = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
+            let scale = lens.d;
+            radiance_weighted(
+                scene,
+                &spawn_ray(y, n, out, scale),
+                depth + bounces,
+                lambda_um,
+                weight * t_exit,
+            ) * t_exit
+        }
+        _ => Rgb::ZERO,
+    }
+}
+
+/// The shading point data of the closest hit, for tools and tests.
+pub fn hit_point<'a>(scene: &'a Scene, ray: &Ray) -> Option<(&'a Object, DVec3, DVec3)> {
+    let (i, h) = closest_hit(scene, ray, f64::INFINITY)?;
+    let o = &scene.objects[i];
+    let p = ray.at(h.t);
+    Some((o, p, o.world_normal(p, h.part)))
+}

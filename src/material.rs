@@ -1,0 +1,61 @@
+//! Surface materials: Phong coefficients, mirror reflectivity and
+//! transparency with a refractive index.
+
+use crate::color::Rgb;
+use crate::optics::Index;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Base colour (linear RGB); for transparent materials also the tint of
+    /// transmitted light.
+    pub color: Rgb,
+    /// Ambient coefficient `ka`.
+    pub ambient: f64,
+    /// Lambert coefficient `kd`.
+    pub diffuse: f64,
+    /// Phong specular coefficient `ks`.
+    pub specular: f64,
+    /// Phong exponent.
+    pub shininess: f64,
+    /// Mirror reflectivity `kr` in [0, 1].
+    pub reflectivity: f64,
+    /// Transparency `kt` in [0, 1]: the part of light that is refracted
+    /// (before Fresnel reflection takes its share).
+    pub transparency: f64,
+    /// Refractive index of a transparent material.
+    pub ior: Index,
+}
+
+impl Material {
+    /// A clear glass with a faint highlight, used for lenses.
+    pub fn glass(tint: Rgb, ior: Index) -> Self {
+        Material {
+            color: tint,
+            ambient: 0.0,
+            diffuse: 0.0,
+            specular: 0.6,
+            shininess: 300.0,
+            reflectivity: 0.0,
+            transparency: 1.0,
+            ior,
+        }
+    }
+
+    pub fn is_transparent(&self) -> bool {
+        self.transparency > 0.0
+    }
+
+    /// Fraction of light a shadow ray lets through this material: its
+    /// transparency and tint, less the Fresnel reflection at normal incidence
+    /// at the two faces it crosses, `(1 − R0)²` with `R0 = ((n−1)/(n+1))²`.
+    /// Refraction of the shadow ray itself is ignored (see README, "Shadows
+    /// of glass").
+    pub fn shadow_transmittance(&self) -> Rgb {
+        if self.transparency <= 0.0 {
+            return Rgb::ZERO;
+        }
+        let n = self.ior.nominal();
+        let r0 = ((n - 1.0) / (n + 1.0)).powi(2);
+        self.color * (self.transparency * (1.0 - r0) * (1.0 - r0))
+    }
+}

@@ -1,0 +1,143 @@
+//! Rays and small numerical helpers on `glam`'s double-precision types.
+//!
+//! Everything in the tracer is `f64`: the lens must be exact to 1e-9 of its
+//! diameter even when it is tiny and far from the origin, and `f32` cannot
+//! hold that. There is no vector type of our own; `DVec3` is the vector.
+
+use glam::{DMat3, DVec3};
+
+/// A ray `origin + t·dir`. `dir` is kept unit length by every constructor in
+/// the crate, so `t` is a distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub origin: DVec3,
+    pub dir: DVec3,
+}
+
+impl Ray {
+    /// A ray with a normalised direction.
+    pub fn new(origin: DVec3, dir: DVec3) -> Self {
+        Ray {
+            origin,
+            dir: dir.normalize(),
+        }
+    }
+
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// The two real roots of `t² + 2·b·t + c = 0` in ascending order, computed
+/// without catastrophic cancellation (Numerical Recipes §5.6): the root of
+/// larger magnitude is `q = −(b + sign(b)·√(b²−c))`, the other is `c / q`.
+/// Returns `None` when the discriminant is negative.
+pub fn solve_half_b_quadratic(b: f64, c: f64) -> Option<(f64, f64)> {
+    let disc = b * b - c;
+    if !(disc >= 0.0) {
+        return None;
+    }
+    solve_with_discriminant(b, c, disc)
+}
+
+/// Same as [`solve_half_b_quadratic`] with a discriminant `b² − c` that the
+/// caller computed in a more accurate way (see the sphere intersection).
+pub fn solve_with_discriminant(b: f64, c: f64, disc: f64) -> Option<(f64, f64)> {
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let s = disc.sqrt();
+    let q = if b >= 0.0 { -(b + s) } else { -(b - s) };
+    if q == 0.0 {
+        // b = 0 and c = 0: a double root at zero.
+        return Some((0.0, 0.0));
+    }
+    let r1 = q;
+    let r2 = c / q;
+    Some(if r1 <= r2 { (r1, r2) } else { (r2, r1) })
+}
+
+/// Rotation matrix from angles in degrees about x, y and z, applied in the
+/// order z (roll) then x (pitch) then y (yaw): `R = Ry · Rx · Rz`. This is the
+/// convention of a fly camera: yaw turns about the world's up axis.
+pub fn rotation_from_degrees(deg: DVec3) -> DMat3 {
+    let r = deg * (std::f64::consts::PI / 180.0);
+    DMat3::from_rotation_y(r.y) * DMat3::from_rotation_x(r.x) * DMat3::from_rotation_z(r.z)
+}
+
+/// Angles (degrees, the convention of [`rotation_from_degrees`], no roll) that
+/// turn the default view direction −z toward `dir`.
+pub fn angles_looking_along(dir: DVec3) -> DVec3 {
+    let d = dir.normalize();
+    let pitch = d.y.clamp(-1.0, 1.0).asin();
+    let yaw = (-d.x).atan2(-d.z);
+    DVec3::new(pitch.to_degrees(), yaw.to_degrees(), 0.0)
+}
+
+/// Largest absolute coordinate: the scale of rounding errors at `p`.
+pub fn max_abs(p: DVec3) -> f64 {
+    p.abs().max_element()
+}
+
+/// The distance by which a spawned ray's origin is pushed off a surface:
+/// a fixed multiple of the rounding error of coordinates of size `max_abs(p)`
+/// (2⁻³² relative), with a floor for points near the origin.
+pub fn surface_offset(p: DVec3, shape_scale: f64) -> f64 {
+    (max_abs(p) + shape_scale) * (1.0 / 4_294_967_296.0)
+}
+
+/// Builds an orthonormal basis `(u, v)` perpendicular to the unit vector `n`
+/// (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
+pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
+    let sign = 1.0f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        DVec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_roots_are_accurate_when_b_dominates() {
+        // t² + 2·1e8·t + 1 = 0: the small root is −5e-9 to full precision.
+        let (a, b) = solve_half_b_quadratic(1e8, 1.0).unwrap();
+        assert!((b - (-5e-9)).abs() / 5e-9 < 1e-15, "{b}");
+        assert!((a + 2e8).abs() / 2e8 < 1e-15);
+        // The naive formula loses the small root completely.
+        let naive = -1e8 + (1e16f64 - 1.0).sqrt();
+        assert!((naive - (-5e-9)).abs() / 5e-9 > 0.1);
+    }
+
+    #[test]
+    fn quadratic_without_real_roots() {
+        assert!(solve_half_b_quadratic(0.0, 1.0).is_none());
+        assert_eq!(solve_half_b_quadratic(0.0, 0.0), Some((0.0, 0.0)));
+    }
+
+    #[test]
+    fn look_angles_round_trip() {
+        for dir in [
+            DVec3::new(0.0, -5.5, -10.0),
+            DVec3::new(1.0, 0.3, 0.2),
+            DVec3::new(-0.2, 0.1, 1.0),
+        ] {
+            let m = rotation_from_degrees(angles_looking_along(dir));
+            let got = m * DVec3::NEG_Z;
+            assert!((got - dir.normalize()).length() < 1e-12, "{got} {dir}");
+        }
+    }
+
+    #[test]
+    fn basis_is_orthonormal() {
+        for n in [DVec3::X, DVec3::NEG_Z, DVec3::new(0.3, -0.4, 0.5).normalize()] {
+            let (u, v) = orthonormal_basis(n);
+            assert!(u.dot(v).abs() < 1e-15 && u.dot(n).abs() < 1e-15 && v.dot(n).abs() < 1e-15);
+            assert!((u.length() - 1.0).abs() < 1e-15 && (v.length() - 1.0).abs() < 1e-15);
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! Optics in the optician's words: reflection, Snell refraction, Fresnel
+//! reflectance, refractive index models and thick-lens paraxial data.
+//!
+//! Conventions: a surface normal `n` passed here is unit length and faces the
+//! side the incident ray comes from (`dot(i, n) < 0`); directions are unit.
+
+use glam::DVec3;
+
+/// The d line of helium (587.5618 nm), where a single "n" is quoted.
+pub const WAVELENGTH_D_UM: f64 = 0.587_561_8;
+
+/// Mirror reflection of the unit direction `i` about the unit normal `n`:
+/// `r = i − 2(i·n)n`.
+#[inline]
+pub fn reflect(i: DVec3, n: DVec3) -> DVec3 {
+    i - 2.0 * i.dot(n) * n
+}
+
+/// Snell refraction of the unit direction `i` at a surface with unit normal `n`
+/// facing the incident side, going from index `n1` to `n2`.
+///
+/// With `η = n1/n2`, `cos θi = −i·n` and `sin² θt = η²(1 − cos² θi)`, the
+/// refracted direction is `t = η·i + (η·cos θi − cos θt)·n` (Hecht, *Optics*,
+/// §4.4; Glassner, *An Introduction to Ray Tracing*, ch. 6). `1 − cos² θi` is
+/// computed as `|i × n|²`, which keeps its relative precision near normal
+/// incidence. Returns `None` for total internal reflection.
+#[inline]
+pub fn refract(i: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
+    let eta = n1 / n2;
+    let cos_i = -i.dot(n);
+    let sin2_i = i.cross(n).length_squared();
+    let sin2_t = eta * eta * sin2_i;
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let t = eta * i + (eta * cos_i - cos_t) * n;
+    Some(t.normalize())
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface (the mean of the
+/// s and p reflectances, Hecht eq. 4.34/4.40); 1 under total internal
+/// reflection. `cos_i` is the cosine of the incidence angle (≥ 0).
+pub fn fresnel_dielectric(cos_i: f64, n1: f64, n2: f64) -> f64 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let eta = n1 / n2;
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let rp = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// A refractive index: a constant, or Cauchy's law `n(λ) = A + B/λ²` with λ in
+/// micrometres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Index {
+    Constant(f64),
+    Cauchy { a: f64, b: f64 },
+}
+
+impl Index {
+    /// The index at wavelength `lambda_um` (ignored for a constant).
+    pub fn at(&self, lambda_um: f64) -> f64 {
+        match *self {
+            Index::Constant(n) => n,
+            Index::Cauchy { a, b } => a + b / (lambda_um * lambda_um),
+        }
+    }
+
+    /// The index at the d line.
+    pub fn nominal(&self) -> f64 {
+        self.at(WAVELENGTH_D_UM)
+    }
+
+    pub fn is_dispersive(&self) -> bool {
+        matches!(*self, Index::Cauchy { b, .. } if b != 0.0)
+    }
+}
+
+/// Sagitta of a spherical cap of radius `r` over a half-aperture `h ≤ r`:
+/// `r − √(r² − h²)`, written as `h²/(r + √((r−h)(r+h)))` so that it keeps full
+/// precision when `r ≫ h` (nearly flat faces) and when `r = h` (hemisphere).
+pub fn sagitta(r: f64, h: f64) -> f64 {
+    let root = ((r - h) * (r + h)).max(0.0).sqrt();
+    h * h / (r + root)
+}
+
+/// Distance from a cap's rim plane to its sphere's centre: `√(r² − h²)`,
+/// computed as `√((r−h)(r+h))`.
+pub fn centre_offset(r: f64, h: f64) -> f64 {
+    ((r - h) * (r + h)).max(0.0).sqrt()
+}
+
+/// Paraxial (first-order) data of a thick biconvex lens in air, for light
+/// entering through S1.
+///
+/// In the usual sign convention (light travels left to right, a radius is
+/// positive when its centre of curvature lies to the right of the vertex) the
+/// biconvex lens has `R1s = +r1` and `R2s = −r2`. With centre thickness `t`
+/// and index `n`, the lensmaker's equation for a thick lens is
+/// `1/f = (n−1)·(1/R1s − 1/R2s + (n−1)·t/(n·R1s·R2s))`, the principal planes
+/// lie at `h1 = −f(n−1)t/(n·R2s)` from V1 and `h2 = −f(n−1)t/(n·R1s)` from
+/// V2 (both positive to the right), and the focal distances are
+/// `BFD = f + h2` (from V2) and `FFD = f − h1` (before V1). Hecht, *Optics*,
+/// 5th ed., §6.1, eqs. 6.1–6.4.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThickLens {
+    pub thickness: f64,
+    pub sag1: f64,
+    pub sag2: f64,
+    pub efl: f64,
+    pub bfd: f64,
+    pub ffd: f64,
+    /// Front principal plane H, from V1, positive in the direction of travel.
+    pub h1: f64,
+    /// Rear principal plane H', from V2, positive in the direction of travel.
+    pub h2: f64,
+    pub n: f64,
+}
+
+impl ThickLens {
+    /// `d` diameter, `r1`, `r2` radius magnitudes, `n` index.
+    pub fn new(d: f64, r1: f64, r2: f64, n: f64) -> Self {
+        let h = 0.5 * d;
+        let sag1 = sagitta(r1, h);
+        let sag2 = sagitta(r2, h);
+        let t = sag1 + sag2;
+        let (r1s, r2s) = (r1, -r2);
+        let power = (n - 1.0) * (1.0 / r1s - 1.0 / r2s + (n - 1.0) * t / (n * r1s * r2s));
+        let efl = 1.0 / power;
+        let h1 = -efl * (n - 1.0) * t / (n * r2s);
+        let h2 = -efl * (n - 1.0) * t / (n * r1s);
+        ThickLens {
+            thickness: t,
+            sag1,
+            sag2,
+            efl,
+            bfd: efl + h2,
+            ffd: efl - h1,
+            h1,
+            h2,
+            n,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn snell_law_holds() {
+        let n = DVec3::Z;
+        for deg in [0.0f64, 10.0, 30.0, 60.0, 80.0, 89.9] {
+            let th = deg.to_radians();
+            let i = DVec3::new(th.sin(), 0.0, -th.cos());
+            let t = refract(i, n, 1.0, 1.5).unwrap();
+            assert_relative_eq!(t.length(), 1.0, epsilon = 1e-15);
+            // n1 sin θi = n2 sin θt, and the ray stays in the plane of incidence.
+            assert_relative_eq!(th.sin(), 1.5 * t.x, epsilon = 1e-15);
+            assert!(t.y.abs() < 1e-16 && t.z < 0.0);
+        }
+    }
+
+    #[test]
+    fn total_internal_reflection_beyond_critical_angle() {
+        let crit = (1.0f64 / 1.5).asin();
+        let n = DVec3::Z;
+        let below = crit - 1e-6;
+        let above = crit + 1e-6;
+        assert!(refract(DVec3::new(below.sin(), 0.0, -below.cos()), n, 1.5, 1.0).is_some());
+        assert!(refract(DVec3::new(above.sin(), 0.0, -above.cos()), n, 1.5, 1.0).is_none());
+        assert_eq!(fresnel_dielectric(above.cos(), 1.5, 1.0), 1.0);
+    }
+
+    #[test]
+    fn fresnel_at_normal_incidence() {
+        // ((n−1)/(n+1))² = 0.04 for n = 1.5.
+        assert_relative_eq!(fresnel_dielectric(1.0, 1.0, 1.5), 0.04, epsilon = 1e-15);
+        assert_relative_eq!(fresnel_dielectric(1.0, 1.5, 1.0), 0.04, epsilon = 1e-15);
+        assert_relative_eq!(fresnel_dielectric(0.0, 1.0, 1.5), 1.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn reflection_preserves_angle() {
+        let i = DVec3::new(1.0, -1.0, 0.0).normalize();
+        let r = reflect(i, DVec3::Y);
+        assert_relative_eq!(r.x, i.x);
+        assert_relative_eq!(r.y, -i.y);
+    }
+
+    #[test]
+    fn sagitta_is_stable() {
+        // Flat limit: sag → h²/(2r).
+        let s = sagitta(1e7, 1.0);
+        assert_relative_eq!(s, 1.0 / 2e7, max_relative = 1e-12);
+        assert_eq!(sagitta(1.0, 1.0), 1.0);
+        assert_eq!(centre_offset(1.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn thin_lens_limit_and_symmetry() {
+        // Biconvex symmetric, very large radii: thin-lens f = R/(2(n−1)).
+        let l = ThickLens::new(1.0, 1e6, 1e6, 1.5);
+        assert_relative_eq!(l.efl, 1e6, max_relative = 1e-9);
+        // Symmetric lens: BFD = FFD, H and H' symmetric.
+        let l = ThickLens::new(2.0, 5.0, 5.0, 1.5);
+        assert_relative_eq!(l.bfd, l.ffd, max_relative = 1e-14);
+        assert_relative_eq!(l.h1, -l.h2, max_relative = 1e-14);
+        // Ball lens (two hemispheres): EFL = nD/(4(n−1)) from the centre.
+        let ball = ThickLens::new(2.0, 1.0, 1.0, 1.5);
+        assert_relative_eq!(ball.thickness, 2.0, max_relative = 1e-15);
+        assert_relative_eq!(ball.efl, 1.5 * 2.0 / (4.0 * 0.5), max_relative = 1e-14);
+        assert_relative_eq!(ball.bfd, ball.efl - 1.0, max_relative = 1e-14);
+    }
+
+    #[test]
+    fn cauchy_index() {
+        let idx = Index::Cauchy { a: 1.5, b: 0.004 };
+        assert_relative_eq!(idx.at(0.5), 1.516, epsilon = 1e-15);
+        assert!(idx.is_dispersive() && !Index::Constant(1.5).is_dispersive());
+    }
+}

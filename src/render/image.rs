@@ -1,0 +1,75 @@
+//! A linear-light image and its 8-bit sRGB PNG encoding.
+
+use crate::color::{Rgb, to_srgb8};
+use std::io::BufWriter;
+use std::path::Path;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    /// Row-major, top row first, linear RGB.
+    pub pixels: Vec<Rgb>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Self {
+        Image {
+            width,
+            height,
+            pixels: vec![Rgb::ZERO; width as usize * height as usize],
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Rgb {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Interleaved 8-bit sRGB, 3 bytes a pixel.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.pixels.iter().flat_map(|&c| to_srgb8(c)).collect()
+    }
+
+    /// Writes an 8-bit sRGB PNG, through a temporary file so that a failed
+    /// write never leaves half a picture under the user's name.
+    pub fn write_png(&self, path: &Path) -> std::io::Result<()> {
+        let tmp = path.with_extension("png.tmp");
+        {
+            let file = std::fs::File::create(&tmp)?;
+            let mut enc = png::Encoder::new(BufWriter::new(file), self.width, self.height);
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_depth(png::BitDepth::Eight);
+            enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+            let mut w = enc.write_header().map_err(std::io::Error::other)?;
+            w.write_image_data(&self.to_srgb8()).map_err(std::io::Error::other)?;
+            w.finish().map_err(std::io::Error::other)?;
+        }
+        std::fs::rename(&tmp, path)
+    }
+
+    /// Reads an 8-bit RGB or RGBA PNG back into linear light.
+    pub fn read_png(path: &Path) -> std::io::Result<Image> {
+        let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path)?));
+        let mut reader = dec.read_info().map_err(std::io::Error::other)?;
+        let size = reader
+            .output_buffer_size()
+            .ok_or_else(|| std::io::Error::other("PNG too large"))?;
+        let mut buf = vec![0; size];
+        let info = reader.next_frame(&mut buf).map_err(std::io::Error::other)?;
+        let channels = match info.color_type {
+            png::ColorType::Rgb => 3,
+            png::ColorType::Rgba => 4,
+            other => return Err(std::io::Error::other(format!("unsupported PNG colour type {other:?}"))),
+        };
+        if info.bit_depth != png::BitDepth::Eight {
+            return Err(std::io::Error::other("only 8-bit PNGs are supported"));
+        }
+        let mut img = Image::new(info.width, info.height);
+        for (i, px) in img.pixels.iter_mut().enumerate() {
+            let b = &buf[i * channels..i * channels + 3];
+            let f = |v: u8| crate::color::srgb_to_linear(v as f64 / 255.0);
+            *px = Rgb::new(f(b[0]), f(b[1]), f(b[2]));
+        }
+        Ok(img)
+    }
+}

@@ -1,0 +1,326 @@
+//! Scene errors that name the file, the line and the field.
+//!
+//! Validation works on the serde model, which has no positions; it reports a
+//! field path (`lenses[0].r1`), and [`Located`] finds that path's line in a
+//! span-keeping parse of the same text (`toml_edit`). Parse errors go the
+//! other way: their byte offset is turned back into the innermost field path.
+
+use std::fmt;
+use std::ops::Range;
+use toml_edit::{Item, TableLike, Value};
+
+/// One step of a field path.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+/// A field path such as `lenses[0].r1`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FieldPath(pub Vec<Seg>);
+
+impl FieldPath {
+    pub fn key(&self, k: &str) -> FieldPath {
+        let mut v = self.0.clone();
+        v.push(Seg::Key(k.to_string()));
+        FieldPath(v)
+    }
+    pub fn index(&self, i: usize) -> FieldPath {
+        let mut v = self.0.clone();
+        v.push(Seg::Index(i));
+        FieldPath(v)
+    }
+    pub fn root(k: &str) -> FieldPath {
+        FieldPath(vec![Seg::Key(k.to_string())])
+    }
+}
+
+impl fmt::Display for FieldPath {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        if self.0.is_empty() {
+            return f.write_str("(document)");
+        }
+        for (i, s) in self.0.iter().enumerate() {
+            match s {
+                Seg::Key(k) if i == 0 => write!(f, "{k}")?,
+                Seg::Key(k) => write!(f, ".{k}")?,
+                Seg::Index(n) => write!(f, "[{n}]")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A scene that cannot be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("{file}: cannot read: {err}")]
+    Io { file: String, err: std::io::Error },
+    /// `file:line:column: field: message`, all on one line.
+    #[error("{file}:{line}:{column}: {field}: {message}")]
+    Invalid {
+        file: String,
+        line: usize,
+        column: usize,
+        field: String,
+        message: String,
+    },
+}
+
+/// A validation problem before it is given a position.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    pub path: FieldPath,
+    pub message: String,
+}
+
+impl Problem {
+    pub fn new(path: FieldPath, message: impl Into<String>) -> Self {
+        Problem {
+            path,
+            message: message.into(),
+        }
+    }
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rfind('\n').map_or(offset, |i| offset - i - 1) + 1;
+    (line, col)
+}
+
+enum Node<'a> {
+    Item(&'a Item),
+    Value(&'a Value),
+    Table(&'a toml_edit::Table),
+}
+
+impl<'a> Node<'a> {
+    fn table_like(&self) -> Option<&'a dyn TableLike> {
+        match *self {
+            Node::Item(i) => i.as_table_like(),
+            Node::Value(v) => v.as_inline_table().map(|t| t as &dyn TableLike),
+            Node::Table(t) => Some(t as &dyn TableLike),
+        }
+    }
+
+    fn child(&self, seg: &Seg) -> Option<(Node<'a>, Option<Range<usize>>)> {
+        match seg {
+            Seg::Key(k) => {
+                let (key, item) = self.table_like()?.get_key_value(k)?;
+                Some((Node::Item(item), key.span().or_else(|| item.span())))
+            }
+            Seg::Index(n) => match *self {
+                Node::Item(Item::ArrayOfTables(a)) => {
+                    let t = a.get(*n)?;
+                    Some((Node::Table(t), t.span()))
+                }
+                Node::Item(Item::Value(Value::Array(a))) | Node::Value(Value::Array(a)) => {
+                    let v = a.get(*n)?;
+                    Some((Node::Value(v), v.span()))
+                }
+                _ => None,
+            },
+        }
+    }
+}
+
+/// The text of a scene with its span-keeping parse, for placing errors.
+pub struct Located<'a> {
+    pub file: &'a str,
+    pub text: &'a str,
+    pub doc: Option<toml_edit::Document<&'a str>>,
+}
+
+impl<'a> Located<'a> {
+    pub fn new(file: &'a str, text: &'a str) -> Self {
+        Located {
+            file,
+            text,
+            doc: toml_edit::Document::parse(text).ok(),
+        }
+    }
+
+    /// Byte span of the deepest existing prefix of `path` (the key where
+    /// there is one, else its table).
+    pub fn span_of(&self, path: &FieldPath) -> Option<Range<usize>> {
+        let doc = self.doc.as_ref()?;
+        let mut node = Node::Item(doc.as_item());
+        let mut span = None;
+        for seg in &path.0 {
+            match node.child(seg) {
+                Some((n, s)) => {
+                    node = n;
+                    if s.is_some() {
+                        span = s;
+                    }
+                }
+                None => break,
+            }
+        }
+        span
+    }
+
+    /// The innermost field whose key or value contains byte `offset`.
+    pub fn path_at(&self, offset: usize) -> FieldPath {
+        fn walk(node: &Node, offset: usize, path: &mut FieldPath) {
+            if let Some(t) = node.table_like() {
+                for (k, _) in t.iter() {
+                    let Some((key, item)) = t.get_key_value(k) else {
+                        continue;
+                    };
+                    let inside = |r: Option<Range<usize>>| {
+                        r.is_some_and(|r| r.start <= offset && offset < r.end.max(r.start + 1))
+                    };
+                    let in_item = match item {
+                        // A [[table]] array has no span of its own; look inside each table.
+                        Item::ArrayOfTables(a) => a
+                            .iter()
+                            .any(|t| inside(t.span()) || contains_deep(&Node::Table(t), offset)),
+                        Item::Table(t) => inside(t.span()) || contains_deep(&Node::Table(t), offset),
+                        _ => inside(item.span()),
+                    };
+                    if inside(key.span()) || in_item {
+                        path.0.push(Seg::Key(k.to_string()));
+                        walk_item(item, offset, path);
+                        return;
+                    }
+                }
+            }
+        }
+        fn contains_deep(node: &Node, offset: usize) -> bool {
+            let mut p = FieldPath::default();
+            walk(node, offset, &mut p);
+            !p.0.is_empty()
+        }
+        fn walk_item(item: &Item, offset: usize, path: &mut FieldPath) {
+            match item {
+                Item::ArrayOfTables(a) => {
+                    for (i, t) in a.iter().enumerate() {
+                        let n = Node::Table(t);
+                        if t.span().is_some_and(|r| r.contains(&offset)) || contains_deep(&n, offset) {
+                            path.0.push(Seg::Index(i));
+                            walk(&n, offset, path);
+                            return;
+                        }
+                    }
+                }
+                Item::Value(Value::Array(a)) => {
+                    for (i, v) in a.iter().enumerate() {
+                        if v.span().is_some_and(|r| r.contains(&offset)) {
+                            path.0.push(Seg::Index(i));
+                            walk(&Node::Value(v), offset, path);
+                            return;
+                        }
+                    }
+                }
+                other => walk(&Node::Item(other), offset, path),
+            }
+        }
+        let mut path = FieldPath::default();
+        if let Some(doc) = &self.doc {
+            walk(&Node::Item(doc.as_item()), offset, &mut path);
+        }
+        path
+    }
+
+    /// An error at `path`, placed at its line (line 1 if the path is absent).
+    pub fn error(&self, problem: &Problem) -> SceneError {
+        let (line, column) = self
+            .span_of(&problem.path)
+            .map_or((1, 1), |s| line_col(self.text, s.start));
+        SceneError::Invalid {
+            file: self.file.to_string(),
+            line,
+            column,
+            field: problem.path.to_string(),
+            message: problem.message.clone(),
+        }
+    }
+
+    /// An error at a byte offset (from a parser), naming the field there.
+    pub fn error_at(&self, offset: usize, message: &str) -> SceneError {
+        let (line, column) = line_col(self.text, offset);
+        SceneError::Invalid {
+            file: self.file.to_string(),
+            line,
+            column,
+            field: self.path_at(offset).to_string(),
+            message: message.trim().replace('\n', " "),
+        }
+    }
+
+    /// Every non-finite float (`nan`, `inf`) in the document.
+    pub fn non_finite(&self) -> Vec<Problem> {
+        fn walk_value(v: &Value, path: &FieldPath, out: &mut Vec<Problem>) {
+            match v {
+                Value::Float(f) if !f.value().is_finite() => {
+                    out.push(Problem::new(
+                        path.clone(),
+                        format!("{} is not a finite number", f.value()),
+                    ));
+                }
+                Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        walk_value(x, &path.index(i), out);
+                    }
+                }
+                Value::InlineTable(t) => {
+                    for (k, x) in t.iter() {
+                        walk_value(x, &path.key(k), out);
+                    }
+                }
+                _ => {}
+            }
+        }
+        fn walk_item(item: &Item, path: &FieldPath, out: &mut Vec<Problem>) {
+            match item {
+                Item::Value(v) => walk_value(v, path, out),
+                Item::Table(t) => {
+                    for (k, x) in t.iter() {
+                        walk_item(x, &path.key(k), out);
+                    }
+                }
+                Item::ArrayOfTables(a) => {
+                    for (i, t) in a.iter().enumerate() {
+                        for (k, x) in t.iter() {
+                            walk_item(x, &path.index(i).key(k), out);
+                        }
+                    }
+                }
+                Item::None => {}
+            }
+        }
+        let mut out = Vec::new();
+        if let Some(doc) = &self.doc {
+            walk_item(doc.as_item(), &FieldPath::default(), &mut out);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = "[camera]\nposition = [0, 1, 2]\n\n[[lenses]]\nd = 1\n\n[[lenses]]\nd = 2\nr1 = nan\n";
+
+    #[test]
+    fn paths_find_lines_and_lines_find_paths() {
+        let l = Located::new("x.toml", TEXT);
+        let p = FieldPath::root("lenses").index(1).key("r1");
+        assert_eq!(p.to_string(), "lenses[1].r1");
+        let span = l.span_of(&p).unwrap();
+        assert_eq!(line_col(TEXT, span.start), (9, 1));
+        assert_eq!(l.path_at(span.start + 6), p);
+        let cam = FieldPath::root("camera").key("position").index(2);
+        assert_eq!(line_col(TEXT, l.span_of(&cam).unwrap().start).0, 2);
+        let nf = l.non_finite();
+        assert_eq!(nf.len(), 1);
+        assert_eq!(nf[0].path, p);
+    }
+}

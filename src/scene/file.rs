@@ -1,0 +1,303 @@
+//! The serde mirror of a scene file (TOML). Every struct rejects unknown
+//! keys; every default lives here, in one place. See README.md, "Scene file
+//! format", for the meaning of each key.
+
+use serde::de::{self, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::collections::BTreeMap;
+use std::fmt;
+
+pub type V3 = [f64; 3];
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    #[serde(default)]
+    pub render: RenderFile,
+    pub camera: CameraFile,
+    #[serde(default)]
+    pub ambient: AmbientFile,
+    #[serde(default)]
+    pub lights: Vec<LightFile>,
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialFile>,
+    #[serde(default)]
+    pub objects: Vec<ObjectFile>,
+    #[serde(default)]
+    pub lenses: Vec<LensFile>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderFile {
+    #[serde(default = "default_background")]
+    pub background: V3,
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    #[serde(default = "default_true")]
+    pub shadows: bool,
+    /// Samples per pixel for `lensview render` when `--spp` is not given.
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+}
+
+impl Default for RenderFile {
+    fn default() -> Self {
+        RenderFile {
+            background: default_background(),
+            max_depth: default_max_depth(),
+            shadows: true,
+            spp: default_spp(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFile {
+    pub position: V3,
+    /// Degrees about x, y, z. Exclusive with `look_at`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<V3>,
+    /// A point to look at (no roll). Exclusive with `rotation`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub look_at: Option<V3>,
+    /// Vertical field of view in degrees.
+    #[serde(default = "default_fov")]
+    pub fov: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientFile {
+    #[serde(default = "default_white")]
+    pub color: V3,
+    #[serde(default = "default_ambient")]
+    pub intensity: f64,
+}
+
+impl Default for AmbientFile {
+    fn default() -> Self {
+        AmbientFile {
+            color: default_white(),
+            intensity: default_ambient(),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LightKind {
+    Point,
+    Directional,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightFile {
+    #[serde(rename = "type", default = "default_light_kind")]
+    pub kind: LightKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<V3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<V3>,
+    #[serde(default = "default_white")]
+    pub color: V3,
+    pub intensity: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    #[serde(default = "default_grey")]
+    pub color: V3,
+    #[serde(default = "default_one")]
+    pub ambient: f64,
+    #[serde(default = "default_diffuse")]
+    pub diffuse: f64,
+    #[serde(default)]
+    pub specular: f64,
+    #[serde(default = "default_shininess")]
+    pub shininess: f64,
+    #[serde(default)]
+    pub reflectivity: f64,
+    #[serde(default)]
+    pub transparency: f64,
+    #[serde(default = "default_ior")]
+    pub ior: IndexFile,
+}
+
+impl Default for MaterialFile {
+    fn default() -> Self {
+        MaterialFile {
+            color: default_grey(),
+            ambient: 1.0,
+            diffuse: default_diffuse(),
+            specular: 0.0,
+            shininess: default_shininess(),
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: default_ior(),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShapeKind {
+    Cuboid,
+    Prism,
+    Sphere,
+    Pyramid,
+}
+
+impl ShapeKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Cuboid => "cuboid",
+            ShapeKind::Prism => "prism",
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Pyramid => "pyramid",
+        }
+    }
+}
+
+/// A primitive. Which size keys apply depends on `type`: a cuboid takes
+/// `size = [x, y, z]`, a sphere `radius`, a prism and a pyramid `side` (of
+/// the base) and `height`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectFile {
+    #[serde(rename = "type")]
+    pub kind: ShapeKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    #[serde(default)]
+    pub position: V3,
+    #[serde(default)]
+    pub rotation: V3,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<V3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// Name of a `[materials.NAME]` table; the built-in grey when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LensFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub center: V3,
+    #[serde(default = "default_axis")]
+    pub axis: V3,
+    pub d: f64,
+    pub r1: f64,
+    pub r2: f64,
+    pub n: IndexFile,
+    /// Colour of the glass (1 = clear).
+    #[serde(default = "default_white")]
+    pub tint: V3,
+}
+
+/// A refractive index as written in a file: `1.5` or `{ cauchy = [A, B] }`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IndexFile {
+    Constant(f64),
+    Cauchy([f64; 2]),
+}
+
+impl<'de> Deserialize<'de> for IndexFile {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = IndexFile;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or a table { cauchy = [A, B] }")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<IndexFile, E> {
+                Ok(IndexFile::Constant(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<IndexFile, E> {
+                Ok(IndexFile::Constant(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<IndexFile, E> {
+                Ok(IndexFile::Constant(v as f64))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<IndexFile, A::Error> {
+                let mut out = None;
+                while let Some(key) = map.next_key::<String>()? {
+                    if key != "cauchy" {
+                        return Err(de::Error::unknown_field(&key, &["cauchy"]));
+                    }
+                    out = Some(IndexFile::Cauchy(map.next_value()?));
+                }
+                out.ok_or_else(|| de::Error::missing_field("cauchy"))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl Serialize for IndexFile {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            IndexFile::Constant(n) => s.serialize_f64(*n),
+            IndexFile::Cauchy(ab) => {
+                use serde::ser::SerializeMap;
+                let mut m = s.serialize_map(Some(1))?;
+                m.serialize_entry("cauchy", ab)?;
+                m.end()
+            }
+        }
+    }
+}
+
+fn default_background() -> V3 {
+    [0.02, 0.025, 0.035]
+}
+fn default_max_depth() -> u32 {
+    8
+}
+fn default_true() -> bool {
+    true
+}
+fn default_spp() -> u32 {
+    4
+}
+fn default_fov() -> f64 {
+    45.0
+}
+fn default_white() -> V3 {
+    [1.0, 1.0, 1.0]
+}
+fn default_grey() -> V3 {
+    [0.7, 0.7, 0.7]
+}
+fn default_ambient() -> f64 {
+    0.1
+}
+fn default_one() -> f64 {
+    1.0
+}
+fn default_diffuse() -> f64 {
+    0.9
+}
+fn default_shininess() -> f64 {
+    32.0
+}
+fn default_ior() -> IndexFile {
+    IndexFile::Constant(1.5)
+}
+fn default_light_kind() -> LightKind {
+    LightKind::Point
+}
+fn default_axis() -> V3 {
+    [0.0, 0.0, 1.0]
+}

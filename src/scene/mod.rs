@@ -1,0 +1,471 @@
+//! Scenes: the file model ([`file`]), its validation into the render model
+//! ([`Scene`]), and errors that name file, line and field ([`error`]).
+//!
+//! [`Scene::build`] is the only way from a [`SceneFile`] to a [`Scene`]; a
+//! file loaded from disk, the embedded default and (later) an edit made in
+//! the window all pass through it.
+
+pub mod error;
+pub mod file;
+
+pub use error::{FieldPath, Problem, SceneError};
+pub use file::SceneFile;
+
+use crate::camera::Camera;
+use crate::color::Rgb;
+use crate::geometry::{Aabb, Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
+use crate::light::Light;
+use crate::material::Material;
+use crate::math::{angles_looking_along, rotation_from_degrees};
+use crate::optics::Index;
+use error::Located;
+use file::{IndexFile, LightKind, MaterialFile, ShapeKind, V3};
+use glam::{DMat3, DVec3};
+
+/// The scene compiled in for `lensview` without a scene argument: the
+/// benchmark scene `scenes/cubes.toml`.
+pub const DEFAULT_SCENE: &str = include_str!("../../scenes/cubes.toml");
+/// The name under which the embedded scene reports errors.
+pub const DEFAULT_SCENE_NAME: &str = "<default scene>";
+
+/// An object: a shape, its material and its placement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    pub name: String,
+    pub shape: Shape,
+    pub material: Material,
+    /// Rotation part of `world_from_object`.
+    pub world_from_object: DMat3,
+    /// Translation part of `world_from_object` (the object's position).
+    pub position: DVec3,
+    /// True when the transform is the identity (lenses), so no ray is moved.
+    pub identity: bool,
+    pub world_bounds: Aabb,
+}
+
+impl Object {
+    pub fn new(name: String, shape: Shape, material: Material, position: DVec3, rotation_deg: DVec3) -> Self {
+        let identity = position == DVec3::ZERO && rotation_deg == DVec3::ZERO;
+        let rot = rotation_from_degrees(rotation_deg);
+        let world_bounds = shape.bounds().transformed(rot, position);
+        Object {
+            name,
+            shape,
+            material,
+            world_from_object: rot,
+            position,
+            identity,
+            world_bounds,
+        }
+    }
+
+    /// A ray in object space (the same `t` as in world space: rigid motion).
+    #[inline]
+    pub fn to_object(&self, ray: &crate::math::Ray) -> crate::math::Ray {
+        if self.identity {
+            *ray
+        } else {
+            crate::math::Ray {
+                origin: self.world_from_object.transpose() * (ray.origin - self.position),
+                dir: self.world_from_object.transpose() * ray.dir,
+            }
+        }
+    }
+
+    /// World-space outward normal at the world point `p` of part `part`.
+    pub fn world_normal(&self, p: DVec3, part: u8) -> DVec3 {
+        if self.identity {
+            self.shape.normal(p, part)
+        } else {
+            let po = self.world_from_object.transpose() * (p - self.position);
+            (self.world_from_object * self.shape.normal(po, part)).normalize()
+        }
+    }
+
+    pub fn lens(&self) -> Option<&Lens> {
+        match &self.shape {
+            Shape::Lens(l) => Some(l),
+            _ => None,
+        }
+    }
+}
+
+/// The validated render model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub camera: Camera,
+    /// Ambient light: colour × intensity.
+    pub ambient: Rgb,
+    pub lights: Vec<Light>,
+    pub objects: Vec<Object>,
+    pub background: Rgb,
+    pub max_depth: u32,
+    pub shadows: bool,
+    pub spp: u32,
+}
+
+impl Scene {
+    /// Loads and validates a scene file.
+    pub fn load(path: &std::path::Path) -> Result<(SceneFile, Scene), SceneError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|err| SceneError::Io {
+            file: name.clone(),
+            err,
+        })?;
+        Self::parse(&name, &text)
+    }
+
+    /// The embedded default scene.
+    pub fn default_scene() -> (SceneFile, Scene) {
+        // ok: the embedded scene is a test fixture (tests/scenes.rs) and always valid.
+        Self::parse(DEFAULT_SCENE_NAME, DEFAULT_SCENE).expect("embedded default scene is valid")
+    }
+
+    /// Parses and validates scene text; `file` names it in errors.
+    pub fn parse(file: &str, text: &str) -> Result<(SceneFile, Scene), SceneError> {
+        let located = Located::new(file, text);
+        if let Some(p) = located.non_finite().first() {
+            return Err(located.error(p));
+        }
+        let sf: SceneFile = match toml::from_str(text) {
+            Ok(sf) => sf,
+            Err(e) => {
+                let offset = e.span().map_or(0, |s| s.start);
+                return Err(located.error_at(offset, e.message()));
+            }
+        };
+        match Scene::build(&sf) {
+            Ok(scene) => Ok((sf, scene)),
+            Err(problems) => Err(located.error(&problems[0])),
+        }
+    }
+
+    /// Validates the file model and precomputes the render model. Returns
+    /// every problem found, each with its field path.
+    pub fn build(sf: &SceneFile) -> Result<Scene, Vec<Problem>> {
+        let mut v = Validator::default();
+        let r = &sf.render;
+        let background = v.colour(&FieldPath::root("render").key("background"), r.background);
+        if r.max_depth > 64 {
+            v.problem(
+                FieldPath::root("render").key("max_depth"),
+                format!("{} is more than 64", r.max_depth),
+            );
+        }
+        if r.spp == 0 || r.spp > 65536 {
+            v.problem(
+                FieldPath::root("render").key("spp"),
+                format!("{} is not in 1..=65536", r.spp),
+            );
+        }
+
+        let cp = FieldPath::root("camera");
+        let c = &sf.camera;
+        let position = v.vec(&cp.key("position"), c.position);
+        if !(c.fov > 0.0 && c.fov < 180.0) {
+            v.problem(
+                cp.key("fov"),
+                format!("field of view {} must be in (0, 180) degrees", c.fov),
+            );
+        }
+        let rotation = match (c.rotation, c.look_at) {
+            (Some(_), Some(_)) => {
+                v.problem(cp.key("look_at"), "give either rotation or look_at, not both");
+                DVec3::ZERO
+            }
+            (Some(r), None) => v.vec(&cp.key("rotation"), r),
+            (None, Some(t)) => {
+                let dir = DVec3::from(t) - position;
+                if dir.length() > 0.0 {
+                    angles_looking_along(dir)
+                } else {
+                    v.problem(cp.key("look_at"), "look_at equals the camera position");
+                    DVec3::ZERO
+                }
+            }
+            (None, None) => DVec3::ZERO,
+        };
+        let camera = Camera::new(position, rotation, c.fov);
+
+        let ap = FieldPath::root("ambient");
+        let ambient =
+            v.colour(&ap.key("color"), sf.ambient.color) * v.non_negative(&ap.key("intensity"), sf.ambient.intensity);
+
+        let mut lights = Vec::new();
+        for (i, l) in sf.lights.iter().enumerate() {
+            let p = FieldPath::root("lights").index(i);
+            let color = v.colour(&p.key("color"), l.color);
+            let intensity = v.non_negative(&p.key("intensity"), l.intensity);
+            match l.kind {
+                LightKind::Point => {
+                    if l.direction.is_some() {
+                        v.problem(p.key("direction"), "a point light has a position, not a direction");
+                    }
+                    match l.position {
+                        Some(pos) => lights.push(Light::Point {
+                            position: DVec3::from(pos),
+                            color,
+                            intensity,
+                        }),
+                        None => v.problem(p.clone(), "a point light needs `position`"),
+                    }
+                }
+                LightKind::Directional => {
+                    if l.position.is_some() {
+                        v.problem(p.key("position"), "a directional light has a direction, not a position");
+                    }
+                    match l.direction.map(DVec3::from) {
+                        Some(d) if d.length() > 0.0 => lights.push(Light::Directional {
+                            direction: d.normalize(),
+                            color,
+                            intensity,
+                        }),
+                        Some(_) => v.problem(p.key("direction"), "direction must not be zero"),
+                        None => v.problem(p.clone(), "a directional light needs `direction`"),
+                    }
+                }
+            }
+        }
+
+        let mut objects = Vec::new();
+        for (i, o) in sf.objects.iter().enumerate() {
+            let p = FieldPath::root("objects").index(i);
+            let material = match &o.material {
+                None => v.material(&FieldPath::root("materials"), &MaterialFile::default()),
+                Some(name) => match sf.materials.get(name) {
+                    Some(m) => v.material(&FieldPath::root("materials").key(name), m),
+                    None => {
+                        v.problem(p.key("material"), format!("no material named `{name}` in [materials]"));
+                        v.material(&FieldPath::root("materials"), &MaterialFile::default())
+                    }
+                },
+            };
+            let name = o.name.clone().unwrap_or_else(|| format!("{} {}", o.kind.name(), i + 1));
+            if let Some(shape) = v.shape(&p, o) {
+                objects.push(Object::new(
+                    name,
+                    shape,
+                    material,
+                    DVec3::from(o.position),
+                    DVec3::from(o.rotation),
+                ));
+            }
+        }
+
+        for (i, l) in sf.lenses.iter().enumerate() {
+            let p = FieldPath::root("lenses").index(i);
+            let tint = v.colour(&p.key("tint"), l.tint);
+            let index = v.index(&p.key("n"), l.n);
+            match Lens::new(DVec3::from(l.center), DVec3::from(l.axis), l.d, l.r1, l.r2, index) {
+                Ok(lens) => {
+                    let name = l.name.clone().unwrap_or_else(|| format!("lens {}", i + 1));
+                    objects.push(Object::new(
+                        name,
+                        Shape::Lens(lens),
+                        Material::glass(tint, index),
+                        DVec3::ZERO,
+                        DVec3::ZERO,
+                    ));
+                }
+                Err(e) => {
+                    use crate::geometry::LensError as E;
+                    let field = match &e {
+                        E::Diameter(_) => "d",
+                        E::Radius { name, .. } => name,
+                        E::Index(_) => "n",
+                        E::Axis => "axis",
+                        E::Centre => "center",
+                    };
+                    v.problem(p.key(field), e.to_string());
+                }
+            }
+        }
+
+        if v.problems.is_empty() {
+            Ok(Scene {
+                camera,
+                ambient,
+                lights,
+                objects,
+                background,
+                max_depth: r.max_depth,
+                shadows: r.shadows,
+                spp: r.spp,
+            })
+        } else {
+            Err(v.problems)
+        }
+    }
+
+    pub fn has_transparency(&self) -> bool {
+        self.objects.iter().any(|o| o.material.is_transparent())
+    }
+}
+
+#[derive(Default)]
+struct Validator {
+    problems: Vec<Problem>,
+}
+
+impl Validator {
+    fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
+        self.problems.push(Problem::new(path, msg));
+    }
+
+    fn vec(&mut self, path: &FieldPath, v: V3) -> DVec3 {
+        for (i, x) in v.iter().enumerate() {
+            if !x.is_finite() {
+                self.problem(path.index(i), format!("{x} is not a finite number"));
+            }
+        }
+        DVec3::from(v)
+    }
+
+    fn colour(&mut self, path: &FieldPath, v: V3) -> Rgb {
+        for (i, x) in v.iter().enumerate() {
+            if !(x.is_finite() && *x >= 0.0) {
+                self.problem(
+                    path.index(i),
+                    format!("colour component {x} must be a finite number ≥ 0"),
+                );
+            }
+        }
+        DVec3::from(v)
+    }
+
+    fn non_negative(&mut self, path: &FieldPath, x: f64) -> f64 {
+        if !(x.is_finite() && x >= 0.0) {
+            self.problem(path.clone(), format!("{x} must be a finite number ≥ 0"));
+        }
+        x
+    }
+
+    fn unit(&mut self, path: &FieldPath, x: f64) -> f64 {
+        if !(0.0..=1.0).contains(&x) {
+            self.problem(path.clone(), format!("{x} must lie in [0, 1]"));
+        }
+        x
+    }
+
+    fn positive(&mut self, path: &FieldPath, x: Option<f64>, kind: &str, key: &str) -> f64 {
+        match x {
+            None => {
+                self.problem(path.clone(), format!("a {kind} needs `{key}`"));
+                1.0
+            }
+            Some(x) if !(x > 0.0 && x.is_finite()) => {
+                self.problem(path.key(key), format!("size {x} must be positive"));
+                1.0
+            }
+            Some(x) => x,
+        }
+    }
+
+    fn index(&mut self, path: &FieldPath, n: IndexFile) -> Index {
+        match n {
+            IndexFile::Constant(n) => {
+                if !(n >= 1.0) {
+                    self.problem(path.clone(), format!("refractive index {n} must be ≥ 1"));
+                }
+                Index::Constant(n)
+            }
+            IndexFile::Cauchy([a, b]) => {
+                let idx = Index::Cauchy { a, b };
+                if !(idx.at(0.38) >= 1.0 && idx.at(0.78) >= 1.0) {
+                    self.problem(
+                        path.key("cauchy"),
+                        format!("Cauchy index A + B/λ² = {a} + {b}/λ² falls below 1 in the visible range"),
+                    );
+                }
+                idx
+            }
+        }
+    }
+
+    fn material(&mut self, path: &FieldPath, m: &MaterialFile) -> Material {
+        let before = self.problems.len();
+        let color = self.colour(&path.key("color"), m.color);
+        let ambient = self.non_negative(&path.key("ambient"), m.ambient);
+        let diffuse = self.non_negative(&path.key("diffuse"), m.diffuse);
+        let specular = self.non_negative(&path.key("specular"), m.specular);
+        let shininess = self.non_negative(&path.key("shininess"), m.shininess);
+        let reflectivity = self.unit(&path.key("reflectivity"), m.reflectivity);
+        let transparency = self.unit(&path.key("transparency"), m.transparency);
+        if reflectivity + transparency > 1.0 {
+            self.problem(
+                path.key("transparency"),
+                "reflectivity + transparency must not exceed 1",
+            );
+        }
+        let ior = self.index(&path.key("ior"), m.ior);
+        // A material used by several objects reports its problems once.
+        let new: Vec<Problem> = self.problems.drain(before..).collect();
+        for p in new {
+            if !self.problems.contains(&p) {
+                self.problems.push(p);
+            }
+        }
+        Material {
+            color,
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            reflectivity,
+            transparency,
+            ior,
+        }
+    }
+
+    fn shape(&mut self, p: &FieldPath, o: &file::ObjectFile) -> Option<Shape> {
+        let before = self.problems.len();
+        self.vec(&p.key("position"), o.position);
+        self.vec(&p.key("rotation"), o.rotation);
+        let kind = o.kind.name();
+        let allowed: &[&str] = match o.kind {
+            ShapeKind::Cuboid => &["size"],
+            ShapeKind::Sphere => &["radius"],
+            ShapeKind::Prism | ShapeKind::Pyramid => &["side", "height"],
+        };
+        let given = [
+            ("size", o.size.is_some()),
+            ("radius", o.radius.is_some()),
+            ("side", o.side.is_some()),
+            ("height", o.height.is_some()),
+        ];
+        for (key, present) in given {
+            if present && !allowed.contains(&key) {
+                self.problem(
+                    p.key(key),
+                    format!("a {kind} has no `{key}` (it takes {})", allowed.join(", ")),
+                );
+            }
+        }
+        let shape = match o.kind {
+            ShapeKind::Cuboid => match o.size {
+                None => {
+                    self.problem(p.clone(), "a cuboid needs `size = [x, y, z]`");
+                    None
+                }
+                Some(s) => {
+                    for (i, x) in s.iter().enumerate() {
+                        if !(*x > 0.0 && x.is_finite()) {
+                            self.problem(p.key("size").index(i), format!("side length {x} must be positive"));
+                        }
+                    }
+                    Some(Shape::Cuboid(Cuboid::new(DVec3::from(s))))
+                }
+            },
+            ShapeKind::Sphere => Some(Shape::Sphere(Sphere::new(self.positive(p, o.radius, kind, "radius")))),
+            ShapeKind::Prism => Some(Shape::Prism(Prism::new(
+                self.positive(p, o.side, kind, "side"),
+                self.positive(p, o.height, kind, "height"),
+            ))),
+            ShapeKind::Pyramid => Some(Shape::Pyramid(Pyramid::new(
+                self.positive(p, o.side, kind, "side"),
+                self.positive(p, o.height, kind, "height"),
+            ))),
+        };
+        if self.problems.len() > before { None } else { shape }
+    }
+}
