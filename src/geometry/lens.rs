@@ -439,8 +439,10 @@ mod tests {
             l.trace(DVec3::new(0.0, 0.0, -5.0), DVec3::NEG_Z, 1.5).status,
             LensTraceStatus::Miss
         );
-        let p = l.trace(DVec3::ZERO, DVec3::X, 1.5);
+        // From the centre toward S1 (not toward the rim, where the faces meet).
+        let p = l.trace(DVec3::ZERO, DVec3::new(0.3, 0.0, 1.0), 1.5);
         assert!(p.entry.is_none());
+        assert_eq!(p.exit.unwrap().0, LensSurface::S1);
         assert_eq!(p.status, LensTraceStatus::Transmitted);
     }
 
