@@ -131,15 +131,12 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
         let f = fresnel_dielectric(nf.dot(view), n1, n2);
         kr += m.transparency * f;
         let kt = m.transparency * (1.0 - f);
-        if kt * weight > MIN_WEIGHT {
-            if let Some(t) = optics::refract(ray.dir, nf, n1, n2) {
-                let tint = m.color;
-                let through = match obj.lens() {
-                    Some(lens) if entering => through_lens(scene, lens, p, t, ior, depth, lambda_um, weight * kt),
-                    _ => radiance_weighted(scene, &spawn_ray(p, nf, t, scale), depth + 1, lambda_um, weight * kt),
-                };
-                color += tint * through * kt;
-            }
+        if kt * weight > MIN_WEIGHT
+            && let Some(tr) = transmitted_ray(obj, p, nf, entering, ray.dir, ior)
+            && depth + tr.bounces <= scene.max_depth
+        {
+            let w = kt * tr.factor;
+            color += m.color * radiance_weighted(scene, &tr.ray, depth + tr.bounces, lambda_um, weight * w) * w;
         }
     }
     if kr * weight > MIN_WEIGHT {
@@ -149,42 +146,53 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
     color
 }
 
-/// Continues a ray that has just refracted into `lens` at `p`: the lens's
-/// exact inside path (with its total internal reflections), then the scene
-/// beyond the exit face.
-#[allow(clippy::too_many_arguments)]
-fn through_lens(
-    scene: &Scene,
-    lens: &Lens,
-    p: DVec3,
-    inside: DVec3,
-    ior: f64,
-    depth: u32,
-    lambda_um: f64,
-    weight: f64,
-) -> Rgb {
+/// The ray that carries on after refraction at a hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Transmitted {
+    /// The continuing ray: inside the glass for ordinary solids, already out
+    /// of the exit face for a lens.
+    pub ray: Ray,
+    /// Depth it used: 1 for a refraction, 1 + internal reflections + 1 for a
+    /// pass through a lens.
+    pub bounces: u32,
+    /// Extra transmission factor (the Fresnel loss at a lens's exit face).
+    pub factor: f64,
+}
+
+/// Refraction at the hit point `p` of `obj` (normal `nf` facing the incoming
+/// ray of direction `dir`, index `ior`). A ray entering a lens is carried
+/// through it by the lens's exact tracer ([`Lens::propagate_inside`], the
+/// code behind `lensview lens trace`); other solids return the ray inside.
+/// `None` under total internal reflection, or when the lens traps the ray.
+pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: DVec3, ior: f64) -> Option<Transmitted> {
+    let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
+    let t = optics::refract(dir, nf, n1, n2)?;
+    match obj.lens() {
+        Some(lens) if entering => through_lens(lens, p, t, ior),
+        _ => Some(Transmitted {
+            ray: spawn_ray(p, nf, t, obj.shape.scale()),
+            bounces: 1,
+            factor: 1.0,
+        }),
+    }
+}
+
+/// Follows a ray that has just refracted into `lens` at `p` to its exit.
+fn through_lens(lens: &Lens, p: DVec3, inside: DVec3, ior: f64) -> Option<Transmitted> {
     let path = lens.propagate_inside(p, inside, ior);
     match (path.status, path.exit) {
         (LensTraceStatus::Transmitted, Some((s, y, out))) => {
-            let bounces = 1 + path.internal_reflections;
-            if depth + bounces > scene.max_depth {
-                return Rgb::ZERO;
-            }
             let n = lens.surface_normal(y, s);
-            // Fresnel loss at the exit face.
+            // Fresnel loss at the exit face, at the inside angle of incidence.
             let cos_out = out.dot(n).abs();
             let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
-            let t_exit = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
-            let scale = lens.d;
-            radiance_weighted(
-                scene,
-                &spawn_ray(y, n, out, scale),
-                depth + bounces,
-                lambda_um,
-                weight * t_exit,
-            ) * t_exit
+            Some(Transmitted {
+                ray: spawn_ray(y, n, out, lens.d),
+                bounces: 2 + path.internal_reflections,
+                factor: 1.0 - fresnel_dielectric(cos_in, ior, 1.0),
+            })
         }
-        _ => Rgb::ZERO,
+        _ => None,
     }
 }
 

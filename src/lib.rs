@@ -24,6 +24,7 @@ pub mod camera;
 pub mod color;
 pub mod geometry;
 pub mod integrator;
+pub mod lens_tools;
 pub mod light;
 pub mod material;
 pub mod math;

@@ -127,3 +127,100 @@ fn a_failed_render_leaves_no_file() {
     assert!(!o.status.success());
     assert!(!out.exists());
 }
+
+#[test]
+fn lens_trace_reads_cases_and_writes_json() {
+    let cases = tmp("cases.json");
+    std::fs::write(
+        &cases,
+        r#"{ "note": "unknown keys are ignored",
+             "cases": [ { "id": "std", "lens": { "center": [0,0,0], "axis": [0,0,1], "d": 20.0, "R1": 50.0, "R2": 50.0, "n": 1.5 },
+               "rays": [ { "id": "axial", "origin": [0,0,30], "direction": [0,0,-2] },
+                         { "id": "blue", "origin": [3,0,30], "direction": [0,0,-1], "wavelength_um": 0.4861 },
+                         { "id": "wide", "origin": [30,0,30], "direction": [0,0,-1] } ] },
+               { "id": 7, "lens": { "center": [0,0,0], "axis": [0,0,1], "d": 20.0, "R1": 50.0, "R2": 50.0, "n": { "cauchy": [1.5046, 0.0042] } },
+               "rays": [ { "id": "blue", "origin": [3,0,30], "direction": [0,0,-1], "wavelength_um": 0.4861 } ] } ] }"#,
+    )
+    .unwrap();
+    let o = bin().args(["lens", "trace", cases.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rays = &v["cases"][0]["rays"];
+    assert_eq!(v["cases"][0]["id"], "std");
+    assert_eq!(rays[0]["status"], "transmitted");
+    assert_eq!(rays[0]["entry_surface"], "S1");
+    assert_eq!(rays[0]["exit_surface"], "S2");
+    let sag = 50.0 - (2400.0f64).sqrt();
+    assert!((rays[0]["entry_point"][2].as_f64().unwrap() - sag).abs() < 1e-14);
+    assert_eq!(rays[0]["exit_direction"], serde_json::json!([0.0, 0.0, -1.0]));
+    assert_eq!(rays[0]["n_internal_reflections"], 0);
+    // The off-axis ray is bent toward the axis and its direction is unit.
+    let d: Vec<f64> = rays[1]["exit_direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(d[0] < 0.0 && ((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - 1.0).abs() < 1e-15);
+    assert_eq!(rays[2]["status"], "miss");
+    assert!(rays[2].get("exit_point").is_none());
+    // Cauchy glass at 486.1 nm: n = A + B/λ².
+    let n = v["cases"][1]["rays"][0]["n"].as_f64().unwrap();
+    assert!((n - (1.5046 + 0.0042 / (0.4861f64 * 0.4861))).abs() < 1e-15);
+}
+
+#[test]
+fn lens_trace_rejects_impossible_lenses_and_broken_json() {
+    let cases = tmp("bad-cases.json");
+    std::fs::write(&cases, r#"{ "cases": [ { "id": "x", "lens": { "center": [0,0,0], "axis": [0,0,1], "d": 2, "R1": 0.5, "R2": 5, "n": 1.5 }, "rays": [] } ] }"#).unwrap();
+    fails_with(
+        &["lens", "trace", cases.to_str().unwrap()],
+        "cases[0] (id \"x\").lens.R1: radius r1 = 0.5 is smaller than d/2 = 1",
+    );
+    std::fs::write(&cases, "{ \"cases\": [\n  { \"id\": 1, ").unwrap();
+    fails_with(&["lens", "trace", cases.to_str().unwrap()], "bad-cases.json:2:");
+}
+
+#[test]
+fn lens_info_prints_paraxial_data_as_text_and_json() {
+    let o = bin()
+        .args([
+            "lens", "info", "--d", "2", "--r1", "1", "--r2", "1", "--n", "1.5", "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // Ball lens: EFL = nD / (4(n − 1)) = 1.5, BFD = EFL − D/2.
+    assert!((v["efl"].as_f64().unwrap() - 1.5).abs() < 1e-15);
+    assert!((v["bfd"].as_f64().unwrap() - 0.5).abs() < 1e-15);
+    assert_eq!(v["thickness"].as_f64().unwrap(), 2.0);
+    let o = bin()
+        .args([
+            "lens",
+            "info",
+            "--d",
+            "2",
+            "--r1",
+            "5",
+            "--r2",
+            "5",
+            "--n",
+            "1.5046,0.0042",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("effective focal length") && text.contains("axial colour"),
+        "{text}"
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "0.9", "--r2", "5", "--n", "1.5"],
+        "radius r1 = 0.9 is smaller than d/2 = 1",
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "0.5"],
+        "index 0.5 must be ≥ 1",
+    );
+}
