@@ -78,10 +78,25 @@ fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
     }
 }
 
-#[derive(Args, Debug)]
+#[derive(Args, Debug, Default)]
 pub struct ViewArgs {
     /// Scene file (TOML); the embedded default scene when omitted.
     pub scene: Option<PathBuf>,
+    /// Append one JSON line per presented frame to this file.
+    #[arg(long)]
+    pub frame_log: Option<PathBuf>,
+    /// Close the window cleanly after this many seconds.
+    #[arg(long)]
+    pub exit_after: Option<f64>,
+    /// Samples per pixel to refine to.
+    #[arg(long, default_value_t = 64)]
+    pub max_spp: u32,
+    /// Initial window width.
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Initial window height.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
 }
 
 #[derive(Args, Debug)]
@@ -115,7 +130,12 @@ pub fn load_scene(path: Option<&Path>) -> Result<(SceneFile, Scene)> {
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        None => view(ViewArgs { scene: None }),
+        None => view(ViewArgs {
+            max_spp: 64,
+            width: 1280,
+            height: 720,
+            ..Default::default()
+        }),
         Some(Command::View(a)) => view(a),
         Some(Command::Render(a)) => render_cmd(a),
         Some(Command::Lens(LensCommand::Trace { cases })) => lens_trace(&cases),
@@ -148,12 +168,27 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
 }
 
 fn view(a: ViewArgs) -> Result<()> {
-    // Validate the scene first so a bad file is reported either way.
-    load_scene(a.scene.as_deref())?;
-    bail!(
-        "the interactive viewer is not part of this build yet (issue #4); render headless instead: lensview render {} -o out.png",
-        a.scene.as_deref().map_or(String::new(), |p| p.display().to_string())
-    )
+    let (scene_file, _) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
+    }
+    if a.max_spp == 0 {
+        bail!("--max-spp must be at least 1");
+    }
+    if let Some(t) = a.exit_after
+        && !(t >= 0.0 && t.is_finite())
+    {
+        bail!("--exit-after must be a number of seconds ≥ 0, got {t}");
+    }
+    crate::viewer::run(crate::viewer::ViewOptions {
+        scene_path: a.scene,
+        scene_file,
+        frame_log: a.frame_log,
+        exit_after: a.exit_after,
+        max_spp: a.max_spp,
+        width: a.width,
+        height: a.height,
+    })
 }
 
 fn render_cmd(a: RenderArgs) -> Result<()> {

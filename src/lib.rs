@@ -22,6 +22,7 @@
 
 pub mod camera;
 pub mod color;
+pub mod edit;
 pub mod geometry;
 pub mod integrator;
 pub mod lens_tools;

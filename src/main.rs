@@ -2,6 +2,7 @@
 //! line and returns a non-zero exit code on failure.
 
 mod cli;
+mod viewer;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -5,6 +5,8 @@
 //! the image is bit-identical on any number of threads.
 
 mod image;
+pub mod progressive;
+pub mod worker;
 
 pub use image::Image;
 

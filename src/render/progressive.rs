@@ -1,0 +1,308 @@
+//! Progressive refinement: a schedule of coarse block levels, then full
+//! resolution, then waves of extra samples, rendered in parallel row bands
+//! with cancellation checked between bands.
+//!
+//! Sample `i` of a pixel is fixed: sample 0 is the pixel centre, sample
+//! `i ≥ 1` is jittered by `Sampler(seed, pixel, i)`. An image refined to `N`
+//! samples is therefore the same whatever the thread count, and the same
+//! whether it got there in one wave or many.
+
+use super::{is_dispersive, sample};
+use crate::color::Rgb;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+use rayon::prelude::*;
+
+/// One step of the schedule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// One sample per `n × n` block, drawn as a flat block.
+    Blocks(u32),
+    /// Full resolution, accumulated until every pixel has this many samples.
+    Samples(u32),
+}
+
+impl Stage {
+    /// Camera samples this stage takes for a `width × height` image that
+    /// already has `have` samples per pixel.
+    pub fn cost(&self, width: u32, height: u32, have: u32) -> u64 {
+        let (w, h) = (width as u64, height as u64);
+        match *self {
+            Stage::Blocks(n) => w.div_ceil(n as u64) * h.div_ceil(n as u64),
+            Stage::Samples(s) => w * h * s.saturating_sub(have) as u64,
+        }
+    }
+
+    pub fn label(&self) -> String {
+        match *self {
+            Stage::Blocks(n) => format!("{n}×{n} blocks"),
+            Stage::Samples(s) => format!("{s} spp"),
+        }
+    }
+}
+
+/// The standard schedule: 8×8 → 4×4 → 2×2 blocks, full resolution at 1
+/// sample, then 2, 4, 8, … samples per pixel up to `max_spp`.
+pub fn schedule(max_spp: u32) -> Vec<Stage> {
+    let mut v = vec![Stage::Blocks(8), Stage::Blocks(4), Stage::Blocks(2), Stage::Samples(1)];
+    let mut s = 2;
+    while s < max_spp {
+        v.push(Stage::Samples(s));
+        s *= 2;
+    }
+    if max_spp > 1 {
+        v.push(Stage::Samples(max_spp));
+    }
+    v
+}
+
+/// The first stage worth drawing: the finest block level whose predicted
+/// time fits `budget_s`, given the measured `seconds_per_sample` (none
+/// measured yet: the coarsest).
+pub fn first_stage(stages: &[Stage], width: u32, height: u32, seconds_per_sample: Option<f64>, budget_s: f64) -> usize {
+    let Some(sps) = seconds_per_sample else { return 0 };
+    let mut pick = 0;
+    for (i, st) in stages.iter().enumerate() {
+        if matches!(st, Stage::Samples(s) if *s > 1) {
+            break;
+        }
+        if st.cost(width, height, 0) as f64 * sps <= budget_s {
+            pick = i;
+        } else {
+            break;
+        }
+    }
+    pick
+}
+
+/// The image being refined: a preview for block levels, and the running sum
+/// of full-resolution samples.
+#[derive(Clone, Debug)]
+pub struct Progressive {
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    /// Samples per pixel in `sum` (0 while only block levels were drawn).
+    pub spp: u32,
+    sum: Vec<Rgb>,
+    preview: Vec<Rgb>,
+}
+
+/// Rows per band: the unit of parallel work and of cancellation.
+const BAND: usize = 4;
+
+impl Progressive {
+    pub fn new(width: u32, height: u32, seed: u64) -> Self {
+        let n = width as usize * height as usize;
+        Progressive {
+            width,
+            height,
+            seed,
+            spp: 0,
+            sum: vec![Rgb::ZERO; n],
+            preview: vec![Rgb::ZERO; n],
+        }
+    }
+
+    /// Renders one stage. Returns `false` (leaving the image as it was
+    /// before the stage for sample stages) if `cancelled()` turned true.
+    pub fn run(&mut self, scene: &Scene, stage: Stage, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+        let (w, h) = (self.width as usize, self.height as usize);
+        if w == 0 || h == 0 {
+            return true;
+        }
+        let dispersive = is_dispersive(scene);
+        match stage {
+            Stage::Blocks(n) => {
+                let n = n.max(1) as usize;
+                self.preview.par_chunks_mut(w * n).enumerate().all(|(by, rows)| {
+                    if cancelled() {
+                        return false;
+                    }
+                    let y0 = by * n;
+                    let rows_here = rows.len() / w;
+                    let cy = (y0 + n / 2).min(h - 1);
+                    for bx in 0..w.div_ceil(n) {
+                        let x0 = bx * n;
+                        let cx = (x0 + n / 2).min(w - 1);
+                        let c = sample(
+                            scene,
+                            dispersive,
+                            cx as f64 + 0.5,
+                            cy as f64 + 0.5,
+                            self.width,
+                            self.height,
+                        );
+                        for r in 0..rows_here {
+                            let row = &mut rows[r * w..(r + 1) * w];
+                            row[x0..(x0 + n).min(w)].fill(c);
+                        }
+                    }
+                    true
+                })
+            }
+            Stage::Samples(target) => {
+                let from = self.spp;
+                if target <= from {
+                    return true;
+                }
+                let (width, height, seed) = (self.width, self.height, self.seed);
+                let mut next = self.sum.clone();
+                let ok = next.par_chunks_mut(w * BAND).enumerate().all(|(band, rows)| {
+                    if cancelled() {
+                        return false;
+                    }
+                    for (i, px) in rows.iter_mut().enumerate() {
+                        let idx = band * BAND * w + i;
+                        let (x, y) = ((idx % w) as u32, (idx / w) as u32);
+                        for s in from..target {
+                            let (jx, jy) = if s == 0 {
+                                (0.5, 0.5)
+                            } else {
+                                Sampler::new(seed, idx as u64, s as u64).next_2d()
+                            };
+                            *px += sample(scene, dispersive, x as f64 + jx, y as f64 + jy, width, height);
+                        }
+                    }
+                    true
+                });
+                if ok {
+                    self.sum = next;
+                    self.spp = target;
+                }
+                ok
+            }
+        }
+    }
+
+    /// The current picture: the mean of the samples when there are any,
+    /// else the block preview.
+    pub fn image(&self) -> super::Image {
+        let pixels = if self.spp > 0 {
+            let inv = 1.0 / self.spp as f64;
+            self.sum.par_iter().map(|c| *c * inv).collect()
+        } else {
+            self.preview.clone()
+        };
+        super::Image {
+            width: self.width,
+            height: self.height,
+            pixels,
+        }
+    }
+
+    /// The current picture as 8-bit sRGB RGBA (for a framebuffer), written
+    /// into `out` (resized as needed).
+    pub fn write_rgba8(&self, out: &mut Vec<u8>) {
+        let n = self.width as usize * self.height as usize;
+        out.resize(n * 4, 255);
+        let inv = if self.spp > 0 { 1.0 / self.spp as f64 } else { 1.0 };
+        let src = if self.spp > 0 { &self.sum } else { &self.preview };
+        out.par_chunks_mut(4).zip(src.par_iter()).for_each(|(o, c)| {
+            let c = *c * inv;
+            o[0] = crate::color::to_srgb8_fast(c.x);
+            o[1] = crate::color::to_srgb8_fast(c.y);
+            o[2] = crate::color::to_srgb8_fast(c.z);
+            o[3] = 255;
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{RenderSettings, render};
+
+    fn scene() -> Scene {
+        Scene::default_scene().1
+    }
+
+    #[test]
+    fn schedule_goes_coarse_to_fine_and_stops_at_the_cap() {
+        assert_eq!(
+            schedule(16),
+            vec![
+                Stage::Blocks(8),
+                Stage::Blocks(4),
+                Stage::Blocks(2),
+                Stage::Samples(1),
+                Stage::Samples(2),
+                Stage::Samples(4),
+                Stage::Samples(8),
+                Stage::Samples(16)
+            ]
+        );
+        assert_eq!(*schedule(1).last().unwrap(), Stage::Samples(1));
+        assert_eq!(*schedule(48).last().unwrap(), Stage::Samples(48));
+    }
+
+    #[test]
+    fn first_stage_fits_the_budget() {
+        let st = schedule(64);
+        assert_eq!(first_stage(&st, 1280, 720, None, 0.016), 0);
+        // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
+        assert_eq!(first_stage(&st, 1280, 720, Some(1e-5), 0.016), 0);
+        // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
+        assert_eq!(first_stage(&st, 1280, 720, Some(5e-8), 0.016), 2);
+        assert_eq!(first_stage(&st, 1280, 720, Some(1e-9), 0.016), 3);
+    }
+
+    #[test]
+    fn refinement_converges_to_the_same_image_as_a_direct_render() {
+        let s = scene();
+        let mut p = Progressive::new(40, 30, 3);
+        for st in schedule(4) {
+            assert!(p.run(&s, st, &|| false));
+        }
+        assert_eq!(p.spp, 4);
+        let direct = render(
+            &s,
+            &RenderSettings {
+                width: 40,
+                height: 30,
+                spp: 1,
+                seed: 3,
+            },
+            None,
+        );
+        let mut one = Progressive::new(40, 30, 3);
+        one.run(&s, Stage::Samples(1), &|| false);
+        // Sample 0 is the pixel centre, as in a 1-spp render.
+        assert_eq!(one.image(), direct);
+        // Four samples in waves equal four samples at once.
+        let mut once = Progressive::new(40, 30, 3);
+        once.run(&s, Stage::Samples(4), &|| false);
+        assert_eq!(once.image(), p.image());
+    }
+
+    #[test]
+    fn cancellation_stops_a_stage_and_keeps_the_previous_image() {
+        let s = scene();
+        let mut p = Progressive::new(64, 48, 0);
+        p.run(&s, Stage::Samples(1), &|| false);
+        let before = p.image();
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let ok = p.run(&s, Stage::Samples(8), &|| {
+            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 2
+        });
+        assert!(!ok);
+        assert_eq!(p.spp, 1);
+        assert_eq!(p.image(), before);
+        // Bands after the cancellation were skipped, not rendered.
+        assert!(calls.load(std::sync::atomic::Ordering::Relaxed) < 48 / BAND + 1);
+    }
+
+    #[test]
+    fn block_preview_fills_every_pixel() {
+        let s = scene();
+        let mut p = Progressive::new(37, 23, 0);
+        assert!(p.run(&s, Stage::Blocks(8), &|| false));
+        let img = p.image();
+        // Blocks are flat, and the last partial block is filled too.
+        assert_eq!(img.get(0, 0), img.get(7, 7));
+        assert_ne!(img.get(36, 22), Rgb::ZERO);
+        let mut rgba = Vec::new();
+        p.write_rgba8(&mut rgba);
+        assert_eq!(rgba.len(), 37 * 23 * 4);
+    }
+}

@@ -1,0 +1,221 @@
+//! The render thread: takes jobs (scene, size, generation), refines them
+//! through the progressive schedule and sends a frame after every stage over
+//! a `crossbeam-channel`, then calls a wake-up function so an event loop can
+//! draw it. A newer job cancels the current one between row bands.
+
+use super::progressive::{Progressive, Stage, first_stage, schedule};
+use crate::scene::Scene;
+use crossbeam_channel::{Receiver, Sender, unbounded};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+/// Time the first frame after an input may take (a 60 Hz frame less the
+/// viewer's own share).
+pub const FIRST_FRAME_BUDGET_S: f64 = 0.012;
+
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Strictly increasing; every change to what is drawn bumps it.
+    pub generation: u64,
+    pub scene: Arc<Scene>,
+    pub width: u32,
+    pub height: u32,
+    pub max_spp: u32,
+    pub seed: u64,
+    /// When the input that caused this job happened.
+    pub input_time: Instant,
+}
+
+/// One refined picture.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub generation: u64,
+    pub stage: Stage,
+    /// Samples per pixel (0 for a block preview).
+    pub spp: u32,
+    pub width: u32,
+    pub height: u32,
+    /// 8-bit sRGB RGBA, row-major.
+    pub rgba: Vec<u8>,
+    /// Time spent rendering this stage.
+    pub render_ms: f64,
+    /// Time from the job's input to this frame leaving the render thread.
+    pub since_input_ms: f64,
+    /// Camera samples per second measured on this stage.
+    pub samples_per_s: f64,
+    /// True for the last stage of the schedule.
+    pub last: bool,
+}
+
+pub struct Worker {
+    jobs: Option<Sender<Job>>,
+    pub frames: Receiver<Frame>,
+    latest: Arc<AtomicU64>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    /// Starts the render thread; `wake` is called after each frame is sent.
+    pub fn spawn(wake: impl Fn() + Send + 'static) -> Self {
+        let (job_tx, job_rx) = unbounded::<Job>();
+        let (frame_tx, frame_rx) = unbounded::<Frame>();
+        let latest = Arc::new(AtomicU64::new(0));
+        let l = latest.clone();
+        let handle = std::thread::Builder::new()
+            .name("lensview-render".into())
+            .spawn(move || run(job_rx, frame_tx, l, wake))
+            .ok();
+        Worker {
+            jobs: Some(job_tx),
+            frames: frame_rx,
+            latest,
+            handle,
+        }
+    }
+
+    /// Replaces whatever is being rendered by `job`.
+    pub fn submit(&self, job: Job) {
+        self.latest.store(job.generation, Ordering::SeqCst);
+        if let Some(tx) = &self.jobs {
+            let _ = tx.send(job);
+        }
+    }
+
+    /// The newest generation submitted.
+    pub fn latest(&self) -> u64 {
+        self.latest.load(Ordering::SeqCst)
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        // Cancel the current job and close the channel: the thread ends.
+        self.latest.store(u64::MAX, Ordering::SeqCst);
+        self.jobs.take();
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake: impl Fn()) {
+    let mut seconds_per_sample: Option<f64> = None;
+    while let Ok(mut job) = jobs.recv() {
+        while let Ok(newer) = jobs.try_recv() {
+            job = newer;
+        }
+        if job.generation != latest.load(Ordering::SeqCst) {
+            continue;
+        }
+        let stages = schedule(job.max_spp.max(1));
+        let first = first_stage(&stages, job.width, job.height, seconds_per_sample, FIRST_FRAME_BUDGET_S);
+        let mut prog = Progressive::new(job.width, job.height, job.seed);
+        let generation = job.generation;
+        let cancelled = || latest.load(Ordering::Relaxed) != generation;
+        for (i, &stage) in stages.iter().enumerate().skip(first) {
+            let cost = stage.cost(job.width, job.height, prog.spp);
+            let t0 = Instant::now();
+            if !prog.run(&job.scene, stage, &cancelled) {
+                break;
+            }
+            let dt = t0.elapsed().as_secs_f64();
+            if cost >= 1000 {
+                let sps = dt / cost as f64;
+                seconds_per_sample = Some(match seconds_per_sample {
+                    Some(old) => 0.5 * old + 0.5 * sps,
+                    None => sps,
+                });
+            }
+            let mut rgba = Vec::new();
+            prog.write_rgba8(&mut rgba);
+            let frame = Frame {
+                generation,
+                stage,
+                spp: prog.spp,
+                width: job.width,
+                height: job.height,
+                rgba,
+                render_ms: dt * 1e3,
+                since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
+                samples_per_s: if dt > 0.0 { cost as f64 / dt } else { 0.0 },
+                last: i + 1 == stages.len(),
+            };
+            if frames.send(frame).is_err() {
+                return;
+            }
+            wake();
+            if cancelled() {
+                break;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    fn job(generation: u64, w: u32, h: u32, spp: u32) -> Job {
+        Job {
+            generation,
+            scene: Arc::new(Scene::default_scene().1),
+            width: w,
+            height: h,
+            max_spp: spp,
+            seed: 0,
+            input_time: Instant::now(),
+        }
+    }
+
+    #[test]
+    fn a_job_refines_to_its_sample_cap_in_order() {
+        let w = Worker::spawn(|| {});
+        w.submit(job(1, 32, 24, 4));
+        let mut spp = Vec::new();
+        loop {
+            let f = w.frames.recv_timeout(Duration::from_secs(30)).unwrap();
+            assert_eq!(f.generation, 1);
+            assert_eq!(f.rgba.len(), 32 * 24 * 4);
+            spp.push(f.spp);
+            if f.last {
+                break;
+            }
+        }
+        assert_eq!(*spp.last().unwrap(), 4);
+        assert!(spp.windows(2).all(|p| p[0] <= p[1]), "{spp:?}");
+    }
+
+    #[test]
+    fn a_newer_job_cancels_the_older_one() {
+        let w = Worker::spawn(|| {});
+        // A big job with a high cap, then at once a small one.
+        w.submit(job(1, 640, 480, 4096));
+        w.submit(job(2, 16, 16, 2));
+        let mut last_gen2 = false;
+        let deadline = Instant::now() + Duration::from_secs(60);
+        while Instant::now() < deadline {
+            let f = w.frames.recv_timeout(Duration::from_secs(30)).unwrap();
+            assert!(f.generation <= 2);
+            if f.generation == 2 && f.last {
+                last_gen2 = true;
+                break;
+            }
+        }
+        assert!(last_gen2, "the newer job never finished");
+        // Nothing more of generation 1 arrives after generation 2 finished.
+        assert!(w.frames.recv_timeout(Duration::from_millis(300)).is_err());
+    }
+
+    #[test]
+    fn dropping_the_worker_stops_the_thread() {
+        let w = Worker::spawn(|| {});
+        w.submit(job(1, 640, 480, 4096));
+        std::thread::sleep(Duration::from_millis(50));
+        let t = Instant::now();
+        drop(w);
+        assert!(t.elapsed() < Duration::from_secs(20));
+    }
+}

@@ -1,0 +1,183 @@
+//! The key-binding table: every key the viewer answers, the action it
+//! triggers, and its help text. The help overlay is printed from this table.
+
+use winit::keyboard::KeyCode;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    // Held: camera flight.
+    Forward,
+    Back,
+    Left,
+    Right,
+    Down,
+    Up,
+    LookLeft,
+    LookRight,
+    LookUp,
+    LookDown,
+    // Pressed: scene edits (restart refinement).
+    LightX(f64),
+    LightY(f64),
+    LightZ(f64),
+    LightIntensity(f64),
+    LightPreset,
+    LightWarmer,
+    LightCooler,
+    LensAlongAxis(f64),
+    LensSideways(f64),
+    LensVertical(f64),
+    LensYaw(f64),
+    LensPitch(f64),
+    LensD(f64),
+    LensR1(f64),
+    LensR2(f64),
+    LensN(f64),
+    ResetView,
+    Reload,
+    // Pressed: display only (no restart).
+    Screenshot,
+    ToggleOverlay,
+    ToggleHelp,
+    HalfResolution,
+    Quit,
+}
+
+impl Action {
+    /// Held actions move the camera every frame while the key is down.
+    pub fn is_held(self) -> bool {
+        matches!(
+            self,
+            Action::Forward
+                | Action::Back
+                | Action::Left
+                | Action::Right
+                | Action::Down
+                | Action::Up
+                | Action::LookLeft
+                | Action::LookRight
+                | Action::LookUp
+                | Action::LookDown
+        )
+    }
+
+    /// Whether the action changes the picture (and so restarts refinement).
+    pub fn restarts(self) -> bool {
+        !matches!(
+            self,
+            Action::Screenshot | Action::ToggleOverlay | Action::ToggleHelp | Action::Quit
+        )
+    }
+}
+
+/// (key, label shown in help, action, help text)
+pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
+    (KeyCode::KeyW, "W", Action::Forward, "fly forward"),
+    (KeyCode::KeyS, "S", Action::Back, "fly back"),
+    (KeyCode::KeyA, "A", Action::Left, "fly left"),
+    (KeyCode::KeyD, "D", Action::Right, "fly right"),
+    (KeyCode::KeyQ, "Q", Action::Down, "fly down"),
+    (KeyCode::KeyE, "E", Action::Up, "fly up"),
+    (
+        KeyCode::ArrowLeft,
+        "Left",
+        Action::LookLeft,
+        "turn left (or drag with the mouse)",
+    ),
+    (KeyCode::ArrowRight, "Right", Action::LookRight, "turn right"),
+    (KeyCode::ArrowUp, "Up", Action::LookUp, "look up"),
+    (KeyCode::ArrowDown, "Down", Action::LookDown, "look down"),
+    (KeyCode::KeyJ, "J/L", Action::LightX(-0.5), "light x -/+"),
+    (KeyCode::KeyL, "", Action::LightX(0.5), ""),
+    (KeyCode::KeyU, "U/O", Action::LightY(0.5), "light y +/-"),
+    (KeyCode::KeyO, "", Action::LightY(-0.5), ""),
+    (KeyCode::KeyI, "I/K", Action::LightZ(-0.5), "light z -/+"),
+    (KeyCode::KeyK, "", Action::LightZ(0.5), ""),
+    (
+        KeyCode::BracketLeft,
+        "[ / ]",
+        Action::LightIntensity(0.8),
+        "light intensity -/+",
+    ),
+    (KeyCode::BracketRight, "", Action::LightIntensity(1.25), ""),
+    (KeyCode::KeyT, "T", Action::LightPreset, "light colour: next preset"),
+    (
+        KeyCode::Comma,
+        ", / .",
+        Action::LightWarmer,
+        "light colour temperature -/+ 500 K",
+    ),
+    (KeyCode::Period, "", Action::LightCooler, ""),
+    (
+        KeyCode::KeyZ,
+        "Z/X",
+        Action::LensAlongAxis(-0.1),
+        "lens along its axis -/+",
+    ),
+    (KeyCode::KeyX, "", Action::LensAlongAxis(0.1), ""),
+    (KeyCode::KeyV, "V/B", Action::LensSideways(-0.1), "lens x -/+"),
+    (KeyCode::KeyB, "", Action::LensSideways(0.1), ""),
+    (KeyCode::KeyN, "N/M", Action::LensVertical(-0.1), "lens y -/+"),
+    (KeyCode::KeyM, "", Action::LensVertical(0.1), ""),
+    (KeyCode::Digit9, "9/0", Action::LensYaw(-5.0), "lens yaw -/+ 5 deg"),
+    (KeyCode::Digit0, "", Action::LensYaw(5.0), ""),
+    (KeyCode::Minus, "- / =", Action::LensPitch(-5.0), "lens pitch -/+ 5 deg"),
+    (KeyCode::Equal, "", Action::LensPitch(5.0), ""),
+    (KeyCode::Digit1, "1/2", Action::LensD(-0.1), "lens diameter d -/+"),
+    (KeyCode::Digit2, "", Action::LensD(0.1), ""),
+    (KeyCode::Digit3, "3/4", Action::LensR1(-0.25), "lens r1 -/+"),
+    (KeyCode::Digit4, "", Action::LensR1(0.25), ""),
+    (KeyCode::Digit5, "5/6", Action::LensR2(-0.25), "lens r2 -/+"),
+    (KeyCode::Digit6, "", Action::LensR2(0.25), ""),
+    (KeyCode::Digit7, "7/8", Action::LensN(-0.02), "lens index n -/+"),
+    (KeyCode::Digit8, "", Action::LensN(0.02), ""),
+    (KeyCode::KeyR, "R", Action::ResetView, "reset the view"),
+    (
+        KeyCode::F5,
+        "F5",
+        Action::Reload,
+        "reload the scene file (keeps the camera)",
+    ),
+    (
+        KeyCode::KeyP,
+        "P",
+        Action::Screenshot,
+        "save a screenshot PNG (full resolution)",
+    ),
+    (KeyCode::F1, "F1", Action::ToggleOverlay, "overlay on/off"),
+    (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
+    (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
+    (KeyCode::Escape, "Esc", Action::Quit, "quit"),
+];
+
+pub fn action_for(key: KeyCode) -> Option<Action> {
+    BINDINGS.iter().find(|b| b.0 == key).map(|b| b.2)
+}
+
+/// Help lines, one per labelled binding, plus the mouse and modifiers.
+pub fn help_lines() -> Vec<String> {
+    let mut v: Vec<String> = BINDINGS
+        .iter()
+        .filter(|b| !b.1.is_empty())
+        .map(|b| format!("{:<6} {}", b.1, b.3))
+        .collect();
+    v.push("Shift  fly faster;  wheel: flight speed".into());
+    v.push("Mouse  drag with the left button to look around".into());
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_key_is_bound_once_and_every_help_line_has_text() {
+        for (i, a) in BINDINGS.iter().enumerate() {
+            assert!(BINDINGS[i + 1..].iter().all(|b| b.0 != a.0), "{:?} bound twice", a.0);
+            assert!(a.1.is_empty() == a.3.is_empty());
+        }
+        assert!(help_lines().len() > 20);
+        assert_eq!(action_for(KeyCode::KeyW), Some(Action::Forward));
+        assert!(!Action::ToggleOverlay.restarts() && Action::LensD(0.1).restarts());
+    }
+}

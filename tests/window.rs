@@ -1,0 +1,338 @@
+//! The real window under Xvfb with Mesa's software Vulkan driver (lavapipe):
+//! it opens and shows the scene, keys change the picture, the overlay shows,
+//! resizing and unmapping do not crash, and Escape exits with status 0.
+//!
+//! Needs `Xvfb`, `xdotool` and ImageMagick's `import` (`.ci/run` installs
+//! them). Every wait polls with a generous time-out; the X server is killed
+//! when the test ends, pass or fail.
+
+use lensview::render::{Image, RenderSettings, render};
+use lensview::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const W: u32 = 640;
+const H: u32 = 480;
+
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        // A display number of our own: the first free one from a per-process base.
+        let base = 90 + (std::process::id() % 400);
+        for n in base..base + 100 {
+            if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
+                continue;
+            }
+            let child = Command::new("Xvfb")
+                .args([&format!(":{n}"), "-screen", "0", "1600x1000x24", "-nolisten", "tcp"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("Xvfb is not installed (apt-get install xvfb)");
+            let mut x = Xvfb {
+                child,
+                display: format!(":{n}"),
+            };
+            if wait_until(Duration::from_secs(20), || {
+                Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
+            }) {
+                return x;
+            }
+            let _ = x.child.kill();
+        }
+        panic!("could not start Xvfb");
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn wait_until(limit: Duration, mut f: impl FnMut() -> bool) -> bool {
+    let end = Instant::now() + limit;
+    while Instant::now() < end {
+        if f() {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    false
+}
+
+fn dir() -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("window-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+struct Session<'a> {
+    x: &'a Xvfb,
+    app: Child,
+    window: String,
+    log: PathBuf,
+    dir: PathBuf,
+}
+
+impl Drop for Session<'_> {
+    fn drop(&mut self) {
+        let _ = self.app.kill();
+        let _ = self.app.wait();
+    }
+}
+
+impl Session<'_> {
+    fn xdotool(&self, args: &[&str]) -> String {
+        let o = Command::new("xdotool")
+            .env("DISPLAY", &self.x.display)
+            .args(args)
+            .output()
+            .expect("xdotool is not installed");
+        String::from_utf8_lossy(&o.stdout).trim().to_string()
+    }
+
+    /// Frame-log lines as JSON values.
+    fn frames(&self) -> Vec<serde_json::Value> {
+        std::fs::read_to_string(&self.log)
+            .unwrap_or_default()
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .collect()
+    }
+
+    /// Waits until a frame of a generation above `after`, refined to at
+    /// least `spp`, has been presented; returns its generation.
+    fn wait_frame(&self, after: u64, spp: u64, what: &str) -> u64 {
+        let mut found = 0;
+        let ok = wait_until(Duration::from_secs(120), || {
+            found = self
+                .frames()
+                .iter()
+                .filter(|f| f["generation"].as_u64().unwrap_or(0) > after && f["spp"].as_u64().unwrap_or(0) >= spp)
+                .map(|f| f["generation"].as_u64().unwrap())
+                .max()
+                .unwrap_or(0);
+            found > 0
+        });
+        assert!(ok, "no refined frame after {what}; frames: {:?}", self.frames().last());
+        // Let the window draw it (the log is written right after presenting).
+        std::thread::sleep(Duration::from_millis(300));
+        found
+    }
+
+    fn last_generation(&self) -> u64 {
+        self.frames()
+            .iter()
+            .filter_map(|f| f["generation"].as_u64())
+            .max()
+            .unwrap_or(0)
+    }
+
+    fn screenshot(&self, name: &str) -> Image {
+        let path = self.dir.join(name);
+        let st = Command::new("import")
+            .env("DISPLAY", &self.x.display)
+            .args(["-window", &self.window, &format!("png24:{}", path.display())])
+            .status()
+            .expect("ImageMagick import is not installed");
+        assert!(st.success(), "import failed");
+        Image::read_png(&path).unwrap()
+    }
+
+    fn key(&self, key: &str) {
+        self.xdotool(&["key", "--window", &self.window, key]);
+    }
+
+    fn hold(&self, key: &str, ms: u64) {
+        self.xdotool(&["keydown", "--window", &self.window, key]);
+        std::thread::sleep(Duration::from_millis(ms));
+        self.xdotool(&["keyup", "--window", &self.window, key]);
+    }
+}
+
+/// Mean absolute difference of two images in 8-bit levels, over rows y0..y1.
+fn diff(a: &Image, b: &Image, y0: u32, y1: u32) -> f64 {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let (a8, b8) = (a.to_srgb8(), b.to_srgb8());
+    let row = a.width as usize * 3;
+    let (s, e) = (y0 as usize * row, y1 as usize * row);
+    a8[s..e]
+        .iter()
+        .zip(&b8[s..e])
+        .map(|(x, y)| (*x as f64 - *y as f64).abs())
+        .sum::<f64>()
+        / (e - s) as f64
+}
+
+fn spread(img: &Image) -> f64 {
+    let b = img.to_srgb8();
+    let mean = b.iter().map(|&x| x as f64).sum::<f64>() / b.len() as f64;
+    (b.iter().map(|&x| (x as f64 - mean).powi(2)).sum::<f64>() / b.len() as f64).sqrt()
+}
+
+#[test]
+fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
+    let x = Xvfb::start();
+    let dir = dir();
+    let log = dir.join("frames.jsonl");
+    let _ = std::fs::remove_file(&log);
+    let runtime = dir.join("xdg");
+    std::fs::create_dir_all(&runtime).unwrap();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .current_dir(&dir)
+        .args([
+            "view",
+            scene.to_str().unwrap(),
+            "--width",
+            &W.to_string(),
+            "--height",
+            &H.to_string(),
+        ])
+        .args([
+            "--max-spp",
+            "2",
+            "--exit-after",
+            "600",
+            "--frame-log",
+            log.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut s = Session {
+        x: &x,
+        app,
+        window: String::new(),
+        log,
+        dir: dir.clone(),
+    };
+
+    // The window appears.
+    let mut id = String::new();
+    assert!(
+        wait_until(Duration::from_secs(60), || {
+            id = s
+                .xdotool(&["search", "--name", "^lensview"])
+                .lines()
+                .next()
+                .unwrap_or("")
+                .to_string();
+            !id.is_empty()
+        }),
+        "the window never appeared"
+    );
+    s.window = id;
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+
+    // It shows the scene: not blank, and like the headless render (overlay off).
+    let g1 = s.wait_frame(0, 1, "start");
+    s.key("F1");
+    std::thread::sleep(Duration::from_millis(500));
+    let shot = s.screenshot("start.png");
+    assert_eq!((shot.width, shot.height), (W, H), "window size");
+    assert!(spread(&shot) > 20.0, "the window is blank");
+    let (_, sc) = Scene::load(&scene).unwrap();
+    let headless = render(
+        &sc,
+        &RenderSettings {
+            width: W,
+            height: H,
+            spp: 1,
+            seed: 0,
+        },
+        None,
+    );
+    let d = diff(&shot, &headless, 0, H);
+    assert!(
+        d < 6.0,
+        "window differs from the headless render by {d:.2} levels on average"
+    );
+
+    // The overlay is visible when on: the top-left corner changes.
+    s.key("F1");
+    std::thread::sleep(Duration::from_millis(500));
+    let with_overlay = s.screenshot("overlay.png");
+    assert!(diff(&with_overlay, &shot, 0, 60) > 5.0, "no overlay drawn");
+    assert!(
+        diff(&with_overlay, &shot, 200, H) < 1.0,
+        "the overlay toggle re-rendered the picture"
+    );
+    assert_eq!(s.last_generation(), g1, "toggling the overlay restarted refinement");
+    s.key("F1");
+
+    // Pressing W moves the camera: a new generation and a different picture.
+    s.hold("w", 400);
+    let g2 = s.wait_frame(g1, 1, "W");
+    let moved = s.screenshot("moved.png");
+    assert!(diff(&moved, &shot, 0, H) > 2.0, "W did not change the picture");
+
+    // A lens key (2: diameter +) changes the picture.
+    s.key("2");
+    let g3 = s.wait_frame(g2, 1, "lens key");
+    let lens = s.screenshot("lens.png");
+    assert!(
+        diff(&lens, &moved, 0, H) > 0.5,
+        "the lens key did not change the picture"
+    );
+
+    // Resizing re-renders at the new size; unmapping and mapping survive.
+    s.xdotool(&["windowsize", "--sync", &s.window, "800", "560"]);
+    assert!(
+        wait_until(Duration::from_secs(60), || s
+            .frames()
+            .iter()
+            .any(|f| f["width"] == 800 && f["height"] == 560)),
+        "no frame at the new size"
+    );
+    s.xdotool(&["windowunmap", "--sync", &s.window]);
+    std::thread::sleep(Duration::from_millis(500));
+    s.xdotool(&["windowmap", "--sync", &s.window]);
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(
+        s.app.try_wait().unwrap().is_none(),
+        "the viewer died after resize/unmap"
+    );
+    assert!(s.last_generation() > g3);
+
+    // Escape exits with status 0.
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    s.key("Escape");
+    let mut status = None;
+    wait_until(Duration::from_secs(30), || {
+        status = s.app.try_wait().unwrap();
+        status.is_some()
+    });
+    let status = status.expect("Escape did not close the viewer");
+    let mut err = String::new();
+    if let Some(mut e) = s.app.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut err);
+    }
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+}
+
+#[test]
+fn without_a_display_the_viewer_says_how_to_render_headless() {
+    let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .args(["view"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("lensview render"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
