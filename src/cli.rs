@@ -27,9 +27,33 @@ pub enum Command {
     View(ViewArgs),
     /// Render a scene to a PNG file without a window.
     Render(RenderArgs),
+    /// Error against run time: the progressive schedule, headless, against a converged reference.
+    Converge(ConvergeArgs),
     /// Exact lens optics: real rays (`trace`) and paraxial data (`info`).
     #[command(subcommand)]
     Lens(LensCommand),
+}
+
+#[derive(Args, Debug)]
+pub struct ConvergeArgs {
+    /// Scene file (TOML); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    #[arg(long, default_value_t = 400)]
+    pub width: u32,
+    #[arg(long, default_value_t = 300)]
+    pub height: u32,
+    /// Samples per pixel the schedule refines to.
+    #[arg(long, default_value_t = 64)]
+    pub max_spp: u32,
+    /// Samples per pixel of the reference (rendered with another sample pattern).
+    #[arg(long, default_value_t = 256)]
+    pub reference_spp: u32,
+    /// CSV table to write.
+    #[arg(long, default_value = "converge.csv")]
+    pub csv: PathBuf,
+    /// PNG plot to write (error against time, log scales).
+    #[arg(long, default_value = "converge.png")]
+    pub plot: PathBuf,
 }
 
 #[derive(Subcommand, Debug)]
@@ -138,9 +162,56 @@ pub fn run(cli: Cli) -> Result<()> {
         }),
         Some(Command::View(a)) => view(a),
         Some(Command::Render(a)) => render_cmd(a),
+        Some(Command::Converge(a)) => converge(&a),
         Some(Command::Lens(LensCommand::Trace { cases })) => lens_trace(&cases),
         Some(Command::Lens(LensCommand::Info(a))) => lens_info(&a),
     }
+}
+
+fn converge(a: &ConvergeArgs) -> Result<()> {
+    use lensview::render::progressive::{converge, reference};
+    let (_, scene) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 || a.max_spp == 0 || a.reference_spp == 0 {
+        bail!("--width, --height, --max-spp and --reference-spp must be at least 1");
+    }
+    eprintln!("rendering the reference at {} spp…", a.reference_spp);
+    let t = Instant::now();
+    let reference = reference(&scene, a.width, a.height, a.reference_spp, 1);
+    eprintln!("reference done in {:.1} s", t.elapsed().as_secs_f64());
+    let rows = converge(&scene, &reference, a.max_spp);
+    let mut csv = String::from("stage,spp,stage_ms,elapsed_ms,rmse,psnr_db\n");
+    println!(
+        "{:<14} {:>5} {:>10} {:>11} {:>10} {:>8}",
+        "stage", "spp", "stage ms", "elapsed ms", "RMSE", "PSNR dB"
+    );
+    for r in &rows {
+        println!(
+            "{:<14} {:>5} {:>10.1} {:>11.1} {:>10.5} {:>8.2}",
+            r.stage, r.spp, r.stage_ms, r.elapsed_ms, r.rmse, r.psnr_db
+        );
+        csv.push_str(&format!(
+            "{},{},{:.3},{:.3},{:.6},{:.3}\n",
+            r.stage, r.spp, r.stage_ms, r.elapsed_ms, r.rmse, r.psnr_db
+        ));
+    }
+    std::fs::write(&a.csv, csv).with_context(|| format!("cannot write {}", a.csv.display()))?;
+    let name = a
+        .scene
+        .as_deref()
+        .map_or("default scene".to_string(), |p| p.display().to_string());
+    crate::plot::log_log(
+        &a.plot,
+        &format!("{name}, {}×{}: error against run time", a.width, a.height),
+        "time since refinement started (ms)",
+        &format!("RMSE against {} spp reference", a.reference_spp),
+        &[crate::plot::Series {
+            name: "progressive schedule".into(),
+            points: rows.iter().map(|r| (r.elapsed_ms, r.rmse)).collect(),
+            labels: rows.iter().map(|r| format!(" {}", r.stage)).collect(),
+        }],
+    )?;
+    println!("wrote {} and {}", a.csv.display(), a.plot.display());
+    Ok(())
 }
 
 fn lens_trace(path: &Path) -> Result<()> {

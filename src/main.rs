@@ -2,6 +2,7 @@
 //! line and returns a non-zero exit code on failure.
 
 mod cli;
+mod plot;
 mod viewer;
 
 use clap::Parser;
