@@ -104,6 +104,17 @@ impl Progressive {
         }
     }
 
+    /// Starts over for a new picture, keeping the buffers when the size is
+    /// unchanged (the sums are cleared when the first sample stage runs).
+    pub fn reset(&mut self, width: u32, height: u32, seed: u64) {
+        if (width, height) != (self.width, self.height) {
+            *self = Progressive::new(width, height, seed);
+        } else {
+            self.seed = seed;
+            self.spp = 0;
+        }
+    }
+
     /// Renders one stage. Returns `false` (leaving the image as it was
     /// before the stage for sample stages) if `cancelled()` turned true.
     pub fn run(&mut self, scene: &Scene, stage: Stage, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
@@ -147,7 +158,13 @@ impl Progressive {
                     return true;
                 }
                 let (width, height, seed) = (self.width, self.height, self.seed);
-                let mut next = self.sum.clone();
+                // The sums are written in place only when the whole stage
+                // completes; a cancelled stage must leave them untouched.
+                let mut next = if from == 0 {
+                    vec![Rgb::ZERO; self.sum.len()]
+                } else {
+                    self.sum.clone()
+                };
                 let ok = next.par_chunks_mut(w * BAND).enumerate().all(|(band, rows)| {
                     if cancelled() {
                         return false;

@@ -41,6 +41,8 @@ pub struct Frame {
     pub rgba: Vec<u8>,
     /// Time spent rendering this stage.
     pub render_ms: f64,
+    /// Time from the job's input until the render thread started on it.
+    pub queued_ms: f64,
     /// Time from the job's input to this frame leaving the render thread.
     pub since_input_ms: f64,
     /// Camera samples per second measured on this stage.
@@ -102,6 +104,9 @@ impl Drop for Worker {
 
 fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake: impl Fn()) {
     let mut seconds_per_sample: Option<f64> = None;
+    // Reused across jobs of the same size: allocating and zeroing two
+    // full-resolution buffers per keypress costs milliseconds.
+    let mut prog = Progressive::new(0, 0, 0);
     while let Ok(mut job) = jobs.recv() {
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
@@ -111,7 +116,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake:
         }
         let stages = schedule(job.max_spp.max(1));
         let first = first_stage(&stages, job.width, job.height, seconds_per_sample, FIRST_FRAME_BUDGET_S);
-        let mut prog = Progressive::new(job.width, job.height, job.seed);
+        prog.reset(job.width, job.height, job.seed);
+        let queued_ms = job.input_time.elapsed().as_secs_f64() * 1e3;
         let generation = job.generation;
         let cancelled = || latest.load(Ordering::Relaxed) != generation;
         for (i, &stage) in stages.iter().enumerate().skip(first) {
@@ -138,6 +144,7 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake:
                 height: job.height,
                 rgba,
                 render_ms: dt * 1e3,
+                queued_ms,
                 since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
                 samples_per_s: if dt > 0.0 { cost as f64 / dt } else { 0.0 },
                 last: i + 1 == stages.len(),

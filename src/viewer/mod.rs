@@ -447,6 +447,8 @@ impl Viewer {
                 "height": f.height,
                 "ms_since_input": (now - self.input_time).as_secs_f64() * 1e3,
                 "render_ms": f.render_ms,
+                "queued_ms": f.queued_ms,
+                "sent_ms_since_input": f.since_input_ms,
                 "present_ms": present_ms,
                 "t": (now - self.started).as_secs_f64(),
             });
@@ -474,7 +476,12 @@ impl ApplicationHandler<UserEvent> for Viewer {
         };
         let size = window.inner_size();
         let (w, h) = (size.width.max(1), size.height.max(1));
-        let pixels = match Pixels::new(w, h, SurfaceTexture::new(w, h, window.clone())) {
+        // No vsync: a frame is presented as soon as it is rendered; waiting
+        // for a vertical blank would add up to a refresh period of latency.
+        let built = pixels::PixelsBuilder::new(w, h, SurfaceTexture::new(w, h, window.clone()))
+            .enable_vsync(false)
+            .build();
+        let pixels = match built {
             Ok(p) => p,
             Err(e) => {
                 self.error = Some(anyhow!(
