@@ -16,6 +16,14 @@
 //! is first moved to the point nearest `C`, so a tiny lens far from the
 //! origin is solved in its own scale.
 //!
+//! All of this happens in *lens-local* coordinates, `x − C`. A ray's start
+//! is brought there by [`Lens::localize`]: the point of the ray nearest `C`,
+//! computed in double-double arithmetic from the direction exactly as given.
+//! World coordinates 10⁴ from the origin are spaced 2·10⁻¹² apart; a hit
+//! point rounded to them would tilt the normal of a 10⁻³ lens by 10⁻⁹, and
+//! so would normalising the direction before finding that point. Local
+//! points are added back to `C` only for output.
+//!
 //! The solid is convex, so a ray meets it on one interval: entry at the larger
 //! of the two near roots, exit at the smaller of the two far roots. Inside the
 //! glass only the far roots are used, which needs no epsilon: a ray starting
@@ -26,6 +34,52 @@ use super::{Aabb, Hit};
 use crate::math::{Ray, solve_half_b_quadratic};
 use crate::optics::{self, Index, ThickLens};
 use glam::DVec3;
+
+/// Double-double arithmetic (Dekker 1971; Shewchuk 1997): a value `hi + lo`
+/// with about 106 significant bits, for the one place that needs it,
+/// [`Lens::localize`].
+#[derive(Clone, Copy, Debug)]
+struct Dd(f64, f64);
+
+impl Dd {
+    #[inline]
+    fn two_sum(a: f64, b: f64) -> Dd {
+        let s = a + b;
+        let bb = s - a;
+        Dd(s, (a - (s - bb)) + (b - bb))
+    }
+    #[inline]
+    fn two_prod(a: f64, b: f64) -> Dd {
+        let p = a * b;
+        Dd(p, a.mul_add(b, -p))
+    }
+    #[inline]
+    fn norm(hi: f64, lo: f64) -> Dd {
+        let s = hi + lo;
+        Dd(s, lo - (s - hi))
+    }
+    #[inline]
+    fn add(self, o: Dd) -> Dd {
+        let s = Dd::two_sum(self.0, o.0);
+        Dd::norm(s.0, s.1 + self.1 + o.1)
+    }
+    #[inline]
+    fn mul_f(self, b: f64) -> Dd {
+        let p = Dd::two_prod(self.0, b);
+        Dd::norm(p.0, p.1 + self.1 * b)
+    }
+    #[inline]
+    fn div(self, o: Dd) -> Dd {
+        let q1 = self.0 / o.0;
+        let r = self.add(o.mul_f(-q1));
+        let q2 = r.0 / o.0;
+        Dd::norm(q1, q2)
+    }
+    #[inline]
+    fn value(self) -> f64 {
+        self.0 + self.1
+    }
+}
 
 /// The most total internal reflections followed inside the glass before a
 /// ray is reported as trapped.
@@ -127,7 +181,11 @@ pub struct Lens {
     pub r1: f64,
     pub r2: f64,
     pub index: Index,
+    /// Caps in lens-local coordinates (relative to `center`).
     caps: [Cap; 2],
+    /// Both faces are hemispheres of one sphere (a ball lens): the two caps'
+    /// roots tie, and a crossing is named by its side of the rim plane.
+    one_sphere: bool,
 }
 
 impl Lens {
@@ -177,16 +235,17 @@ impl Lens {
             index,
             caps: [
                 Cap {
-                    vertex: center + a * sag1,
+                    vertex: a * sag1,
                     m: a,
                     r: r1,
                 },
                 Cap {
-                    vertex: center - a * sag2,
+                    vertex: -a * sag2,
                     m: -a,
                     r: r2,
                 },
             ],
+            one_sphere: r1 == half && r2 == half,
         })
     }
 
@@ -200,7 +259,7 @@ impl Lens {
     }
 
     pub fn vertex(&self, s: LensSurface) -> DVec3 {
-        self.caps[s as usize].vertex
+        self.center + self.caps[s as usize].vertex
     }
 
     /// Paraxial data at index `n`.
@@ -208,62 +267,95 @@ impl Lens {
         ThickLens::new(self.d, self.r1, self.r2, n)
     }
 
-    /// Roots of both faces for a ray, each shifted back to the ray's own `t`.
+    /// The point of the ray `origin + s·dir` nearest the centre, in lens-local
+    /// coordinates, with the unit direction and the distance `t0` from
+    /// `origin` to that point. `(origin − C) − ((origin − C)·dir / dir·dir)·dir`
+    /// is evaluated in double-double from `dir` as given, so the ray found is
+    /// the input ray to well below a rounding of world coordinates.
     #[inline]
-    fn all_roots(&self, origin: DVec3, u: DVec3) -> Option<[(f64, f64); 2]> {
-        let t0 = (self.center - origin).dot(u);
-        let p = origin + t0 * u;
-        let (a0, a1) = self.caps[0].roots(p, u)?;
-        let (b0, b1) = self.caps[1].roots(p, u)?;
-        Some([(a0 + t0, a1 + t0), (b0 + t0, b1 + t0)])
+    pub fn localize(&self, origin: DVec3, dir: DVec3) -> (DVec3, DVec3, f64) {
+        let o = [origin.x, origin.y, origin.z];
+        let c = [self.center.x, self.center.y, self.center.z];
+        let v = [dir.x, dir.y, dir.z];
+        let rel = [0, 1, 2].map(|i| Dd::two_sum(o[i], -c[i]));
+        let mut dot = Dd(0.0, 0.0);
+        let mut vv = Dd(0.0, 0.0);
+        for i in 0..3 {
+            dot = dot.add(rel[i].mul_f(v[i]));
+            vv = vv.add(Dd::two_prod(v[i], v[i]));
+        }
+        let k = dot.div(vv);
+        let p = [0, 1, 2].map(|i| rel[i].add(k.mul_f(-v[i])).value());
+        let len = vv.value().sqrt();
+        (DVec3::from(p), dir / len, -k.value() * len)
+    }
+
+    /// Roots of both faces from the local point `p` along the unit `u`.
+    #[inline]
+    fn local_roots(&self, p: DVec3, u: DVec3) -> Option<[(f64, f64); 2]> {
+        Some([self.caps[0].roots(p, u)?, self.caps[1].roots(p, u)?])
+    }
+
+    /// The face a local point `x` lies on, given the face the roots chose.
+    #[inline]
+    fn face(&self, x: DVec3, by_roots: usize) -> usize {
+        if self.one_sphere {
+            if x.dot(self.axis) >= 0.0 { 0 } else { 1 }
+        } else {
+            by_roots
+        }
     }
 
     /// Closest crossing of the lens surface in `(t_min, t_max)`; part 0 is S1,
     /// part 1 is S2. `ray.dir` must be unit.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let [(n1, f1), (n2, f2)] = self.all_roots(ray.origin, ray.dir)?;
+        let (p, u, t0) = self.localize(ray.origin, ray.dir);
+        let [(n1, f1), (n2, f2)] = self.local_roots(p, u)?;
         let (t_in, p_in) = if n1 >= n2 { (n1, 0) } else { (n2, 1) };
         let (t_out, p_out) = if f1 <= f2 { (f1, 0) } else { (f2, 1) };
         if t_in >= t_out {
             return None;
         }
-        if t_in > t_min && t_in < t_max {
-            Some(Hit { t: t_in, part: p_in })
-        } else if t_out > t_min && t_out < t_max {
-            Some(Hit { t: t_out, part: p_out })
+        if t_in + t0 > t_min && t_in + t0 < t_max {
+            let part = self.face(p + t_in * u, p_in) as u8;
+            Some(Hit { t: t_in + t0, part })
+        } else if t_out + t0 > t_min && t_out + t0 < t_max {
+            let part = self.face(p + t_out * u, p_out) as u8;
+            Some(Hit { t: t_out + t0, part })
         } else {
             None
         }
     }
 
-    /// The exit from inside the glass: the nearer of the two far roots.
-    /// `origin` is inside or on the surface, `u` unit.
+    /// The exit from inside the glass: the nearer of the two far roots, from
+    /// the local point `x` (inside or on the surface) along the unit `u`.
     #[inline]
-    pub fn exit_from_inside(&self, origin: DVec3, u: DVec3) -> Option<(f64, LensSurface)> {
-        let [(_, f1), (_, f2)] = self.all_roots(origin, u)?;
+    fn exit_local(&self, x: DVec3, u: DVec3) -> Option<(f64, usize)> {
+        let [(_, f1), (_, f2)] = self.local_roots(x, u)?;
         let (t, part) = if f1 <= f2 { (f1, 0) } else { (f2, 1) };
-        (t >= 0.0).then_some((t, LensSurface::from_part(part)))
+        (t >= 0.0).then(|| (t, self.face(x + t * u, part)))
     }
 
-    /// Outward unit normal of face `part` at `p`.
+    /// Outward unit normal of face `part` at the world point `p`.
     pub fn normal(&self, p: DVec3, part: u8) -> DVec3 {
-        self.caps[part as usize & 1].normal(p)
+        self.caps[part as usize & 1].normal(p - self.center)
     }
 
     pub fn surface_normal(&self, p: DVec3, s: LensSurface) -> DVec3 {
-        self.caps[s as usize].normal(p)
+        self.caps[s as usize].normal(p - self.center)
     }
 
     pub fn contains(&self, p: DVec3) -> bool {
-        self.caps[0].f(p) <= 0.0 && self.caps[1].f(p) <= 0.0
+        let x = p - self.center;
+        self.caps[0].f(x) <= 0.0 && self.caps[1].f(x) <= 0.0
     }
 
     /// A box around the cylinder of radius d/2 from V2 to V1.
     pub fn bounds(&self) -> Aabb {
         let a = self.axis;
         let rim = 0.5 * self.d * (DVec3::ONE - a * a).max(DVec3::ZERO).powf(0.5);
-        let (p, q) = (self.caps[0].vertex, self.caps[1].vertex);
+        let (p, q) = (self.vertex(LensSurface::S1), self.vertex(LensSurface::S2));
         let lo = (self.center - rim).min(p).min(q);
         let hi = (self.center + rim).max(p).max(q);
         Aabb::new(lo, hi)
@@ -275,47 +367,61 @@ impl Lens {
     /// origin lies inside the glass starts there without an entry; one whose
     /// origin lies on a face (within 1e-10·d) and points inward enters there.
     pub fn trace(&self, origin: DVec3, dir: DVec3, n: f64) -> LensPath {
-        let u = dir.normalize();
         let miss = LensPath {
             status: LensTraceStatus::Miss,
             entry: None,
             exit: None,
             internal_reflections: 0,
         };
-        let Some([(n1, f1), (n2, f2)]) = self.all_roots(origin, u) else {
+        let (p, u, t0) = self.localize(origin, dir);
+        let Some([(n1, f1), (n2, f2)]) = self.local_roots(p, u) else {
             return miss;
         };
-        let (t_in, s_in) = if n1 >= n2 {
-            (n1, LensSurface::S1)
-        } else {
-            (n2, LensSurface::S2)
-        };
+        let (t_in, s_in) = if n1 >= n2 { (n1, 0) } else { (n2, 1) };
         let t_out = f1.min(f2);
         let tol = 1e-10 * self.d;
-        if t_in >= t_out || t_out <= tol {
+        // Distances from the ray's origin.
+        let (o_in, o_out) = (t_in + t0, t_out + t0);
+        if t_in >= t_out || o_out <= tol {
             return miss;
         }
-        if t_in >= -tol {
-            let x = if t_in > 0.0 { origin + t_in * u } else { origin };
-            let normal = self.surface_normal(x, s_in);
+        let mut path = if o_in >= -tol {
+            // Enters through a face (at the origin itself if it lies on one).
+            let x = if o_in > 0.0 { p + t_in * u } else { p - t0 * u };
+            let s = self.face(x, s_in);
+            let normal = self.caps[s].normal(x);
             // From air into glass (n ≥ 1) there is no total reflection.
             let Some(inside) = optics::refract(u, normal, 1.0, n) else {
                 return miss;
             };
-            let mut path = self.propagate_inside(x, inside, n);
-            path.entry = Some((s_in, x, inside));
+            let mut path = self.propagate_local(x, inside, n);
+            path.entry = Some((LensSurface::from_part(s as u8), x, inside));
             path
         } else {
-            self.propagate_inside(origin, u, n)
-        }
+            // Starts inside the glass: from the origin, in local coordinates.
+            self.propagate_local(p - t0 * u, u, n)
+        };
+        // Back to world coordinates for the caller.
+        let world = |e: Option<(LensSurface, DVec3, DVec3)>| e.map(|(s, x, d)| (s, self.center + x, d));
+        path.entry = world(path.entry);
+        path.exit = world(path.exit);
+        path
     }
 
-    /// Follows a ray inside the glass from `x` in direction `u` until it
-    /// leaves (the renderer calls this after its own entry refraction).
-    pub fn propagate_inside(&self, mut x: DVec3, mut u: DVec3, n: f64) -> LensPath {
+    /// Follows a ray inside the glass from the world point `x` in the unit
+    /// direction `u` until it leaves (the renderer calls this after its own
+    /// entry refraction). Points in the result are in world coordinates.
+    pub fn propagate_inside(&self, x: DVec3, u: DVec3, n: f64) -> LensPath {
+        let mut path = self.propagate_local(x - self.center, u, n);
+        path.exit = path.exit.map(|(s, y, d)| (s, self.center + y, d));
+        path
+    }
+
+    /// [`Lens::propagate_inside`] in local coordinates.
+    fn propagate_local(&self, mut x: DVec3, mut u: DVec3, n: f64) -> LensPath {
         let mut reflections = 0;
         loop {
-            let Some((t, s)) = self.exit_from_inside(x, u) else {
+            let Some((t, s)) = self.exit_local(x, u) else {
                 return LensPath {
                     status: LensTraceStatus::Miss,
                     entry: None,
@@ -324,7 +430,7 @@ impl Lens {
                 };
             };
             let y = x + t * u;
-            let normal = self.surface_normal(y, s);
+            let normal = self.caps[s].normal(y);
             // Inside, the face's outward normal points away from the incident
             // side, so Snell's law takes −normal.
             match optics::refract(u, -normal, n, 1.0) {
@@ -332,7 +438,7 @@ impl Lens {
                     return LensPath {
                         status: LensTraceStatus::Transmitted,
                         entry: None,
-                        exit: Some((s, y, out)),
+                        exit: Some((LensSurface::from_part(s as u8), y, out)),
                         internal_reflections: reflections,
                     };
                 }
