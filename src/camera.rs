@@ -11,6 +11,7 @@ pub struct Camera {
     pub rotation_deg: DVec3,
     pub fov_y_deg: f64,
     basis: DMat3,
+    tan_half_fov: f64,
 }
 
 impl Camera {
@@ -20,6 +21,7 @@ impl Camera {
             rotation_deg,
             fov_y_deg,
             basis: rotation_from_degrees(rotation_deg),
+            tan_half_fov: (0.5 * fov_y_deg.to_radians()).tan(),
         }
     }
 
@@ -37,7 +39,7 @@ impl Camera {
     /// `width × height` image (y down, pixel centres at half-integers).
     #[inline]
     pub fn ray(&self, x: f64, y: f64, width: u32, height: u32) -> Ray {
-        let tan = (0.5 * self.fov_y_deg.to_radians()).tan();
+        let tan = self.tan_half_fov;
         let aspect = width as f64 / height as f64;
         let sx = (2.0 * x / width as f64 - 1.0) * tan * aspect;
         let sy = (1.0 - 2.0 * y / height as f64) * tan;

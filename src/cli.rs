@@ -29,6 +29,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Error against run time: the progressive schedule, headless, against a converged reference.
     Converge(ConvergeArgs),
+    /// Performance: time against image size and object count, ray throughput, feature costs.
+    Bench(BenchArgs),
     /// Exact lens optics: real rays (`trace`) and paraxial data (`info`).
     #[command(subcommand)]
     Lens(LensCommand),
@@ -54,6 +56,28 @@ pub struct ConvergeArgs {
     /// PNG plot to write (error against time, log scales).
     #[arg(long, default_value = "converge.png")]
     pub plot: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene file (TOML) in the layout of scenes/cubes.toml; the embedded cubes scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Directory for the CSV tables and PNG plots.
+    #[arg(long, default_value = "bench")]
+    pub out_dir: PathBuf,
+    /// Timed runs per point (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    pub runs: usize,
+    /// Small sizes and few points: a smoke test of the command.
+    #[arg(long)]
+    pub quick: bool,
+    /// Only measure closest-hit primary rays per second at WIDTH×HEIGHT and print it.
+    #[arg(long)]
+    pub primary_only: bool,
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
 }
 
 #[derive(Subcommand, Debug)]
@@ -163,6 +187,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::View(a)) => view(a),
         Some(Command::Render(a)) => render_cmd(a),
         Some(Command::Converge(a)) => converge(&a),
+        Some(Command::Bench(a)) => bench(&a),
         Some(Command::Lens(LensCommand::Trace { cases })) => lens_trace(&cases),
         Some(Command::Lens(LensCommand::Info(a))) => lens_info(&a),
     }
@@ -211,6 +236,186 @@ fn converge(a: &ConvergeArgs) -> Result<()> {
         }],
     )?;
     println!("wrote {} and {}", a.csv.display(), a.plot.display());
+    Ok(())
+}
+
+fn bench(a: &BenchArgs) -> Result<()> {
+    use lensview::bench::*;
+    use std::fmt::Write as _;
+    let (sf, scene) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 || a.runs == 0 {
+        bail!("--width, --height and --runs must be at least 1");
+    }
+    let threads = rayon::current_num_threads();
+    if a.primary_only {
+        let rps = primary_rays_per_second(&scene, a.width, a.height, a.runs);
+        println!("primary_rays_per_s {rps:.0}");
+        println!(
+            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads)",
+            rps / 1e6,
+            a.width,
+            a.height
+        );
+        return Ok(());
+    }
+    std::fs::create_dir_all(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;
+    let out = |name: &str| a.out_dir.join(name);
+    let runs = a.runs;
+    println!("lensview bench: median of {runs} runs, {threads} threads, 1 sample per pixel, full Whitted shading");
+
+    // 1. Render time against image size.
+    let sizes: Vec<(u32, u32)> = if a.quick {
+        vec![(32, 32), (64, 64), (64, 36)]
+    } else {
+        vec![
+            (100, 100),
+            (200, 200),
+            (400, 400),
+            (800, 800),
+            (1600, 1600),
+            (1280, 720),
+        ]
+    };
+    let mut csv = String::from("width,height,pixels,median_ms\n");
+    let mut pts = Vec::new();
+    println!("\nimage size      median ms    M samples/s");
+    for &(w, h) in &sizes {
+        let r = if w * h >= 1_000_000 { runs.min(3) } else { runs };
+        let ms = frame_time(&scene, w, h, r) * 1e3;
+        let px = (w * h) as f64;
+        println!("{:>5}×{:<5} {:>12.2} {:>14.2}", w, h, ms, px / ms / 1e3);
+        let _ = writeln!(csv, "{w},{h},{px},{ms:.3}");
+        if w == h {
+            pts.push((px, ms));
+        }
+    }
+    std::fs::write(out("bench-size.csv"), &csv)?;
+    crate::plot::log_log(
+        &out("bench-size.png"),
+        "render time against image size (cubes scene, 1 spp)",
+        "pixels",
+        "median frame time (ms)",
+        &[crate::plot::Series {
+            name: "lensview".into(),
+            labels: sizes
+                .iter()
+                .filter(|(w, h)| w == h)
+                .map(|(w, _)| format!(" {w}²"))
+                .collect(),
+            points: pts,
+        }],
+    )?;
+
+    // 2. Render time against object count.
+    let (w, h) = if a.quick { (48, 48) } else { (400, 400) };
+    let mut csv = String::from("series,objects,median_ms\n");
+    let counts: Vec<usize> = if a.quick { vec![0, 5, 25] } else { (0..=25).collect() };
+    let mut removal = Vec::new();
+    println!("\ncubes (of 25) at {w}×{h}: median ms");
+    for &n in &counts {
+        let s = cubes_subset(&sf, n);
+        let ms = frame_time(&s, w, h, runs) * 1e3;
+        print!("{n}:{ms:.2}  ");
+        let _ = writeln!(csv, "cubes scene,{n},{ms:.3}");
+        removal.push((n.max(1) as f64, ms));
+    }
+    println!();
+    let sides: Vec<usize> = if a.quick {
+        vec![2, 5, 10]
+    } else {
+        vec![5, 10, 20, 30, 40, 50]
+    };
+    let mut grid = Vec::new();
+    println!("grid of cubes at {w}×{h}:");
+    for &side in &sides {
+        let s = cubes_grid(&sf, side);
+        let ms = frame_time(&s, w, h, runs) * 1e3;
+        let n = side * side;
+        println!("  {n:>5} cubes {ms:>10.2} ms");
+        let _ = writeln!(csv, "grid,{n},{ms:.3}");
+        grid.push((n as f64, ms));
+    }
+    std::fs::write(out("bench-objects.csv"), &csv)?;
+    if let (Some(g25), Some(glast)) = (grid.iter().find(|p| p.0 == 25.0), grid.last()) {
+        println!("  {} cubes cost {:.2}× the time of 25", glast.0, glast.1 / g25.1);
+    }
+    crate::plot::log_log(
+        &out("bench-objects.png"),
+        &format!("render time against object count ({w}×{h}, 1 spp)"),
+        "cubes",
+        "median frame time (ms)",
+        &[
+            crate::plot::Series {
+                name: "cubes scene, cubes removed one by one".into(),
+                points: removal,
+                labels: vec![],
+            },
+            crate::plot::Series {
+                name: "grid of N cubes over the same area".into(),
+                points: grid,
+                labels: vec![],
+            },
+        ],
+    )?;
+
+    // 3. Throughput and frame rate.
+    let (tw, th) = if a.quick { (64, 36) } else { (1280, 720) };
+    let rps = primary_rays_per_second(&scene, tw, th, runs);
+    let frame = frame_time(&scene, tw, th, runs.min(3));
+    let small = frame_time(&scene, 400, 400, runs);
+    println!(
+        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s",
+        rps / 1e6
+    );
+    println!(
+        "full Whitted frame at {tw}×{th}: {:.1} ms ({:.1} fps); at 400×400: {:.1} ms",
+        frame * 1e3,
+        1.0 / frame,
+        small * 1e3
+    );
+    let first = {
+        use lensview::render::progressive::{Progressive, Stage};
+        let mut p = Progressive::new(tw, th, 0);
+        median_time(runs, || {
+            p.reset(tw, th, 0);
+            p.run(&scene, Stage::Blocks(8), &|| false);
+        })
+    };
+    println!(
+        "first progressive level (8×8 blocks) at {tw}×{th}: {:.2} ms",
+        first * 1e3
+    );
+
+    // 4. What features cost.
+    let (fw, fh) = if a.quick { (48, 48) } else { (400, 400) };
+    let costs = feature_costs(&sf, fw, fh, runs);
+    let mut csv = String::from("feature,with_ms,without_ms,unused_specialised_ms,unused_unspecialised_ms\n");
+    println!("\nfeature costs at {fw}×{fh} (ms):");
+    println!(
+        "  {:<18} {:>9} {:>9}   {:>22} {:>14} {:>9}",
+        "feature", "with", "without", "unused: left out", "compiled in", "overhead"
+    );
+    for c in &costs {
+        println!(
+            "  {:<18} {:>9.2} {:>9.2}   {:>22.2} {:>14.2} {:>8.1}%",
+            c.feature,
+            c.with_ms,
+            c.without_ms,
+            c.unused_specialised_ms,
+            c.unused_unspecialised_ms,
+            100.0 * c.unused_overhead()
+        );
+        let _ = writeln!(
+            csv,
+            "{},{:.3},{:.3},{:.3},{:.3}",
+            c.feature, c.with_ms, c.without_ms, c.unused_specialised_ms, c.unused_unspecialised_ms
+        );
+    }
+    std::fs::write(out("bench-features.csv"), &csv)?;
+    println!(
+        "\nwrote bench-size.csv/png, bench-objects.csv/png, bench-features.csv in {}",
+        a.out_dir.display()
+    );
     Ok(())
 }
 

@@ -15,9 +15,18 @@ use glam::DVec3;
 /// Below this path weight a branch is not traced further.
 const MIN_WEIGHT: f64 = 1e-4;
 
-/// The closest hit: object index and the shape's hit record.
+/// The closest hit: object index and the shape's hit record. Walks the
+/// scene's BVH when it has one, else tests every object's box.
 #[inline]
 pub fn closest_hit(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
+    match &scene.bvh {
+        Some(bvh) => closest_hit_bvh(scene, bvh, ray, t_max),
+        None => closest_hit_list(scene, ray, t_max),
+    }
+}
+
+#[inline]
+fn closest_hit_list(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
     let inv = ray.dir.recip();
     let mut best: Option<(usize, Hit)> = None;
     let mut t_max = t_max;
@@ -33,20 +42,45 @@ pub fn closest_hit(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)>
     best
 }
 
+#[inline]
+fn closest_hit_bvh(scene: &Scene, bvh: &crate::accel::Bvh, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
+    let mut best: Option<(usize, Hit)> = None;
+    bvh.traverse(ray, t_max, |i, t_max| {
+        let o = &scene.objects[i as usize];
+        Ok(o.shape.intersect(&o.to_object(ray), 0.0, t_max).map(|h| {
+            best = Some((i as usize, h));
+            h.t
+        }))
+    });
+    best
+}
+
 /// Light that reaches from `p` to a light `dist` away along `dir`: zero
-/// behind an opaque object, filtered by each transparent object crossed.
+/// behind an opaque object (the search stops at the first), filtered by each
+/// transparent object crossed.
 pub fn transmittance(scene: &Scene, p: DVec3, dir: DVec3, dist: f64) -> Rgb {
     let ray = Ray { origin: p, dir };
-    let inv = dir.recip();
     let mut t = Rgb::ONE;
-    for o in &scene.objects {
-        if !o.world_bounds.hit(&ray, inv, 0.0, dist) {
-            continue;
-        }
+    let mut test = |o: &Object| {
         if o.shape.intersect(&o.to_object(&ray), 0.0, dist).is_some() {
             t *= o.material.shadow_transmittance();
-            if t == Rgb::ZERO {
-                return t;
+        }
+        t != Rgb::ZERO
+    };
+    match &scene.bvh {
+        Some(bvh) => bvh.traverse(&ray, dist, |i, _| {
+            if test(&scene.objects[i as usize]) {
+                Ok(None)
+            } else {
+                Err(())
+            }
+        }),
+        None => {
+            let inv = dir.recip();
+            for o in &scene.objects {
+                if o.world_bounds.hit(&ray, inv, 0.0, dist) && !test(o) {
+                    break;
+                }
             }
         }
     }
@@ -66,11 +100,49 @@ pub fn spawn_ray(p: DVec3, normal: DVec3, dir: DVec3, scale: f64) -> Ray {
 
 /// Radiance arriving along `ray` at wavelength `lambda_um` (used only by
 /// dispersive glass), `depth` bounces deep.
+///
+/// The kernel is chosen once per call from the scene's [`Features`]: each
+/// combination is its own monomorphised function, so a scene pays nothing for
+/// what it does not use — no shadow rays, no refraction or mirror branch, no
+/// specular term — not even a test per hit.
+///
+/// [`Features`]: crate::scene::Features
 pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
-    radiance_weighted(scene, ray, depth, lambda_um, 1.0)
+    let f = scene.features;
+    with_features!(f, kernel, (scene, ray, depth, lambda_um, 1.0))
 }
 
-fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weight: f64) -> Rgb {
+/// The kernel with every feature compiled in, deciding per hit from the
+/// materials and settings (the same picture): what a renderer that does not
+/// specialise would run. For benchmarks of the savings.
+pub fn radiance_unspecialised(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
+    kernel::<true, true, true, true>(scene, ray, depth, lambda_um, 1.0)
+}
+
+/// Calls `$f::<SHADOWS, GLASS, MIRROR, SPECULAR>$args` with the const
+/// parameters read from a `Features` value.
+macro_rules! with_features {
+    ($feat:expr, $f:ident, $args:tt) => {
+        with_features!(@ $f, $args, [], [$feat.shadows, $feat.glass, $feat.mirror, $feat.specular])
+    };
+    (@ $f:ident, $args:tt, [$($acc:tt)*], []) => { $f::<$($acc)*> $args };
+    (@ $f:ident, $args:tt, [$($acc:tt)*], [$b:expr $(, $rest:expr)*]) => {
+        if $b {
+            with_features!(@ $f, $args, [$($acc)* true,], [$($rest),*])
+        } else {
+            with_features!(@ $f, $args, [$($acc)* false,], [$($rest),*])
+        }
+    };
+}
+use with_features;
+
+fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    ray: &Ray,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+) -> Rgb {
     let Some((idx, hit)) = closest_hit(scene, ray, f64::INFINITY) else {
         return scene.background;
     };
@@ -81,11 +153,11 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
     let entering = ray.dir.dot(n) < 0.0;
     // The normal on the side the ray came from.
     let nf = if entering { n } else { -n };
-    let scale = obj.shape.scale();
+    let scale = obj.scale;
     let view = -ray.dir;
 
     let mut color = Rgb::ZERO;
-    let opacity = 1.0 - m.transparency;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
 
     // Local Phong shading.
     color += m.color * scene.ambient * (m.ambient * opacity);
@@ -96,7 +168,7 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
             continue;
         }
         let mut e = ls.irradiance;
-        if scene.shadows {
+        if SHADOWS && scene.shadows {
             let sr = spawn_ray(p, nf, ls.to_light, scale);
             let dist = if ls.distance.is_finite() {
                 (ls.distance - (sr.origin - p).length()).max(0.0)
@@ -108,10 +180,8 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
                 continue;
             }
         }
-        if m.diffuse > 0.0 && opacity > 0.0 {
-            color += m.color * e * (m.diffuse * opacity * cos);
-        }
-        if m.specular > 0.0 {
+        color += m.color * e * (m.diffuse * opacity * cos);
+        if SPECULAR && m.specular > 0.0 {
             let r = optics::reflect(-ls.to_light, nf);
             let rv = r.dot(view);
             if rv > 0.0 {
@@ -120,12 +190,12 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
         }
     }
 
-    if depth >= scene.max_depth {
+    if !(GLASS || MIRROR) || depth >= scene.max_depth {
         return color;
     }
 
-    let mut kr = m.reflectivity;
-    if m.transparency > 0.0 {
+    let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
+    if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
         let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
         let f = fresnel_dielectric(nf.dot(view), n1, n2);
@@ -136,12 +206,20 @@ fn radiance_weighted(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64, weigh
             && depth + tr.bounces <= scene.max_depth
         {
             let w = kt * tr.factor;
-            color += m.color * radiance_weighted(scene, &tr.ray, depth + tr.bounces, lambda_um, weight * w) * w;
+            color += m.color
+                * kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &tr.ray, depth + tr.bounces, lambda_um, weight * w)
+                * w;
         }
     }
     if kr * weight > MIN_WEIGHT {
         let r = optics::reflect(ray.dir, nf);
-        color += radiance_weighted(scene, &spawn_ray(p, nf, r, scale), depth + 1, lambda_um, weight * kr) * kr;
+        color += kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            scene,
+            &spawn_ray(p, nf, r, scale),
+            depth + 1,
+            lambda_um,
+            weight * kr,
+        ) * kr;
     }
     color
 }
@@ -170,7 +248,7 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
     match obj.lens() {
         Some(lens) if entering => through_lens(lens, p, t, ior),
         _ => Some(Transmitted {
-            ray: spawn_ray(p, nf, t, obj.shape.scale()),
+            ray: spawn_ray(p, nf, t, obj.scale),
             bounces: 1,
             factor: 1.0,
         }),

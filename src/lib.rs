@@ -20,6 +20,8 @@
 // true for NaN, so a NaN can never pass a validity check.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod accel;
+pub mod bench;
 pub mod camera;
 pub mod color;
 pub mod edit;

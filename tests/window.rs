@@ -219,20 +219,28 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
         dir: dir.clone(),
     };
 
-    // The window appears.
+    // The window appears (or the viewer exits, and its message says why).
     let mut id = String::new();
-    assert!(
-        wait_until(Duration::from_secs(60), || {
-            id = s
-                .xdotool(&["search", "--name", "^lensview"])
-                .lines()
-                .next()
-                .unwrap_or("")
-                .to_string();
-            !id.is_empty()
-        }),
-        "the window never appeared"
-    );
+    let mut exited = None;
+    wait_until(Duration::from_secs(120), || {
+        id = s
+            .xdotool(&["search", "--name", "^lensview"])
+            .lines()
+            .next()
+            .unwrap_or("")
+            .to_string();
+        exited = s.app.try_wait().ok().flatten();
+        !id.is_empty() || exited.is_some()
+    });
+    if id.is_empty() {
+        let _ = s.app.kill();
+        let mut err = String::new();
+        if let Some(mut e) = s.app.stderr.take() {
+            use std::io::Read;
+            let _ = e.read_to_string(&mut err);
+        }
+        panic!("the window never appeared (viewer exit: {exited:?}); stderr: {err}");
+    }
     s.window = id;
     s.xdotool(&["windowfocus", "--sync", &s.window]);
 

@@ -40,14 +40,22 @@ pub struct Object {
     pub position: DVec3,
     /// True when the transform is the identity (lenses), so no ray is moved.
     pub identity: bool,
+    /// True when there is no rotation: object space is world space shifted.
+    pub translation_only: bool,
+    /// Inverse rotation, `world_from_object`ᵀ, kept to save the transpose.
+    pub object_from_world: DMat3,
     pub world_bounds: Aabb,
+    /// Characteristic size of the shape (for ray offsets), cached.
+    pub scale: f64,
 }
 
 impl Object {
     pub fn new(name: String, shape: Shape, material: Material, position: DVec3, rotation_deg: DVec3) -> Self {
         let identity = position == DVec3::ZERO && rotation_deg == DVec3::ZERO;
+        let translation_only = rotation_deg == DVec3::ZERO;
         let rot = rotation_from_degrees(rotation_deg);
         let world_bounds = shape.bounds().transformed(rot, position);
+        let scale = shape.scale();
         Object {
             name,
             shape,
@@ -55,7 +63,10 @@ impl Object {
             world_from_object: rot,
             position,
             identity,
+            translation_only,
+            object_from_world: rot.transpose(),
             world_bounds,
+            scale,
         }
     }
 
@@ -64,10 +75,15 @@ impl Object {
     pub fn to_object(&self, ray: &crate::math::Ray) -> crate::math::Ray {
         if self.identity {
             *ray
+        } else if self.translation_only {
+            crate::math::Ray {
+                origin: ray.origin - self.position,
+                dir: ray.dir,
+            }
         } else {
             crate::math::Ray {
-                origin: self.world_from_object.transpose() * (ray.origin - self.position),
-                dir: self.world_from_object.transpose() * ray.dir,
+                origin: self.object_from_world * (ray.origin - self.position),
+                dir: self.object_from_world * ray.dir,
             }
         }
     }
@@ -76,8 +92,10 @@ impl Object {
     pub fn world_normal(&self, p: DVec3, part: u8) -> DVec3 {
         if self.identity {
             self.shape.normal(p, part)
+        } else if self.translation_only {
+            self.shape.normal(p - self.position, part)
         } else {
-            let po = self.world_from_object.transpose() * (p - self.position);
+            let po = self.object_from_world * (p - self.position);
             (self.world_from_object * self.shape.normal(po, part)).normalize()
         }
     }
@@ -89,6 +107,38 @@ impl Object {
         }
     }
 }
+
+/// What a scene uses, decided once when it is built, so that rendering
+/// leaves out the rest (see `integrator::radiance`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Features {
+    /// Shadow rays: shadows on, a light, and more than one object (a convex
+    /// object cannot shadow itself where a light faces it).
+    pub shadows: bool,
+    /// Some material is transparent: the refraction path.
+    pub glass: bool,
+    /// Some material is a mirror (glass reflects too): the reflection path.
+    pub mirror: bool,
+    /// Some material has a specular coefficient: the Phong term.
+    pub specular: bool,
+    /// Some transparent material has a wavelength-dependent index: three
+    /// wavelengths a sample instead of one.
+    pub dispersion: bool,
+}
+
+impl Features {
+    pub const ALL: Features = Features {
+        shadows: true,
+        glass: true,
+        mirror: true,
+        specular: true,
+        dispersion: true,
+    };
+}
+
+/// Below this many objects a ray tests every object's box: a hierarchy
+/// would cost more than it saves.
+pub const BVH_MIN_OBJECTS: usize = 8;
 
 /// The validated render model.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,9 +152,31 @@ pub struct Scene {
     pub max_depth: u32,
     pub shadows: bool,
     pub spp: u32,
+    /// What the scene uses ([`Scene::compile`]).
+    pub features: Features,
+    /// A BVH over `objects` when there are at least [`BVH_MIN_OBJECTS`].
+    pub bvh: Option<crate::accel::Bvh>,
 }
 
 impl Scene {
+    /// Decides [`Features`] and builds the BVH; call again after changing
+    /// `objects`, `lights` or `shadows` directly.
+    pub fn compile(&mut self) {
+        let mats = || self.objects.iter().map(|o| &o.material);
+        let glass = mats().any(|m| m.transparency > 0.0);
+        self.features = Features {
+            shadows: self.shadows && !self.lights.is_empty() && self.objects.len() > 1,
+            glass,
+            mirror: glass || mats().any(|m| m.reflectivity > 0.0),
+            specular: mats().any(|m| m.specular > 0.0),
+            dispersion: mats().any(|m| m.transparency > 0.0 && m.ior.is_dispersive()),
+        };
+        self.bvh = (self.objects.len() >= BVH_MIN_OBJECTS).then(|| {
+            let bounds: Vec<Aabb> = self.objects.iter().map(|o| o.world_bounds).collect();
+            crate::accel::Bvh::build(&bounds)
+        });
+    }
+
     /// Loads and validates a scene file.
     pub fn load(path: &std::path::Path) -> Result<(SceneFile, Scene), SceneError> {
         let name = path.display().to_string();
@@ -282,7 +354,7 @@ impl Scene {
         }
 
         if v.problems.is_empty() {
-            Ok(Scene {
+            let mut scene = Scene {
                 camera,
                 ambient,
                 lights,
@@ -291,7 +363,11 @@ impl Scene {
                 max_depth: r.max_depth,
                 shadows: r.shadows,
                 spp: r.spp,
-            })
+                features: Features::ALL,
+                bvh: None,
+            };
+            scene.compile();
+            Ok(scene)
         } else {
             Err(v.problems)
         }

@@ -1,0 +1,308 @@
+//! Acceleration: a bounding volume hierarchy over a scene's objects, built
+//! with the surface area heuristic (binned, as in Wald, "On fast
+//! construction of SAH-based bounding volume hierarchies", 2007) and
+//! flattened into an array in depth-first order, so that a node's left child
+//! follows it and traversal walks memory forward.
+
+use crate::geometry::Aabb;
+use crate::math::Ray;
+use glam::DVec3;
+
+/// One node: 64 bytes, a cache line. For an inner node `first` is the
+/// index of the right child (the left child is the next node) and `count`
+/// is 0; for a leaf, `first` indexes `Bvh::prims` and `count > 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub struct Node {
+    pub min: DVec3,
+    pub max: DVec3,
+    pub first: u32,
+    pub count: u32,
+    /// Split axis of an inner node: children are visited nearer-first along it.
+    pub axis: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Bvh {
+    pub nodes: Vec<Node>,
+    /// Object indices, leaves own contiguous runs.
+    pub prims: Vec<u32>,
+}
+
+const BINS: usize = 12;
+const MAX_LEAF: usize = 4;
+/// Cost of a box test relative to a primitive test in the SAH.
+const TRAVERSAL_COST: f64 = 0.5;
+
+fn area(min: DVec3, max: DVec3) -> f64 {
+    let e = (max - min).max(DVec3::ZERO);
+    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+}
+
+impl Bvh {
+    /// Builds over `bounds` (one box per object).
+    pub fn build(bounds: &[Aabb]) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * bounds.len()),
+            prims: (0..bounds.len() as u32).collect(),
+        };
+        if bounds.is_empty() {
+            return bvh;
+        }
+        let centroids: Vec<DVec3> = bounds.iter().map(|b| 0.5 * (b.min + b.max)).collect();
+        bvh.build_node(bounds, &centroids, 0, bounds.len());
+        bvh
+    }
+
+    fn build_node(&mut self, bounds: &[Aabb], centroids: &[DVec3], start: usize, end: usize) -> usize {
+        let idx = self.nodes.len();
+        let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &p in &self.prims[start..end] {
+            let b = &bounds[p as usize];
+            min = min.min(b.min);
+            max = max.max(b.max);
+            cmin = cmin.min(centroids[p as usize]);
+            cmax = cmax.max(centroids[p as usize]);
+        }
+        self.nodes.push(Node {
+            min,
+            max,
+            first: start as u32,
+            count: (end - start) as u32,
+            axis: 0,
+        });
+        let n = end - start;
+        if n <= 1 {
+            return idx;
+        }
+        // Binned SAH over the centroid extent, on every axis.
+        let extent = cmax - cmin;
+        let mut best = (f64::INFINITY, 0usize, 0usize); // (cost, axis, split bin)
+        for axis in 0..3 {
+            if extent[axis] <= 0.0 {
+                continue;
+            }
+            let mut bin_min = [DVec3::INFINITY; BINS];
+            let mut bin_max = [DVec3::NEG_INFINITY; BINS];
+            let mut bin_n = [0usize; BINS];
+            let scale = BINS as f64 / extent[axis];
+            for &p in &self.prims[start..end] {
+                let b = (((centroids[p as usize][axis] - cmin[axis]) * scale) as usize).min(BINS - 1);
+                bin_n[b] += 1;
+                bin_min[b] = bin_min[b].min(bounds[p as usize].min);
+                bin_max[b] = bin_max[b].max(bounds[p as usize].max);
+            }
+            // Sweep from the right to get each split's right-side area.
+            let mut right_area = [0.0; BINS];
+            let (mut rmin, mut rmax, mut rn) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
+            let mut right_n = [0usize; BINS];
+            for b in (1..BINS).rev() {
+                rmin = rmin.min(bin_min[b]);
+                rmax = rmax.max(bin_max[b]);
+                rn += bin_n[b];
+                right_area[b] = area(rmin, rmax);
+                right_n[b] = rn;
+            }
+            let (mut lmin, mut lmax, mut ln) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
+            for b in 1..BINS {
+                lmin = lmin.min(bin_min[b - 1]);
+                lmax = lmax.max(bin_max[b - 1]);
+                ln += bin_n[b - 1];
+                if ln == 0 || right_n[b] == 0 {
+                    continue;
+                }
+                let cost = ln as f64 * area(lmin, lmax) + right_n[b] as f64 * right_area[b];
+                if cost < best.0 {
+                    best = (cost, axis, b);
+                }
+            }
+        }
+        let leaf_cost = n as f64;
+        let split_cost = TRAVERSAL_COST + best.0 / area(min, max).max(f64::MIN_POSITIVE);
+        if best.0.is_infinite() || (n <= MAX_LEAF && split_cost >= leaf_cost) {
+            // All centroids coincide, or a leaf is cheaper: stay a leaf,
+            // unless it is too big, then split in the middle of the list.
+            if n <= MAX_LEAF || best.0.is_infinite() && n <= 2 * MAX_LEAF {
+                return idx;
+            }
+        }
+        let mid = if best.0.is_finite() {
+            let (axis, split) = (best.1, best.2);
+            let scale = BINS as f64 / extent[axis];
+            let slice = &mut self.prims[start..end];
+            let mut i = 0;
+            for j in 0..slice.len() {
+                let c = centroids[slice[j] as usize][axis];
+                if ((((c - cmin[axis]) * scale) as usize).min(BINS - 1)) < split {
+                    slice.swap(i, j);
+                    i += 1;
+                }
+            }
+            self.nodes[idx].axis = axis as u32;
+            start + i
+        } else {
+            start + n / 2
+        };
+        self.build_node(bounds, centroids, start, mid);
+        let right = self.build_node(bounds, centroids, mid, end);
+        let node = &mut self.nodes[idx];
+        node.first = right as u32;
+        node.count = 0;
+        idx
+    }
+
+    /// Visits leaves that the ray may hit within `(0, t_max)`, nearer
+    /// children first. `visit(object, t_max)` tests one object and returns a
+    /// new, smaller `t_max` if it hit; returning `Err(())` stops the walk
+    /// (an any-hit query found what it wanted).
+    #[inline]
+    pub fn traverse(&self, ray: &Ray, mut t_max: f64, mut visit: impl FnMut(u32, f64) -> Result<Option<f64>, ()>) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let inv = ray.dir.recip();
+        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
+        let mut stack = [0u32; 64];
+        let mut sp = 0usize;
+        let mut i = 0usize;
+        loop {
+            let node = &self.nodes[i];
+            if slab(node, ray.origin, inv, t_max) {
+                if node.count > 0 {
+                    for &p in &self.prims[node.first as usize..(node.first + node.count) as usize] {
+                        match visit(p, t_max) {
+                            Ok(Some(t)) => t_max = t,
+                            Ok(None) => {}
+                            Err(()) => return,
+                        }
+                    }
+                } else {
+                    // Nearer child first along the split axis.
+                    let (near, far) = if neg[node.axis as usize] {
+                        (node.first as usize, i + 1)
+                    } else {
+                        (i + 1, node.first as usize)
+                    };
+                    if sp < stack.len() {
+                        stack[sp] = far as u32;
+                        sp += 1;
+                        i = near;
+                        continue;
+                    }
+                    // A degenerate tree deeper than the stack: fall back to
+                    // visiting this subtree's leaves in order (still correct).
+                    i = near;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            i = stack[sp] as usize;
+        }
+    }
+}
+
+#[inline]
+fn slab(n: &Node, o: DVec3, inv: DVec3, t_max: f64) -> bool {
+    let t0 = (n.min - o) * inv;
+    let t1 = (n.max - o) * inv;
+    let lo = t0.min(t1).max_element().max(0.0);
+    let hi = t0.max(t1).min_element().min(t_max);
+    // Rounding of the products may cut a box that a ray just touches.
+    lo <= hi * (1.0 + 4.0 * f64::EPSILON)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    fn boxes(n: usize, seed: u64) -> Vec<Aabb> {
+        let mut s = Sampler::new(seed, 0, 0);
+        (0..n)
+            .map(|_| {
+                let c = DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) * 20.0 - 10.0;
+                let e = DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) * 0.8 + 0.05;
+                Aabb::new(c - e, c + e)
+            })
+            .collect()
+    }
+
+    fn brute(bounds: &[Aabb], ray: &Ray) -> Option<(u32, f64)> {
+        let inv = ray.dir.recip();
+        let mut best: Option<(u32, f64)> = None;
+        for (i, b) in bounds.iter().enumerate() {
+            let t0 = (b.min - ray.origin) * inv;
+            let t1 = (b.max - ray.origin) * inv;
+            let lo = t0.min(t1).max_element().max(0.0);
+            let hi = t0.max(t1).min_element();
+            if lo <= hi && best.is_none_or(|(_, t)| lo < t) {
+                best = Some((i as u32, lo));
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn every_object_is_in_exactly_one_leaf_and_boxes_nest() {
+        for n in [1, 2, 3, 7, 25, 100, 2500] {
+            let b = boxes(n, n as u64);
+            let bvh = Bvh::build(&b);
+            let mut seen = vec![0; n];
+            for node in &bvh.nodes {
+                if node.count > 0 {
+                    for &p in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
+                        seen[p as usize] += 1;
+                        assert!(node.min.cmple(b[p as usize].min).all() && node.max.cmpge(b[p as usize].max).all());
+                    }
+                    assert!(node.count as usize <= 2 * MAX_LEAF);
+                }
+            }
+            assert!(seen.iter().all(|&k| k == 1), "n = {n}");
+        }
+    }
+
+    #[test]
+    fn closest_box_hit_matches_brute_force() {
+        let b = boxes(500, 9);
+        let bvh = Bvh::build(&b);
+        let mut s = Sampler::new(3, 0, 0);
+        for _ in 0..2000 {
+            let o = DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) * 40.0 - 20.0;
+            let d = DVec3::new(s.next_f64() - 0.5, s.next_f64() - 0.5, s.next_f64() - 0.5);
+            let ray = Ray::new(o, d);
+            let inv = ray.dir.recip();
+            let mut best: Option<(u32, f64)> = None;
+            bvh.traverse(&ray, f64::INFINITY, |p, t_max| {
+                let bb = &b[p as usize];
+                let t0 = (bb.min - ray.origin) * inv;
+                let t1 = (bb.max - ray.origin) * inv;
+                let lo = t0.min(t1).max_element().max(0.0);
+                let hi = t0.max(t1).min_element().min(t_max);
+                if lo <= hi && lo < t_max {
+                    best = Some((p, lo));
+                    return Ok(Some(lo));
+                }
+                Ok(None)
+            });
+            let want = brute(&b, &ray);
+            assert_eq!(best.map(|x| x.1), want.map(|x| x.1), "ray {o} {d}");
+        }
+    }
+
+    #[test]
+    fn any_hit_stops_early() {
+        let b = boxes(100, 4);
+        let bvh = Bvh::build(&b);
+        let ray = Ray::new(DVec3::new(-30.0, 0.0, 0.0), DVec3::X);
+        let mut visits = 0;
+        bvh.traverse(&ray, f64::INFINITY, |_, _| {
+            visits += 1;
+            Err(())
+        });
+        assert!(visits <= 1);
+    }
+}

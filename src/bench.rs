@@ -1,0 +1,259 @@
+//! The measurements behind `lensview bench`: render time against image size
+//! and object count, primary-ray throughput, and what each feature costs a
+//! scene that uses it and a scene that does not. Every figure is the median
+//! of several timed runs of the real renderer.
+
+use crate::color::Rgb;
+use crate::integrator::{closest_hit, radiance_unspecialised};
+use crate::render::{RenderSettings, render};
+use crate::scene::file::{ObjectFile, SceneFile, ShapeKind};
+use crate::scene::{Features, Scene};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Median wall time in seconds of `runs` calls of `f` (after one warm-up).
+pub fn median_time(runs: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut v: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// One full Whitted frame at 1 sample per pixel.
+pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
+    let s = RenderSettings {
+        width,
+        height,
+        spp: 1,
+        seed: 0,
+    };
+    median_time(runs, || {
+        std::hint::black_box(render(scene, &s, None));
+    })
+}
+
+/// The same frame with the unspecialised kernel (every feature compiled in).
+pub fn frame_time_unspecialised(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
+    median_time(runs, || {
+        let sum: Rgb = (0..height)
+            .into_par_iter()
+            .map(|y| {
+                let mut acc = Rgb::ZERO;
+                for x in 0..width {
+                    let ray = scene.camera.ray(x as f64 + 0.5, y as f64 + 0.5, width, height);
+                    acc += radiance_unspecialised(scene, &ray, 0, crate::optics::WAVELENGTH_D_UM);
+                }
+                acc
+            })
+            .sum();
+        std::hint::black_box(sum);
+    })
+}
+
+/// Closest-hit primary rays per second (pixel centres, no shading).
+pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
+    let t = median_time(runs, || {
+        let hits: usize = (0..height)
+            .into_par_iter()
+            .map(|y| {
+                (0..width)
+                    .filter(|&x| {
+                        let ray = scene.camera.ray(x as f64 + 0.5, y as f64 + 0.5, width, height);
+                        closest_hit(scene, &ray, f64::INFINITY).is_some()
+                    })
+                    .count()
+            })
+            .sum();
+        std::hint::black_box(hits);
+    });
+    (width as f64 * height as f64) / t
+}
+
+fn is_cube(o: &ObjectFile) -> bool {
+    o.name.as_deref().is_some_and(|n| n.starts_with("cube"))
+}
+
+/// The cubes scene with only its first `n` cubes (ground and lens kept).
+pub fn cubes_subset(base: &SceneFile, n: usize) -> Scene {
+    let mut sf = base.clone();
+    let mut kept = 0;
+    sf.objects.retain(|o| {
+        if !is_cube(o) {
+            return true;
+        }
+        kept += 1;
+        kept <= n
+    });
+    // ok: a subset of a valid scene is valid.
+    Scene::build(&sf).expect("subset of a valid scene")
+}
+
+/// The cubes scene with its 5×5 grid replaced by `side × side` cubes over
+/// the same area (−3.2 … 3.2), each scaled so the gaps keep their ratio.
+pub fn cubes_grid(base: &SceneFile, side: usize) -> Scene {
+    let mut sf = base.clone();
+    let template = sf.objects.iter().find(|o| is_cube(o)).cloned();
+    let materials: Vec<Option<String>> = sf
+        .objects
+        .iter()
+        .filter(|o| is_cube(o))
+        .map(|o| o.material.clone())
+        .collect();
+    sf.objects.retain(|o| !is_cube(o));
+    if let Some(t) = template {
+        let spacing = if side > 1 { 6.4 / (side - 1) as f64 } else { 1.6 };
+        let size = 0.625 * spacing;
+        for i in 0..side * side {
+            let (ix, iz) = (i % side, i / side);
+            let (x, z) = if side > 1 {
+                (-3.2 + ix as f64 * spacing, -3.2 + iz as f64 * spacing)
+            } else {
+                (0.0, 0.0)
+            };
+            sf.objects.push(ObjectFile {
+                kind: ShapeKind::Cuboid,
+                name: Some(format!("cube {}", i + 1)),
+                position: [x, 0.5 * size, z],
+                size: Some([size; 3]),
+                material: materials[i % materials.len().max(1)].clone(),
+                ..t.clone()
+            });
+        }
+    }
+    // ok: the same objects at other sizes.
+    Scene::build(&sf).expect("grid of a valid scene")
+}
+
+/// One feature's bill: the scene that uses it, rendered with and without it,
+/// and the scene that does not use it, rendered with the specialised kernel
+/// (feature left out) and with the unspecialised one.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct FeatureCost {
+    pub feature: &'static str,
+    pub with_ms: f64,
+    pub without_ms: f64,
+    pub unused_specialised_ms: f64,
+    pub unused_unspecialised_ms: f64,
+}
+
+impl FeatureCost {
+    /// What carrying the unused feature would cost, as a fraction.
+    pub fn unused_overhead(&self) -> f64 {
+        self.unused_unspecialised_ms / self.unused_specialised_ms - 1.0
+    }
+}
+
+/// Measures every feature on variants of the cubes scene at `w × h`.
+pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<FeatureCost> {
+    let build = |f: &dyn Fn(&mut SceneFile)| {
+        let mut sf = base.clone();
+        f(&mut sf);
+        // ok: the variants only switch valid settings.
+        Scene::build(&sf).expect("variant of a valid scene")
+    };
+    let no_lens = |sf: &mut SceneFile| sf.lenses.clear();
+    let no_spec = |sf: &mut SceneFile| sf.materials.values_mut().for_each(|m| m.specular = 0.0);
+    let mirror = |sf: &mut SceneFile| {
+        if let Some(m) = sf.materials.get_mut("ground") {
+            m.reflectivity = 0.5;
+        }
+    };
+    let dispersive = |sf: &mut SceneFile| {
+        if let Some(l) = sf.lenses.first_mut() {
+            l.n = crate::scene::file::IndexFile::Cauchy([1.4846, 0.0042]);
+        }
+    };
+    let variants: Vec<(&'static str, Scene, Scene)> = vec![
+        ("shadows", build(&|_| {}), build(&|sf| sf.render.shadows = false)),
+        ("glass (the lens)", build(&|_| {}), build(&no_lens)),
+        ("mirror", build(&mirror), build(&|_| {})),
+        // The lens glass has a highlight of its own: measured without it.
+        (
+            "specular",
+            build(&no_lens),
+            build(&|sf| {
+                no_lens(sf);
+                no_spec(sf)
+            }),
+        ),
+        ("dispersion", build(&dispersive), build(&|_| {})),
+    ];
+    let mut out = Vec::new();
+    for (name, with, without) in variants {
+        let with_ms = frame_time(&with, w, h, runs) * 1e3;
+        let without_ms = frame_time(&without, w, h, runs) * 1e3;
+        // Dispersion is decided per frame (three wavelengths or one), the
+        // others inside the kernel.
+        let unused_unspecialised_ms = if name == "dispersion" {
+            let mut forced = without.clone();
+            forced.features = Features {
+                dispersion: true,
+                ..forced.features
+            };
+            // Forcing three wavelengths on plain glass gives the same image
+            // at three times the work: what not deciding would cost.
+            frame_time(&forced, w, h, runs) * 1e3
+        } else {
+            frame_time_unspecialised(&without, w, h, runs) * 1e3
+        };
+        out.push(FeatureCost {
+            feature: name,
+            with_ms,
+            without_ms,
+            unused_specialised_ms: without_ms,
+            unused_unspecialised_ms,
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variants_have_the_objects_asked_for() {
+        let (sf, _) = Scene::default_scene();
+        let s = cubes_subset(&sf, 7);
+        assert_eq!(s.objects.iter().filter(|o| o.name.starts_with("cube")).count(), 7);
+        let g = cubes_grid(&sf, 10);
+        assert_eq!(g.objects.iter().filter(|o| o.name.starts_with("cube")).count(), 100);
+        assert!(g.bvh.is_some());
+        let g5 = cubes_grid(&sf, 5);
+        let orig = Scene::default_scene().1;
+        // A 5×5 grid is the original layout.
+        let pos = |s: &Scene| {
+            s.objects
+                .iter()
+                .filter(|o| o.name.starts_with("cube"))
+                .map(|o| o.position)
+                .collect::<Vec<_>>()
+        };
+        for (a, b) in pos(&g5).iter().zip(pos(&orig)) {
+            assert!((*a - b).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn unspecialised_kernel_draws_the_same_picture() {
+        let (sf, _) = Scene::default_scene();
+        let mut no_spec = sf.clone();
+        no_spec.materials.values_mut().for_each(|m| m.specular = 0.0);
+        no_spec.render.shadows = false;
+        no_spec.lenses.clear();
+        let s = Scene::build(&no_spec).unwrap();
+        assert!(!s.features.specular && !s.features.shadows);
+        for (x, y) in [(10.0, 10.0), (200.0, 200.0), (150.0, 300.0), (390.0, 390.0)] {
+            let ray = s.camera.ray(x, y, 400, 400);
+            let a = crate::integrator::radiance(&s, &ray, 0, crate::optics::WAVELENGTH_D_UM);
+            let b = radiance_unspecialised(&s, &ray, 0, crate::optics::WAVELENGTH_D_UM);
+            assert_eq!(a, b);
+        }
+    }
+}
