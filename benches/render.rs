@@ -6,6 +6,7 @@ use glam::DVec3;
 use lensview::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
 use lensview::math::Ray;
 use lensview::optics::Index;
+use lensview::render::progressive::{Progressive, Stage};
 use lensview::render::{RenderSettings, render};
 use lensview::sampling::Sampler;
 use lensview::scene::Scene;
@@ -44,6 +45,52 @@ fn shapes(c: &mut Criterion) {
     g.finish();
 }
 
+/// BVH traversal alone: closest box hit over a seeded cloud of boxes.
+fn bvh(c: &mut Criterion) {
+    use lensview::accel::Bvh;
+    use lensview::geometry::Aabb;
+    let mut s = Sampler::new(7, 0, 0);
+    let mut g = c.benchmark_group("bvh-closest-box-1024-rays");
+    for n in [25usize, 2500] {
+        let boxes: Vec<Aabb> = (0..n)
+            .map(|_| {
+                let c = DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) * 20.0 - 10.0;
+                let e = DVec3::splat(0.3 * 25.0f64.sqrt() / (n as f64).sqrt());
+                Aabb::new(c - e, c + e)
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let rays: Vec<Ray> = (0..1024)
+            .map(|_| {
+                let o = DVec3::new(s.next_f64() - 0.5, s.next_f64() - 0.5, 30.0);
+                let t = DVec3::new(s.next_f64(), s.next_f64(), 0.0) * 20.0 - 10.0;
+                Ray::new(o, t - o)
+            })
+            .collect();
+        g.bench_function(format!("{n}-boxes"), |b| {
+            b.iter(|| {
+                let mut hits = 0usize;
+                for r in &rays {
+                    let inv = r.dir.recip();
+                    bvh.traverse(r, f64::INFINITY, |p, t_max| {
+                        let bb = &boxes[p as usize];
+                        let t0 = (bb.min - r.origin) * inv;
+                        let t1 = (bb.max - r.origin) * inv;
+                        let lo = t0.min(t1).max_element().max(0.0);
+                        let hi = t0.max(t1).min_element().min(t_max);
+                        Ok((lo <= hi).then(|| {
+                            hits += 1;
+                            lo
+                        }))
+                    });
+                }
+                hits
+            })
+        });
+    }
+    g.finish();
+}
+
 fn frames(c: &mut Criterion) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
     let (_, scene) = Scene::load(&path).unwrap();
@@ -60,8 +107,19 @@ fn frames(c: &mut Criterion) {
             b.iter(|| render(black_box(&scene), &s, None))
         });
     }
+    // The first progressive level the viewer draws after a change.
+    let mut p = Progressive::new(1280, 720, 0);
+    g.bench_function("1280x720-first-level-8x8-blocks", |b| {
+        b.iter(|| {
+            p.reset(1280, 720, 0);
+            p.run(black_box(&scene), Stage::Blocks(8), &|| false)
+        })
+    });
+    g.bench_function("1280x720-primary-rays-closest-hit", |b| {
+        b.iter(|| lensview::bench::primary_rays_per_second(black_box(&scene), 1280, 720, 1))
+    });
     g.finish();
 }
 
-criterion_group!(benches, shapes, frames);
+criterion_group!(benches, shapes, bvh, frames);
 criterion_main!(benches);

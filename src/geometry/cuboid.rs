@@ -39,35 +39,31 @@ impl Cuboid {
         let o = ray.origin + t0 * ray.dir;
         let h = 0.5 * self.size;
         let inv = ray.dir.recip();
+        // A zero direction component gives ±∞ here (or NaN exactly on a
+        // face plane, which min/max skip): such a slab never limits the ray.
         let a = (-h - o) * inv;
         let b = (h - o) * inv;
         let near = a.min(b);
         let far = a.max(b);
-        // Entering face on each axis: the −face when the ray travels +.
-        let (mut t_in, mut f_in) = (f64::NEG_INFINITY, 0u8);
-        let (mut t_out, mut f_out) = (f64::INFINITY, 0u8);
-        for k in 0..3 {
-            let d = ray.dir[k];
-            if d == 0.0 {
-                if o[k].abs() > h[k] {
-                    return None;
-                }
-                continue;
+        let t_in = near.max_element();
+        let t_out = far.min_element();
+        // Faces are numbered +x, −x, +y, −y, +z, −z: a ray travelling +k
+        // enters through −k (2k + 1) and leaves through +k (2k).
+        let arg = |v: DVec3, pick_max: bool| -> usize {
+            let better = |x: f64, y: f64| if pick_max { x > y } else { x < y };
+            let mut k = 0;
+            if better(v.y, v[k]) {
+                k = 1;
             }
-            let (enter_face, exit_face) = if d > 0.0 {
-                (2 * k as u8 + 1, 2 * k as u8)
-            } else {
-                (2 * k as u8, 2 * k as u8 + 1)
-            };
-            if near[k] > t_in {
-                t_in = near[k];
-                f_in = enter_face;
+            if better(v.z, v[k]) {
+                k = 2;
             }
-            if far[k] < t_out {
-                t_out = far[k];
-                f_out = exit_face;
-            }
-        }
+            k
+        };
+        let k_in = arg(near, true);
+        let k_out = arg(far, false);
+        let f_in = (2 * k_in + usize::from(ray.dir[k_in] > 0.0)) as u8;
+        let f_out = (2 * k_out + usize::from(ray.dir[k_out] < 0.0)) as u8;
         if t_in > t_out {
             return None;
         }
