@@ -624,7 +624,7 @@ impl Viewer {
     }
 
     fn add_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Add").default_open(true).show(ui, |ui| {
+        let r = egui::CollapsingHeader::new("Add").default_open(true).show(ui, |ui| {
             ui.horizontal_wrapped(|ui| {
                 for k in AddKind::ALL {
                     ui.selectable_value(&mut self.ui.add.kind, k, k.name());
@@ -693,6 +693,7 @@ impl Viewer {
                 self.add_from_form();
             }
         });
+        self.ui.rect(ui, "section Add", &r.header_response);
     }
 
     fn add_from_form(&mut self) {
@@ -751,7 +752,7 @@ impl Viewer {
 
     fn objects_section(&mut self, ui: &mut egui::Ui) {
         let items = self.doc.items();
-        egui::CollapsingHeader::new(format!("Objects ({})", items.len()))
+        let r = egui::CollapsingHeader::new(format!("Objects ({})", items.len()))
             .id_salt("objects")
             .default_open(true)
             .show(ui, |ui| {
@@ -813,6 +814,7 @@ impl Viewer {
                     });
                 }
             });
+        self.ui.rect(ui, "section Objects", &r.header_response);
     }
 
     fn object_editor(&mut self, ui: &mut egui::Ui, i: usize) {
@@ -994,7 +996,7 @@ impl Viewer {
     }
 
     fn camera_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Camera").show(ui, |ui| {
+        let r = egui::CollapsingHeader::new("Camera").show(ui, |ui| {
             let (p, r) = self.doc.camera_pose();
             let current = (p.to_array(), r.to_array(), self.doc.scene().camera.fov);
             self.drafted(
@@ -1049,11 +1051,12 @@ impl Viewer {
                 }
             });
         });
+        self.ui.rect(ui, "section Camera", &r.header_response);
     }
 
     fn lens_section(&mut self, ui: &mut egui::Ui) {
         let open = std::mem::take(&mut self.ui.open_lens).then_some(true);
-        egui::CollapsingHeader::new("Lens").open(open).show(ui, |ui| {
+        let r = egui::CollapsingHeader::new("Lens").open(open).show(ui, |ui| {
             let count = self.doc.scene().lenses.len();
             if count == 0 {
                 ui.weak("No lens in this scene: Add → lens puts one in front of the camera.");
@@ -1178,10 +1181,11 @@ impl Viewer {
                 }
             });
         });
+        self.ui.rect(ui, "section Lens", &r.header_response);
     }
 
     fn light_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Light").show(ui, |ui| {
+        let r = egui::CollapsingHeader::new("Light").show(ui, |ui| {
             let count = self.doc.scene().lights.len();
             ui.horizontal(|ui| {
                 if count > 1 {
@@ -1326,10 +1330,11 @@ impl Viewer {
                 self.apply_result(if shadows { "shadows on" } else { "shadows off" }, r);
             }
         });
+        self.ui.rect(ui, "section Light", &r.header_response);
     }
 
     fn render_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Render").show(ui, |ui| {
+        let r = egui::CollapsingHeader::new("Render").show(ui, |ui| {
             egui::Grid::new("render-grid").num_columns(2).show(ui, |ui| {
                 ui.label("resolution");
                 let mut div = self.res_div;
@@ -1410,6 +1415,7 @@ impl Viewer {
                 ));
             }
         });
+        self.ui.rect(ui, "section Render", &r.header_response);
     }
 
     fn file_dialog_ui(&mut self, ctx: &egui::Context) {
