@@ -895,9 +895,15 @@ impl ApplicationHandler<UserEvent> for Viewer {
                 let PhysicalKey::Code(code) = event.physical_key else {
                     return;
                 };
-                // Keys typed into a field are the field's; releases always
-                // stop flight.
-                if (consumed && typing) && event.state == ElementState::Pressed {
+                // Keys typed into a field are the field's (Ctrl+Z there is
+                // the field's own undo); releases always stop flight. Save
+                // and open, which no field uses, work while typing too.
+                let file_chord = self.ctrl
+                    && matches!(
+                        keys::action_for(code, true, self.shift),
+                        Some(Action::Save | Action::SaveAs | Action::Open)
+                    );
+                if consumed && typing && event.state == ElementState::Pressed && !file_chord {
                     return;
                 }
                 // Auto-repeat steps scene edits and undo/redo, never toggles.
