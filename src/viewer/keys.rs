@@ -46,6 +46,8 @@ pub enum Action {
     Open,
     TogglePanel,
     Pause,
+    DeleteSelected,
+    DuplicateSelected,
     // Pressed: display only (no restart).
     Screenshot,
     ToggleOverlay,
@@ -88,6 +90,8 @@ impl Action {
                 | Action::Open
                 | Action::TogglePanel
                 | Action::Pause
+                | Action::DeleteSelected
+                | Action::DuplicateSelected
         )
     }
 }
@@ -172,6 +176,12 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
     (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
     (
+        KeyCode::Delete,
+        "Del",
+        Action::DeleteSelected,
+        "delete the object selected in the panel",
+    ),
+    (
         KeyCode::Escape,
         "Esc",
         Action::Quit,
@@ -193,6 +203,13 @@ pub const CTRL_BINDINGS: &[(KeyCode, bool, &str, Action, &str)] = &[
         "save the scene as…",
     ),
     (KeyCode::KeyO, false, "Ctrl+O", Action::Open, "open a scene file"),
+    (
+        KeyCode::KeyD,
+        false,
+        "Ctrl+D",
+        Action::DuplicateSelected,
+        "duplicate the object selected in the panel",
+    ),
 ];
 
 /// The action of `key` with the modifiers held (Shift matters only with Ctrl).

@@ -430,6 +430,8 @@ impl Viewer {
             Action::Open => self.ui.open_file_dialog(panel::DialogMode::Open, self.doc.source()),
             Action::TogglePanel => self.set_panel(!self.panel),
             Action::Pause => self.toggle_pause(),
+            Action::DeleteSelected => self.delete_selected(),
+            Action::DuplicateSelected => self.duplicate_selected(),
             Action::Quit => self.request_quit(),
             _ => {}
         }

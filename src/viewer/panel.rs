@@ -435,7 +435,16 @@ impl Viewer {
             .cloned()
             .unwrap_or(current);
         let before = v.clone();
-        widgets(ui, &mut v);
+        // A draft that does not validate is framed in red.
+        let stroke = if self.ui.drafts.contains_key(key) {
+            egui::Stroke::new(1.5, ERROR)
+        } else {
+            egui::Stroke::NONE
+        };
+        egui::Frame::new()
+            .stroke(stroke)
+            .inner_margin(2.0)
+            .show(ui, |ui| widgets(ui, &mut v));
         if v != before {
             let value = v.clone();
             match self.doc.edit_merged(key, label, move |sf| apply(sf, value)) {
@@ -789,32 +798,50 @@ impl Viewer {
                         ));
                     }
                 }
-                if let Some(item) = self.ui.selected {
+                if self.ui.selected.is_some() {
                     ui.horizontal(|ui| {
-                        if ui.button("Duplicate").clicked() {
-                            match self.doc.duplicate(item) {
-                                Ok(Some(copy)) => {
-                                    self.ui.selected = Some(copy);
-                                    if let Item::Lens(i) = copy {
-                                        self.ui.lens = i;
-                                    }
-                                    self.message = format!("duplicated as {}", self.doc.item_name(copy));
-                                    self.changed(Change::Picture);
-                                }
-                                Ok(None) => {}
-                                Err(e) => self.ui.error = Some(format!("not duplicated: {e}")),
-                            }
+                        if ui.button("Duplicate").on_hover_text("Ctrl+D").clicked() {
+                            self.duplicate_selected();
                         }
-                        if ui.button("Delete").clicked() {
-                            let name = self.doc.item_name(item);
-                            let r = self.doc.delete(item);
-                            self.ui.selected = None;
-                            self.apply_result(&format!("deleted {name} (Ctrl+Z undoes)"), r);
+                        if ui.button("Delete").on_hover_text("Delete key").clicked() {
+                            self.delete_selected();
                         }
                     });
                 }
             });
         self.ui.rect(ui, "section Objects", &r.header_response);
+    }
+
+    /// Duplicates the selected item and selects the copy (button, Ctrl+D).
+    pub(super) fn duplicate_selected(&mut self) {
+        let Some(item) = self.ui.selected else {
+            self.message = "select an object first (Objects)".into();
+            return;
+        };
+        match self.doc.duplicate(item) {
+            Ok(Some(copy)) => {
+                self.ui.selected = Some(copy);
+                if let Item::Lens(i) = copy {
+                    self.ui.lens = i;
+                }
+                self.message = format!("duplicated as {}", self.doc.item_name(copy));
+                self.changed(Change::Picture);
+            }
+            Ok(None) => {}
+            Err(e) => self.ui.error = Some(format!("not duplicated: {e}")),
+        }
+    }
+
+    /// Deletes the selected item (button, Delete key); Ctrl+Z brings it back.
+    pub(super) fn delete_selected(&mut self) {
+        let Some(item) = self.ui.selected else {
+            self.message = "select an object first (Objects)".into();
+            return;
+        };
+        let name = self.doc.item_name(item);
+        let r = self.doc.delete(item);
+        self.ui.selected = None;
+        self.apply_result(&format!("deleted {name} (Ctrl+Z undoes)"), r);
     }
 
     fn object_editor(&mut self, ui: &mut egui::Ui, i: usize) {
