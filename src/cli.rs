@@ -145,6 +145,12 @@ pub struct ViewArgs {
     /// Initial window height.
     #[arg(long, default_value_t = 720)]
     pub height: u32,
+    /// Start with the editing panel hidden (F4 shows it).
+    #[arg(long)]
+    pub no_panel: bool,
+    /// Write the screen rectangles of the panel's buttons to this file (JSON), for scripted tests.
+    #[arg(long, hide = true)]
+    pub ui_log: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -464,6 +470,8 @@ fn view(a: ViewArgs) -> Result<()> {
         max_spp: a.max_spp,
         width: a.width,
         height: a.height,
+        panel: !a.no_panel,
+        ui_log: a.ui_log,
     })
 }
 

@@ -1,7 +1,18 @@
-//! Changes a user makes to a scene (from keys now, from panels later),
-//! applied to the file model so that what is edited can be saved as it is.
-//! Each change is clamped to valid values and says what it did, clamp
-//! included, instead of failing.
+//! Changes a user makes to a scene, applied to the file model so that what
+//! is edited can be saved as it is.
+//!
+//! - [`document`]: the scene being edited — validation of every change
+//!   through `Scene::build`, undo/redo, unsaved-changes state, save and
+//!   open, add/delete/duplicate. The viewer's panels and keys go through it.
+//! - [`presets`]: the scenes of `scenes/`, compiled in.
+//! - This module: the viewer's key edits ([`Edit`], [`apply`]), each clamped
+//!   to valid values and saying what it did, clamp included, instead of
+//!   failing.
+
+pub mod document;
+pub mod presets;
+
+pub use document::{Change, Document, Item, Rejected, Source};
 
 use crate::color::{Rgb, blackbody};
 use crate::math::rotation_from_degrees;

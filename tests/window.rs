@@ -22,8 +22,11 @@ struct Xvfb {
 
 impl Xvfb {
     fn start() -> Xvfb {
-        // A display number of our own: the first free one from a per-process base.
-        let base = 90 + (std::process::id() % 400);
+        // A display number of our own: the first free one from a base per
+        // process and per test (the tests of this file run in parallel).
+        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let base = 90 + (std::process::id() % 400) + 500 * k;
         for n in base..base + 100 {
             if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
                 continue;
@@ -38,10 +41,15 @@ impl Xvfb {
                 child,
                 display: format!(":{n}"),
             };
+            // Ours only if our server is still running once the socket is
+            // there (a server that lost a race for the number exits).
             if wait_until(Duration::from_secs(20), || {
                 Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
             }) {
-                return x;
+                std::thread::sleep(Duration::from_millis(300));
+                if x.child.try_wait().ok().flatten().is_none() {
+                    return x;
+                }
             }
             let _ = x.child.kill();
         }
@@ -110,12 +118,18 @@ impl Session<'_> {
     /// Waits until a frame of a generation above `after`, refined to at
     /// least `spp`, has been presented; returns its generation.
     fn wait_frame(&self, after: u64, spp: u64, what: &str) -> u64 {
+        self.wait_frame_where(after, spp, what, |_| true)
+    }
+
+    /// Like `wait_frame`, for a frame that also passes `pred`.
+    fn wait_frame_where(&self, after: u64, spp: u64, what: &str, pred: impl Fn(&serde_json::Value) -> bool) -> u64 {
         let mut found = 0;
         let ok = wait_until(Duration::from_secs(120), || {
             found = self
                 .frames()
                 .iter()
                 .filter(|f| f["generation"].as_u64().unwrap_or(0) > after && f["spp"].as_u64().unwrap_or(0) >= spp)
+                .filter(|f| pred(f))
                 .map(|f| f["generation"].as_u64().unwrap())
                 .max()
                 .unwrap_or(0);
@@ -150,6 +164,49 @@ impl Session<'_> {
         self.xdotool(&["key", "--window", &self.window, key]);
     }
 
+    /// Types a key chord through the X server's input (XTEST), as a user
+    /// would: modifiers reach the window's keyboard state. The window must
+    /// have the focus.
+    fn chord(&self, keys: &str) {
+        self.xdotool(&["key", "--clearmodifiers", keys]);
+    }
+
+    fn title(&self) -> String {
+        self.xdotool(&["getwindowname", &self.window])
+    }
+
+    /// The panel's named buttons and their rectangles (`--ui-log`).
+    fn rects(&self, ui_log: &Path) -> serde_json::Map<String, serde_json::Value> {
+        std::fs::read_to_string(ui_log)
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|v| v.as_object().cloned())
+            .unwrap_or_default()
+    }
+
+    /// Clicks the middle of the button called `name` once it is on screen.
+    fn click(&self, ui_log: &Path, name: &str) {
+        let mut at = None;
+        assert!(
+            wait_until(Duration::from_secs(60), || {
+                at = self.rects(ui_log).get(name).and_then(|r| {
+                    let r: Vec<f64> = r.as_array()?.iter().filter_map(|x| x.as_f64()).collect();
+                    Some((((r[0] + r[2]) / 2.0) as i64, ((r[1] + r[3]) / 2.0) as i64))
+                });
+                at.is_some()
+            }),
+            "no button `{name}` on screen: {:?}",
+            self.rects(ui_log)
+        );
+        let (x, y) = at.unwrap();
+        self.xdotool(&["mousemove", "--window", &self.window, &x.to_string(), &y.to_string()]);
+        std::thread::sleep(Duration::from_millis(300));
+        self.xdotool(&["mousedown", "1"]);
+        std::thread::sleep(Duration::from_millis(150));
+        self.xdotool(&["mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+    }
+
     fn hold(&self, key: &str, ms: u64) {
         self.xdotool(&["keydown", "--window", &self.window, key]);
         std::thread::sleep(Duration::from_millis(ms));
@@ -169,6 +226,26 @@ fn diff(a: &Image, b: &Image, y0: u32, y1: u32) -> f64 {
         .map(|(x, y)| (*x as f64 - *y as f64).abs())
         .sum::<f64>()
         / (e - s) as f64
+}
+
+/// Mean absolute difference in 8-bit levels over columns x0.. (the picture
+/// right of the panel), all rows.
+fn diff_right_of(a: &Image, b: &Image, x0: u32) -> f64 {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let (a8, b8) = (a.to_srgb8(), b.to_srgb8());
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for y in 0..a.height as usize {
+        let s = (y * a.width as usize + x0 as usize) * 3;
+        let e = (y + 1) * a.width as usize * 3;
+        sum += a8[s..e]
+            .iter()
+            .zip(&b8[s..e])
+            .map(|(x, y)| (*x as f64 - *y as f64).abs())
+            .sum::<f64>();
+        n += e - s;
+    }
+    sum / n as f64
 }
 
 fn spread(img: &Image) -> f64 {
@@ -244,8 +321,10 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
     s.window = id;
     s.xdotool(&["windowfocus", "--sync", &s.window]);
 
+    // F4 hides the editing panel, so the picture fills the window.
+    s.key("F4");
     // It shows the scene: not blank, and like the headless render (overlay off).
-    let g1 = s.wait_frame(0, 1, "start");
+    let g1 = s.wait_frame_where(0, 1, "start", |f| f["width"] == W && f["x0"] == 0);
     s.key("F1");
     std::thread::sleep(Duration::from_millis(500));
     let shot = s.screenshot("start.png");
@@ -314,9 +393,16 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
     );
     assert!(s.last_generation() > g3);
 
-    // Escape exits with status 0.
+    // Escape exits with status 0 (after asking, as the lens was changed:
+    // D answers "quit without saving").
     s.xdotool(&["windowfocus", "--sync", &s.window]);
     s.key("Escape");
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(
+        s.app.try_wait().unwrap().is_none(),
+        "quit with unsaved changes without asking"
+    );
+    s.key("d");
     let mut status = None;
     wait_until(Duration::from_secs(30), || {
         status = s.app.try_wait().unwrap();
@@ -343,4 +429,166 @@ fn without_a_display_the_viewer_says_how_to_render_headless() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("lensview render"), "{err}");
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
+
+/// The editing panel: *Add sphere* is clicked and the picture changes; undo,
+/// redo and save (Ctrl+Z, Ctrl+Shift+Z, Ctrl+S); flight keys still fly with
+/// the panel shown; Escape with unsaved changes asks instead of quitting.
+#[test]
+fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
+    let (ew, eh) = (1100u32, 760u32);
+    let x = Xvfb::start();
+    let dir = dir().join("editor");
+    std::fs::create_dir_all(&dir).unwrap();
+    let log = dir.join("frames.jsonl");
+    let ui_log = dir.join("ui.json");
+    let _ = std::fs::remove_file(&log);
+    let _ = std::fs::remove_file(&ui_log);
+    let runtime = dir.join("xdg");
+    std::fs::create_dir_all(&runtime).unwrap();
+    let scene = dir.join("cubes.toml");
+    std::fs::copy(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml"),
+        &scene,
+    )
+    .unwrap();
+    let original = std::fs::read_to_string(&scene).unwrap();
+    let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .current_dir(&dir)
+        .args(["view", scene.to_str().unwrap()])
+        .args(["--width", &ew.to_string(), "--height", &eh.to_string()])
+        .args(["--max-spp", "1", "--exit-after", "600"])
+        .args([
+            "--frame-log",
+            log.to_str().unwrap(),
+            "--ui-log",
+            ui_log.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut s = Session {
+        x: &x,
+        app,
+        window: String::new(),
+        log,
+        dir: dir.clone(),
+    };
+    let mut id = String::new();
+    assert!(
+        wait_until(Duration::from_secs(60), || {
+            id = s
+                .xdotool(&["search", "--name", "^lensview"])
+                .lines()
+                .next()
+                .unwrap_or("")
+                .to_string();
+            !id.is_empty()
+        }),
+        "the window never appeared"
+    );
+    s.window = id;
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+
+    // The panel is shown by default; the picture is rendered right of it.
+    let g1 = s.wait_frame(0, 1, "start");
+    let first = s.frames().into_iter().find(|f| f["generation"] == g1).unwrap();
+    let x0 = first["x0"].as_u64().unwrap() as u32;
+    assert!(x0 >= 300, "no room left for the panel: {first}");
+    assert_eq!(first["width"].as_u64().unwrap() as u32, ew - x0);
+    let title = s.title();
+    assert!(title.contains("cubes.toml") && !title.ends_with('*'), "{title}");
+    // Overlay off, so pictures compare exactly.
+    s.chord("F1");
+    std::thread::sleep(Duration::from_millis(600));
+    let before = s.screenshot("editor-start.png");
+    assert_eq!((before.width, before.height), (ew, eh));
+    assert!(spread(&before) > 20.0, "the window is blank");
+
+    // Click "Add sphere": a new generation, a different picture, a dirty title.
+    s.click(&ui_log, "Add sphere");
+    let g2 = s.wait_frame(g1, 1, "Add sphere");
+    let added = s.screenshot("editor-added.png");
+    let d = diff_right_of(&added, &before, x0);
+    assert!(d > 0.3, "Add sphere did not change the picture ({d:.3} levels)");
+    assert!(s.title().ends_with('*'), "no unsaved mark: {}", s.title());
+    assert_eq!(
+        std::fs::read_to_string(&scene).unwrap(),
+        original,
+        "nothing is saved before Ctrl+S"
+    );
+
+    // Ctrl+Z undoes it: the very same picture, and the mark goes.
+    s.chord("ctrl+z");
+    let g3 = s.wait_frame(g2, 1, "Ctrl+Z");
+    let undone = s.screenshot("editor-undone.png");
+    let d = diff_right_of(&undone, &before, x0);
+    assert!(d < 0.05, "undo did not restore the picture ({d:.3} levels)");
+    assert!(!s.title().ends_with('*'), "{}", s.title());
+    // Ctrl+Shift+Z redoes it.
+    s.chord("ctrl+shift+z");
+    let g4 = s.wait_frame(g3, 1, "Ctrl+Shift+Z");
+    let redone = s.screenshot("editor-redone.png");
+    assert!(
+        diff_right_of(&redone, &added, x0) < 0.05,
+        "redo did not bring the sphere back"
+    );
+
+    // Ctrl+S writes the file, which loads back with the sphere.
+    s.chord("ctrl+s");
+    assert!(
+        wait_until(Duration::from_secs(30), || !s.title().ends_with('*')),
+        "Ctrl+S did not save: {}",
+        s.title()
+    );
+    let (saved, _) = Scene::load(&scene).unwrap();
+    assert_eq!(saved.objects.len(), 27);
+    assert_eq!(saved.objects[26].kind.name(), "sphere");
+    assert_eq!(s.last_generation(), g4, "saving restarted refinement");
+
+    // Keyboard flight still works with the panel shown (it has no focus).
+    s.hold("w", 400);
+    s.wait_frame(g4, 1, "W with the panel shown");
+    assert!(s.title().ends_with('*'), "flying moved the camera: an unsaved change");
+
+    // Escape with unsaved changes asks; Escape again cancels the question.
+    s.chord("Escape");
+    assert!(
+        wait_until(Duration::from_secs(30), || s
+            .rects(&ui_log)
+            .contains_key("confirm discard")),
+        "Escape did not ask about the unsaved changes"
+    );
+    assert!(s.app.try_wait().unwrap().is_none(), "quit without asking");
+    s.chord("Escape");
+    assert!(
+        wait_until(Duration::from_secs(30), || !s
+            .rects(&ui_log)
+            .contains_key("confirm discard")),
+        "Escape did not cancel the question"
+    );
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(s.app.try_wait().unwrap().is_none(), "the viewer quit on cancel");
+
+    // Escape, then "Quit without saving": exits 0 and the file keeps the save.
+    s.chord("Escape");
+    s.click(&ui_log, "confirm discard");
+    let mut status = None;
+    wait_until(Duration::from_secs(30), || {
+        status = s.app.try_wait().unwrap();
+        status.is_some()
+    });
+    let status = status.expect("Quit without saving did not close the viewer");
+    let mut err = String::new();
+    if let Some(mut e) = s.app.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut err);
+    }
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+    let (after, _) = Scene::load(&scene).unwrap();
+    assert_eq!(after, saved, "the flight after the save was not written");
 }

@@ -1,5 +1,7 @@
-//! The key-binding table: every key the viewer answers, the action it
-//! triggers, and its help text. The help overlay is printed from this table.
+//! The key-binding tables: every key the viewer answers, the action it
+//! triggers, and its help text. The help overlay is printed from these
+//! tables. Plain keys are in [`BINDINGS`] (Shift only speeds up flight);
+//! Ctrl chords, where Shift matters, in [`CTRL_BINDINGS`].
 
 use winit::keyboard::KeyCode;
 
@@ -35,6 +37,17 @@ pub enum Action {
     LensN(f64),
     ResetView,
     Reload,
+    // Pressed: editing (undo history, files, the panel); each restarts
+    // refinement by itself when, and only when, the picture changes.
+    Undo,
+    Redo,
+    Save,
+    SaveAs,
+    Open,
+    TogglePanel,
+    Pause,
+    DeleteSelected,
+    DuplicateSelected,
     // Pressed: display only (no restart).
     Screenshot,
     ToggleOverlay,
@@ -61,11 +74,24 @@ impl Action {
         )
     }
 
-    /// Whether the action changes the picture (and so restarts refinement).
+    /// Whether the action always changes the picture (and so restarts
+    /// refinement). The editing actions decide by themselves.
     pub fn restarts(self) -> bool {
         !matches!(
             self,
-            Action::Screenshot | Action::ToggleOverlay | Action::ToggleHelp | Action::Quit
+            Action::Screenshot
+                | Action::ToggleOverlay
+                | Action::ToggleHelp
+                | Action::Quit
+                | Action::Undo
+                | Action::Redo
+                | Action::Save
+                | Action::SaveAs
+                | Action::Open
+                | Action::TogglePanel
+                | Action::Pause
+                | Action::DeleteSelected
+                | Action::DuplicateSelected
         )
     }
 }
@@ -147,11 +173,62 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::F1, "F1", Action::ToggleOverlay, "overlay on/off"),
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
-    (KeyCode::Escape, "Esc", Action::Quit, "quit"),
+    (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
+    (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
+    (
+        KeyCode::Delete,
+        "Del",
+        Action::DeleteSelected,
+        "delete the object selected in the panel",
+    ),
+    (
+        KeyCode::Escape,
+        "Esc",
+        Action::Quit,
+        "quit (asks first if there are unsaved changes)",
+    ),
 ];
 
-pub fn action_for(key: KeyCode) -> Option<Action> {
-    BINDINGS.iter().find(|b| b.0 == key).map(|b| b.2)
+/// Ctrl chords: (key, with Shift, label shown in help, action, help text).
+pub const CTRL_BINDINGS: &[(KeyCode, bool, &str, Action, &str)] = &[
+    (KeyCode::KeyZ, false, "Ctrl+Z", Action::Undo, "undo"),
+    (KeyCode::KeyZ, true, "Ctrl+Shift+Z", Action::Redo, "redo (also Ctrl+Y)"),
+    (KeyCode::KeyY, false, "", Action::Redo, ""),
+    (KeyCode::KeyS, false, "Ctrl+S", Action::Save, "save the scene"),
+    (
+        KeyCode::KeyS,
+        true,
+        "Ctrl+Shift+S",
+        Action::SaveAs,
+        "save the scene as…",
+    ),
+    (KeyCode::KeyO, false, "Ctrl+O", Action::Open, "open a scene file"),
+    (
+        KeyCode::KeyD,
+        false,
+        "Ctrl+D",
+        Action::DuplicateSelected,
+        "duplicate the object selected in the panel",
+    ),
+];
+
+/// The action of `key` with the modifiers held (Shift matters only with Ctrl).
+pub fn action_for(key: KeyCode, ctrl: bool, shift: bool) -> Option<Action> {
+    if ctrl {
+        CTRL_BINDINGS.iter().find(|b| b.0 == key && b.1 == shift).map(|b| b.3)
+    } else {
+        BINDINGS.iter().find(|b| b.0 == key).map(|b| b.2)
+    }
+}
+
+/// The label of the key bound to `action` (for menus): "Ctrl+S", "F4".
+pub fn label_of(action: Action) -> &'static str {
+    CTRL_BINDINGS
+        .iter()
+        .find(|b| b.3 == action && !b.2.is_empty())
+        .map(|b| b.2)
+        .or_else(|| BINDINGS.iter().find(|b| b.2 == action && !b.1.is_empty()).map(|b| b.1))
+        .unwrap_or("")
 }
 
 /// Help lines, one per labelled binding, plus the mouse and modifiers.
@@ -161,6 +238,12 @@ pub fn help_lines() -> Vec<String> {
         .filter(|b| !b.1.is_empty())
         .map(|b| format!("{:<6} {}", b.1, b.3))
         .collect();
+    v.extend(
+        CTRL_BINDINGS
+            .iter()
+            .filter(|b| !b.2.is_empty())
+            .map(|b| format!("{:<6} {}", b.2, b.4)),
+    );
     v.push("Shift  fly faster;  wheel: flight speed".into());
     v.push("Mouse  drag with the left button to look around".into());
     v
@@ -177,7 +260,26 @@ mod tests {
             assert!(a.1.is_empty() == a.3.is_empty());
         }
         assert!(help_lines().len() > 20);
-        assert_eq!(action_for(KeyCode::KeyW), Some(Action::Forward));
+        for (i, a) in CTRL_BINDINGS.iter().enumerate() {
+            assert!(
+                CTRL_BINDINGS[i + 1..].iter().all(|b| (b.0, b.1) != (a.0, a.1)),
+                "{:?} bound twice",
+                a.0
+            );
+        }
+        assert_eq!(action_for(KeyCode::KeyW, false, false), Some(Action::Forward));
+        assert_eq!(action_for(KeyCode::KeyW, false, true), Some(Action::Forward));
+        assert_eq!(action_for(KeyCode::KeyS, true, false), Some(Action::Save));
+        assert_eq!(
+            action_for(KeyCode::KeyZ, false, false),
+            Some(Action::LensAlongAxis(-0.1))
+        );
+        assert_eq!(action_for(KeyCode::KeyZ, true, false), Some(Action::Undo));
+        assert_eq!(action_for(KeyCode::KeyZ, true, true), Some(Action::Redo));
+        assert_eq!(action_for(KeyCode::KeyW, true, false), None);
+        assert_eq!(label_of(Action::Redo), "Ctrl+Shift+Z");
+        assert_eq!(label_of(Action::TogglePanel), "F4");
+        assert!(help_lines().iter().any(|l| l.contains("Ctrl+Z")));
         assert!(!Action::ToggleOverlay.restarts() && Action::LensD(0.1).restarts());
     }
 }

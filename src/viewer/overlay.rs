@@ -48,13 +48,14 @@ pub fn draw_text(buf: &mut [u8], width: usize, height: usize, x: usize, y: usize
     cx - x
 }
 
-/// Draws lines of text in a shaded box at the top-left corner.
-pub fn draw_lines(buf: &mut [u8], width: usize, height: usize, lines: &[String]) {
+/// Draws lines of text in a shaded box at the top-left corner of the
+/// picture, which starts at column `x0` (right of the panel).
+pub fn draw_lines(buf: &mut [u8], width: usize, height: usize, x0: usize, lines: &[String]) {
     let w = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0) * 8 * SCALE + 16;
-    shade(buf, width, height, 0, 0, w, lines.len() * LINE_H + 12);
+    shade(buf, width, height, x0, 0, w, lines.len() * LINE_H + 12);
     for (i, l) in lines.iter().enumerate() {
         let colour = if i == 0 { [255, 230, 120] } else { [235, 235, 235] };
-        draw_text(buf, width, height, 8, 8 + i * LINE_H, l, colour);
+        draw_text(buf, width, height, x0 + 8, 8 + i * LINE_H, l, colour);
     }
 }
 
@@ -70,6 +71,6 @@ mod tests {
         assert_eq!(drawn, 5 * 8 * SCALE);
         assert!(buf.contains(&255));
         let mut empty = vec![0u8; 0];
-        draw_lines(&mut empty, 0, 0, &["x".to_string()]);
+        draw_lines(&mut empty, 0, 0, 0, &["x".to_string()]);
     }
 }
