@@ -1646,3 +1646,46 @@ fn kind_name(k: LightKind) -> &'static str {
         LightKind::Directional => "directional",
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lens_readout_is_the_paraxial_data_or_says_why_not() {
+        let mut l = new_lens([0.0; 3], [0.0, 0.0, 1.0]);
+        let p = paraxial(&l).unwrap();
+        assert!((p.efl - 5.03390182).abs() < 1e-7 && (p.thickness - 0.202041029).abs() < 1e-8);
+        l.r1 = 0.5;
+        assert_eq!(paraxial(&l).unwrap_err(), "r1 and r2 must be at least d/2");
+        l.r1 = 5.0;
+        l.n = IndexFile::Constant(0.9);
+        assert!(paraxial(&l).is_err());
+        l.n = IndexFile::Cauchy([1.5046, 0.0042]);
+        assert!((paraxial(&l).unwrap().efl - 4.87131316).abs() < 1e-7);
+        l.d = f64::NAN;
+        assert!(paraxial(&l).is_err());
+    }
+
+    #[test]
+    fn the_file_dialog_lists_folders_then_scenes_and_adds_toml_when_saving() {
+        let dir = std::env::temp_dir().join(format!("lensview-dialog-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        for f in ["b.toml", "a.toml", "notes.txt", ".hidden.toml"] {
+            std::fs::write(dir.join(f), "").unwrap();
+        }
+        let mut d = FileDialog::new(DialogMode::SaveAs, dir.clone(), "scene".into());
+        let names: Vec<&str> = d.entries.iter().map(|e| e.0.as_str()).collect();
+        assert_eq!(names, ["sub", "a.toml", "b.toml"]);
+        assert!(d.error.is_none());
+        assert_eq!(d.path(), Some(dir.join("scene.toml")));
+        d.mode = DialogMode::Open;
+        assert_eq!(d.path(), Some(dir.join("scene")));
+        d.name = "  ".into();
+        assert_eq!(d.path(), None);
+        d.enter(dir.join("no-such-folder"));
+        assert!(d.error.as_deref().unwrap_or("").contains("cannot read the folder"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
