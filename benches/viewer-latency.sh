@@ -18,7 +18,7 @@ trap 'kill $xvfb 2>/dev/null || true; cp "$tmp/frames.jsonl" /tmp/last-frames.js
 export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
 for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
 ./target/release/lensview view "$scene" --width "$w" --height "$h" --max-spp 4 \
-    --frame-log "$tmp/frames.jsonl" --exit-after 60 >/dev/null 2>&1 &
+    --no-panel --frame-log "$tmp/frames.jsonl" --exit-after 60 >/dev/null 2>&1 &
 app=$!
 win=""
 for _ in $(seq 300); do win=$(xdotool search --name '^lensview' 2>/dev/null | head -1 || true); [ -n "$win" ] && break; sleep 0.1; done
