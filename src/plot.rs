@@ -41,6 +41,11 @@ pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &
     if !(x0.is_finite() && y0.is_finite()) {
         return Err(anyhow!("nothing to plot"));
     }
+    // Log axes are labelled at powers of ten: make each range hold two.
+    let decade_below = |v: f64| 10f64.powf(v.log10().floor());
+    let decade_above = |v: f64| 10f64.powf(v.log10().ceil());
+    let (x0, x1) = ((x0 / 1.5).min(decade_below(x0)), (x1 * 1.5).max(decade_above(x1)));
+    let (y0, y1) = ((y0 / 1.5).min(decade_below(y0)), (y1 * 1.5).max(decade_above(y1)));
     let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
     let e = |e: DrawingAreaErrorKind<_>| anyhow!("plot {}: {e:?}", path.display());
     root.fill(&WHITE).map_err(e)?;
@@ -49,7 +54,7 @@ pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(80)
-        .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 1.5..y1 * 1.5).log_scale())
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
         .map_err(e)?;
     chart
         .configure_mesh()
