@@ -86,6 +86,8 @@ pub struct Progressive {
     pub spp: u32,
     sum: Vec<Rgb>,
     preview: Vec<Rgb>,
+    /// Block size of the last block stage drawn into `preview`.
+    block: usize,
 }
 
 /// Rows per band: the unit of parallel work and of cancellation.
@@ -101,6 +103,7 @@ impl Progressive {
             spp: 0,
             sum: vec![Rgb::ZERO; n],
             preview: vec![Rgb::ZERO; n],
+            block: 1,
         }
     }
 
@@ -112,6 +115,7 @@ impl Progressive {
         } else {
             self.seed = seed;
             self.spp = 0;
+            self.block = 1;
         }
     }
 
@@ -126,6 +130,7 @@ impl Progressive {
         match stage {
             Stage::Blocks(n) => {
                 let n = n.max(1) as usize;
+                self.block = n;
                 self.preview.par_chunks_mut(w * n).enumerate().all(|(by, rows)| {
                     if cancelled() {
                         return false;
@@ -213,15 +218,55 @@ impl Progressive {
     pub fn write_rgba8(&self, out: &mut Vec<u8>) {
         let n = self.width as usize * self.height as usize;
         out.resize(n * 4, 255);
+        if self.spp == 0 && self.block > 1 {
+            return self.write_blocks_rgba8(out);
+        }
         let inv = if self.spp > 0 { 1.0 / self.spp as f64 } else { 1.0 };
         let src = if self.spp > 0 { &self.sum } else { &self.preview };
-        out.par_chunks_mut(4).zip(src.par_iter()).for_each(|(o, c)| {
-            let c = *c * inv;
-            o[0] = crate::color::to_srgb8_fast(c.x);
-            o[1] = crate::color::to_srgb8_fast(c.y);
-            o[2] = crate::color::to_srgb8_fast(c.z);
-            o[3] = 255;
-        });
+        // Chunks of pixels, not single pixels, per parallel task: at a
+        // million tiny tasks rayon's splitting costs more than the work.
+        const CHUNK: usize = 4096;
+        out.par_chunks_mut(4 * CHUNK)
+            .zip(src.par_chunks(CHUNK))
+            .for_each(|(o, cs)| {
+                for (o, c) in o.chunks_exact_mut(4).zip(cs) {
+                    let c = *c * inv;
+                    o[0] = crate::color::to_srgb8_fast(c.x);
+                    o[1] = crate::color::to_srgb8_fast(c.y);
+                    o[2] = crate::color::to_srgb8_fast(c.z);
+                    o[3] = 255;
+                }
+            });
+    }
+}
+
+impl Progressive {
+    /// [`Progressive::write_rgba8`] for a block preview: one conversion per
+    /// block, then whole rows copied (the first frame after an input should
+    /// not spend its budget converting 64 equal pixels 64 times).
+    fn write_blocks_rgba8(&self, out: &mut [u8]) {
+        let (w, n) = (self.width as usize, self.block);
+        out.par_chunks_mut(4 * w * n)
+            .zip(self.preview.par_chunks(w * n))
+            .for_each(|(o, src)| {
+                let row0 = &mut o[..4 * w];
+                for bx in 0..w.div_ceil(n) {
+                    let c = src[bx * n];
+                    let px = [
+                        crate::color::to_srgb8_fast(c.x),
+                        crate::color::to_srgb8_fast(c.y),
+                        crate::color::to_srgb8_fast(c.z),
+                        255,
+                    ];
+                    for x in bx * n..((bx + 1) * n).min(w) {
+                        row0[4 * x..4 * x + 4].copy_from_slice(&px);
+                    }
+                }
+                let (first, rest) = o.split_at_mut(4 * w);
+                for row in rest.chunks_exact_mut(4 * w) {
+                    row.copy_from_slice(first);
+                }
+            });
     }
 }
 
@@ -321,6 +366,20 @@ mod tests {
         let mut rgba = Vec::new();
         p.write_rgba8(&mut rgba);
         assert_eq!(rgba.len(), 37 * 23 * 4);
+        // The per-block conversion gives the same bytes as per pixel.
+        let per_pixel: Vec<u8> = img
+            .pixels
+            .iter()
+            .flat_map(|c| {
+                [
+                    crate::color::to_srgb8_fast(c.x),
+                    crate::color::to_srgb8_fast(c.y),
+                    crate::color::to_srgb8_fast(c.z),
+                    255,
+                ]
+            })
+            .collect();
+        assert_eq!(rgba, per_pixel);
     }
 }
 
