@@ -64,17 +64,7 @@ impl Cuboid {
         let k_out = arg(far, false);
         let f_in = (2 * k_in + usize::from(ray.dir[k_in] > 0.0)) as u8;
         let f_out = (2 * k_out + usize::from(ray.dir[k_out] < 0.0)) as u8;
-        if t_in > t_out {
-            return None;
-        }
-        let (t_in, t_out) = (t_in + t0, t_out + t0);
-        if t_in > t_min && t_in < t_max {
-            Some(Hit { t: t_in, part: f_in })
-        } else if t_out > t_min && t_out < t_max {
-            Some(Hit { t: t_out, part: f_out })
-        } else {
-            None
-        }
+        super::first_crossing((t_in + t0, f_in), (t_out + t0, f_out), t_min, t_max)
     }
 
     pub fn normal(&self, part: u8) -> DVec3 {

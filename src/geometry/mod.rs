@@ -32,6 +32,28 @@ pub struct Hit {
     pub part: u8,
 }
 
+/// The hit of a convex solid met on the interval from entry `(t, part)` to
+/// exit: the entry when it lies in `(t_min, t_max)`, else the exit (the ray
+/// starts inside), else none. An empty interval (`entry > exit`) is a miss.
+#[inline]
+pub(crate) fn first_crossing(entry: (f64, u8), exit: (f64, u8), t_min: f64, t_max: f64) -> Option<Hit> {
+    if entry.0 > exit.0 {
+        None
+    } else if entry.0 > t_min && entry.0 < t_max {
+        Some(Hit {
+            t: entry.0,
+            part: entry.1,
+        })
+    } else if exit.0 > t_min && exit.0 < t_max {
+        Some(Hit {
+            t: exit.0,
+            part: exit.1,
+        })
+    } else {
+        None
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     Sphere(Sphere),

@@ -44,17 +44,7 @@ impl<const N: usize> Polytope<N> {
                 f_out = i as u8;
             }
         }
-        if t_in > t_out {
-            return None;
-        }
-        let (t_in, t_out) = (t_in + t0, t_out + t0);
-        if t_in > t_min && t_in < t_max {
-            Some(Hit { t: t_in, part: f_in })
-        } else if t_out > t_min && t_out < t_max {
-            Some(Hit { t: t_out, part: f_out })
-        } else {
-            None
-        }
+        super::first_crossing((t_in + t0, f_in), (t_out + t0, f_out), t_min, t_max)
     }
 
     pub fn normal(&self, part: u8) -> DVec3 {
