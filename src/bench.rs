@@ -98,8 +98,7 @@ pub fn cubes_subset(base: &SceneFile, n: usize) -> Scene {
         kept += 1;
         kept <= n
     });
-    // ok: a subset of a valid scene is valid.
-    Scene::build(&sf).expect("subset of a valid scene")
+    Scene::build(&sf).expect("subset of a valid scene") // ok: a subset of a valid scene is valid
 }
 
 /// The cubes scene with its 5×5 grid replaced by `side × side` cubes over
@@ -134,8 +133,7 @@ pub fn cubes_grid(base: &SceneFile, side: usize) -> Scene {
             });
         }
     }
-    // ok: the same objects at other sizes.
-    Scene::build(&sf).expect("grid of a valid scene")
+    Scene::build(&sf).expect("grid of a valid scene") // ok: the same objects at other sizes
 }
 
 /// One feature's bill: the scene that uses it, rendered with and without it,
@@ -162,8 +160,7 @@ pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<Featu
     let build = |f: &dyn Fn(&mut SceneFile)| {
         let mut sf = base.clone();
         f(&mut sf);
-        // ok: the variants only switch valid settings.
-        Scene::build(&sf).expect("variant of a valid scene")
+        Scene::build(&sf).expect("variant of a valid scene") // ok: the variants only switch valid settings
     };
     let no_lens = |sf: &mut SceneFile| sf.lenses.clear();
     let no_spec = |sf: &mut SceneFile| sf.materials.values_mut().for_each(|m| m.specular = 0.0);
