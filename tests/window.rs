@@ -96,7 +96,59 @@ impl Drop for Session<'_> {
     }
 }
 
-impl Session<'_> {
+impl<'a> Session<'a> {
+    /// Starts `lensview view SCENE ARGS… --frame-log LOG` on `x`, in `dir`,
+    /// waits (up to 120 s) for its window and focuses it. If the viewer exits
+    /// first, fails with what it printed.
+    fn launch(x: &'a Xvfb, dir: &Path, scene: &Path, args: &[&str], log: PathBuf) -> Session<'a> {
+        let runtime = dir.join("xdg");
+        std::fs::create_dir_all(&runtime).unwrap();
+        let _ = std::fs::remove_file(&log);
+        let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("XDG_RUNTIME_DIR", &runtime)
+            .current_dir(dir)
+            .args(["view", scene.to_str().unwrap()])
+            .args(args)
+            .args(["--frame-log", log.to_str().unwrap()])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut s = Session {
+            x,
+            app,
+            window: String::new(),
+            log,
+            dir: dir.to_path_buf(),
+        };
+        let mut id = String::new();
+        let mut exited = None;
+        wait_until(Duration::from_secs(120), || {
+            id = s
+                .xdotool(&["search", "--name", "^lensview"])
+                .lines()
+                .next()
+                .unwrap_or("")
+                .to_string();
+            exited = s.app.try_wait().ok().flatten();
+            !id.is_empty() || exited.is_some()
+        });
+        if id.is_empty() {
+            let _ = s.app.kill();
+            let mut err = String::new();
+            if let Some(mut e) = s.app.stderr.take() {
+                use std::io::Read;
+                let _ = e.read_to_string(&mut err);
+            }
+            panic!("the window never appeared (viewer exit: {exited:?}); stderr: {err}");
+        }
+        s.window = id;
+        s.xdotool(&["windowfocus", "--sync", &s.window]);
+        s
+    }
+
     fn xdotool(&self, args: &[&str]) -> String {
         let o = Command::new("xdotool")
             .env("DISPLAY", &self.x.display)
@@ -258,68 +310,10 @@ fn spread(img: &Image) -> f64 {
 fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
     let x = Xvfb::start();
     let dir = dir();
-    let log = dir.join("frames.jsonl");
-    let _ = std::fs::remove_file(&log);
-    let runtime = dir.join("xdg");
-    std::fs::create_dir_all(&runtime).unwrap();
     let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
-    let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .current_dir(&dir)
-        .args([
-            "view",
-            scene.to_str().unwrap(),
-            "--width",
-            &W.to_string(),
-            "--height",
-            &H.to_string(),
-        ])
-        .args([
-            "--max-spp",
-            "2",
-            "--exit-after",
-            "600",
-            "--frame-log",
-            log.to_str().unwrap(),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut s = Session {
-        x: &x,
-        app,
-        window: String::new(),
-        log,
-        dir: dir.clone(),
-    };
-
-    // The window appears (or the viewer exits, and its message says why).
-    let mut id = String::new();
-    let mut exited = None;
-    wait_until(Duration::from_secs(120), || {
-        id = s
-            .xdotool(&["search", "--name", "^lensview"])
-            .lines()
-            .next()
-            .unwrap_or("")
-            .to_string();
-        exited = s.app.try_wait().ok().flatten();
-        !id.is_empty() || exited.is_some()
-    });
-    if id.is_empty() {
-        let _ = s.app.kill();
-        let mut err = String::new();
-        if let Some(mut e) = s.app.stderr.take() {
-            use std::io::Read;
-            let _ = e.read_to_string(&mut err);
-        }
-        panic!("the window never appeared (viewer exit: {exited:?}); stderr: {err}");
-    }
-    s.window = id;
-    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    let (w, h) = (W.to_string(), H.to_string());
+    let args = ["--width", &w, "--height", &h, "--max-spp", "2", "--exit-after", "600"];
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
 
     // F4 hides the editing panel, so the picture fills the window.
     s.key("F4");
@@ -440,12 +434,8 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     let x = Xvfb::start();
     let dir = dir().join("editor");
     std::fs::create_dir_all(&dir).unwrap();
-    let log = dir.join("frames.jsonl");
     let ui_log = dir.join("ui.json");
-    let _ = std::fs::remove_file(&log);
     let _ = std::fs::remove_file(&ui_log);
-    let runtime = dir.join("xdg");
-    std::fs::create_dir_all(&runtime).unwrap();
     let scene = dir.join("cubes.toml");
     std::fs::copy(
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml"),
@@ -453,46 +443,20 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     )
     .unwrap();
     let original = std::fs::read_to_string(&scene).unwrap();
-    let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .current_dir(&dir)
-        .args(["view", scene.to_str().unwrap()])
-        .args(["--width", &ew.to_string(), "--height", &eh.to_string()])
-        .args(["--max-spp", "1", "--exit-after", "600"])
-        .args([
-            "--frame-log",
-            log.to_str().unwrap(),
-            "--ui-log",
-            ui_log.to_str().unwrap(),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut s = Session {
-        x: &x,
-        app,
-        window: String::new(),
-        log,
-        dir: dir.clone(),
-    };
-    let mut id = String::new();
-    assert!(
-        wait_until(Duration::from_secs(60), || {
-            id = s
-                .xdotool(&["search", "--name", "^lensview"])
-                .lines()
-                .next()
-                .unwrap_or("")
-                .to_string();
-            !id.is_empty()
-        }),
-        "the window never appeared"
-    );
-    s.window = id;
-    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    let (w, h) = (ew.to_string(), eh.to_string());
+    let args = [
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--max-spp",
+        "1",
+        "--exit-after",
+        "600",
+        "--ui-log",
+        ui_log.to_str().unwrap(),
+    ];
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
 
     // The panel is shown by default; the picture is rendered right of it.
     let g1 = s.wait_frame(0, 1, "start");
