@@ -634,40 +634,54 @@ impl Viewer {
         } else {
             0.0
         };
+        // Lines of at most ~55 characters: at 16 px a character they fit
+        // the picture beside the panel in a 1280-pixel-wide window.
         match &self.frame {
-            Some(f) => v.push(format!(
-                "{}{}{} in {:.0} ms  {:.2} M rays/s  frame {:.1} ms ({:.0} fps)  present {:.1} ms",
-                f.stage.label(),
-                if f.last { " (done)" } else { "" },
-                if self.paused { " (paused)" } else { "" },
-                f.render_ms,
-                f.samples_per_s / 1e6,
-                self.frame_times,
-                fps,
-                self.present_ms
-            )),
+            Some(f) => {
+                v.push(format!(
+                    "{}{}{} in {:.0} ms, {:.2} M rays/s",
+                    f.stage.label(),
+                    if f.last { " (done)" } else { "" },
+                    if self.paused { " (paused)" } else { "" },
+                    f.render_ms,
+                    f.samples_per_s / 1e6,
+                ));
+                v.push(format!(
+                    "frame {:.1} ms ({:.0} fps), present {:.1} ms",
+                    self.frame_times, fps, self.present_ms
+                ));
+            }
             None => v.push("rendering…".into()),
         }
         let scene = self.doc.built();
         let (p, r) = (scene.camera.position, scene.camera.rotation_deg);
         v.push(format!(
-            "camera ({:.2}, {:.2}, {:.2})  rot x {:.1} y {:.1} z {:.1}  fov {:.0}  speed {:.1}",
-            p.x, p.y, p.z, r.x, r.y, r.z, scene.camera.fov_y_deg, self.speed
+            "camera ({:.2}, {:.2}, {:.2})  speed {:.1}",
+            p.x, p.y, p.z, self.speed
+        ));
+        v.push(format!(
+            "  rot x {:.1} y {:.1} z {:.1}  fov {:.0}",
+            r.x, r.y, r.z, scene.camera.fov_y_deg
         ));
         if let Some(l) = self.doc.scene().lights.first() {
             let p = l.position.or(l.direction).unwrap_or_default();
             v.push(format!(
-                "light ({:.2}, {:.2}, {:.2})  intensity {:.1}  colour ({:.2}, {:.2}, {:.2})",
-                p[0], p[1], p[2], l.intensity, l.color[0], l.color[1], l.color[2]
+                "light ({:.2}, {:.2}, {:.2})  intensity {:.1}",
+                p[0], p[1], p[2], l.intensity
+            ));
+            v.push(format!(
+                "  colour ({:.2}, {:.2}, {:.2})",
+                l.color[0], l.color[1], l.color[2]
             ));
         }
         if let Some(lens) = scene.objects.iter().find_map(|o| o.lens()) {
             let n = lens.index.nominal();
             let px = lens.paraxial(n);
             v.push(format!(
-                "lens d {:.3}  r1 {:.3}  r2 {:.3}  n {:.4}  EFL {:.4}  BFD {:.4}",
-                lens.d, lens.r1, lens.r2, n, px.efl, px.bfd
+                "lens d {:.3}  r1 {:.3}  r2 {:.3}  n {:.4}",
+                lens.d, lens.r1, lens.r2, n
             ));
+            v.push(format!("  EFL {:.4}  BFD {:.4}", px.efl, px.bfd));
         }
         v.push(format!("> {}", self.message));
         if self.help {
