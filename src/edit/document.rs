@@ -459,16 +459,7 @@ impl Document {
     /// A name no item has yet: `base`, or `base 2`, `base 3`, …
     pub fn unique_name(&self, base: &str) -> String {
         let taken: Vec<String> = self.items().into_iter().map(|(_, n)| n).collect();
-        (1..)
-            .map(|k| {
-                if k == 1 {
-                    base.to_string()
-                } else {
-                    format!("{base} {k}")
-                }
-            })
-            .find(|n| !taken.contains(n))
-            .unwrap_or_else(|| base.to_string()) // ok: the range is endless
+        free_name(base, |n| taken.iter().any(|t| t == n))
     }
 
     /// The camera's position and rotation (degrees), whether the file gives
@@ -561,7 +552,8 @@ pub enum ReloadError {
     Rejected(Rejected),
 }
 
-fn unique_key<V>(map: &std::collections::BTreeMap<String, V>, base: &str) -> String {
+/// The first of `base`, `base 2`, `base 3`, … that `taken` refuses.
+pub fn free_name(base: &str, taken: impl Fn(&str) -> bool) -> String {
     (1..)
         .map(|k| {
             if k == 1 {
@@ -570,8 +562,13 @@ fn unique_key<V>(map: &std::collections::BTreeMap<String, V>, base: &str) -> Str
                 format!("{base} {k}")
             }
         })
-        .find(|n| !map.contains_key(n))
+        .find(|n| !taken(n))
         .unwrap_or_else(|| base.to_string()) // ok: the range is endless
+}
+
+/// A key not yet in `map`: see [`free_name`].
+pub fn unique_key<V>(map: &std::collections::BTreeMap<String, V>, base: &str) -> String {
+    free_name(base, |n| map.contains_key(n))
 }
 
 fn object_width(o: &ObjectFile) -> f64 {

@@ -14,7 +14,7 @@ use glam::DVec3;
 use lensview::color::blackbody;
 use lensview::edit::document::{
     axis_angles, axis_from_angles, in_front_of_camera, new_lens, new_material, new_object, new_point_light,
-    set_camera_pose,
+    set_camera_pose, unique_key,
 };
 use lensview::edit::presets::PRESETS;
 use lensview::edit::{Change, Item, Source};
@@ -983,16 +983,7 @@ impl Viewer {
                         if users > 1 && ui.button("Give this object its own copy").clicked() {
                             let mat = self.doc.scene().materials[&m].clone();
                             let r = self.doc.edit("own material", |sf| {
-                                let name = (1..)
-                                    .map(|k| {
-                                        if k == 1 {
-                                            obj_name.clone()
-                                        } else {
-                                            format!("{obj_name} {k}")
-                                        }
-                                    })
-                                    .find(|n| !sf.materials.contains_key(n))
-                                    .unwrap_or_else(|| obj_name.clone()); // ok: the range is endless
+                                let name = unique_key(&sf.materials, &obj_name);
                                 sf.materials.insert(name.clone(), mat);
                                 sf.objects[i].material = Some(name);
                             });
@@ -1003,16 +994,7 @@ impl Viewer {
             _ => {
                 if ui.button("Give it a material of its own").clicked() {
                     let r = self.doc.edit("own material", |sf| {
-                        let name = (1..)
-                            .map(|k| {
-                                if k == 1 {
-                                    obj_name.clone()
-                                } else {
-                                    format!("{obj_name} {k}")
-                                }
-                            })
-                            .find(|n| !sf.materials.contains_key(n))
-                            .unwrap_or_else(|| obj_name.clone()); // ok: the range is endless
+                        let name = unique_key(&sf.materials, &obj_name);
                         sf.materials.insert(name.clone(), MaterialFile::default());
                         sf.objects[i].material = Some(name);
                     });
