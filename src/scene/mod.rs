@@ -189,8 +189,7 @@ impl Scene {
 
     /// The embedded default scene.
     pub fn default_scene() -> (SceneFile, Scene) {
-        // ok: the embedded scene is a test fixture (tests/scenes.rs) and always valid.
-        Self::parse(DEFAULT_SCENE_NAME, DEFAULT_SCENE).expect("embedded default scene is valid")
+        Self::parse(DEFAULT_SCENE_NAME, DEFAULT_SCENE).expect("embedded default scene is valid") // ok: a test fixture (tests/scenes.rs)
     }
 
     /// Parses and validates scene text; `file` names it in errors.
