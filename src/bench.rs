@@ -64,8 +64,35 @@ pub fn frame_time_with(
     })
 }
 
-/// Closest-hit primary rays per second (pixel centres, no shading).
+/// Closest-hit primary rays per second (pixel centres, no shading), cast
+/// the way the renderer casts them: packets of eight neighbouring pixels
+/// ([`crate::accel::packet`]).
 pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
+    use crate::accel::packet::{LANES, camera_hits};
+    let t = median_time(runs, || {
+        let hits: usize = (0..height)
+            .into_par_iter()
+            .map(|y| {
+                let mut n = 0;
+                let ys = [y as f64 + 0.5; LANES];
+                for x0 in (0..width).step_by(LANES) {
+                    let k = ((width - x0) as usize).min(LANES);
+                    let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+                    let (_, h) = camera_hits(scene, &xs, &ys, k, width, height);
+                    n += (0..k).filter(|&l| h.get(l).is_some()).count();
+                }
+                n
+            })
+            .sum();
+        std::hint::black_box(hits);
+    });
+    (width as f64 * height as f64) / t
+}
+
+/// The same rays one at a time through the scalar walk
+/// ([`crate::integrator::closest_hit`]): what the packets are measured
+/// against.
+pub fn primary_rays_per_second_scalar(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
     let t = median_time(runs, || {
         let hits: usize = (0..height)
             .into_par_iter()

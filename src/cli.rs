@@ -255,12 +255,23 @@ fn bench(a: &BenchArgs) -> Result<()> {
     let threads = rayon::current_num_threads();
     if a.primary_only {
         let rps = primary_rays_per_second(&scene, a.width, a.height, a.runs);
+        let scalar = primary_rays_per_second_scalar(&scene, a.width, a.height, a.runs);
         println!("primary_rays_per_s {rps:.0}");
+        println!("primary_rays_per_s_scalar {scalar:.0}");
         println!(
-            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads)",
+            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in packets of {} ({}); \
+             {:.2} M/s one ray at a time ({:.2}×)",
             rps / 1e6,
             a.width,
-            a.height
+            a.height,
+            lensview::accel::packet::LANES,
+            if lensview::accel::packet::uses_avx2() {
+                "AVX2"
+            } else {
+                "SSE2"
+            },
+            scalar / 1e6,
+            rps / scalar
         );
         return Ok(());
     }

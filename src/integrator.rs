@@ -112,6 +112,14 @@ pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
     with_features!(f, kernel, (scene, ray, depth, lambda_um, 1.0))
 }
 
+/// [`radiance`] of a camera ray whose closest hit is already known (from a
+/// packet, [`crate::accel::packet`]): the same value, without walking the
+/// scene again for it.
+pub fn radiance_from_hit(scene: &Scene, ray: &Ray, hit: Option<(usize, Hit)>, lambda_um: f64) -> Rgb {
+    let f = scene.features;
+    with_features!(f, shade, (scene, ray, hit, 0, lambda_um, 1.0))
+}
+
 /// The kernel with every feature compiled in, deciding per hit from the
 /// materials and settings (the same picture): what a renderer that does not
 /// specialise would run. For benchmarks of the savings.
@@ -143,7 +151,27 @@ fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPEC
     lambda_um: f64,
     weight: f64,
 ) -> Rgb {
-    let Some((idx, hit)) = closest_hit(scene, ray, f64::INFINITY) else {
+    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+        scene,
+        ray,
+        closest_hit(scene, ray, f64::INFINITY),
+        depth,
+        lambda_um,
+        weight,
+    )
+}
+
+/// The radiance along `ray` given its closest hit.
+#[inline(always)]
+fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    ray: &Ray,
+    hit: Option<(usize, Hit)>,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+) -> Rgb {
+    let Some((idx, hit)) = hit else {
         return scene.background;
     };
     let obj = &scene.objects[idx];

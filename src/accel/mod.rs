@@ -4,6 +4,8 @@
 //! flattened into an array in depth-first order, so that a node's left child
 //! follows it and traversal walks memory forward.
 
+pub mod packet;
+
 use crate::geometry::Aabb;
 use crate::math::Ray;
 use glam::DVec3;

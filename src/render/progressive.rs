@@ -7,9 +7,9 @@
 //! samples is therefore the same whatever the thread count, and the same
 //! whether it got there in one wave or many.
 
-use super::{is_dispersive, sample};
+use super::{RenderSettings, add_row_samples, is_dispersive, sample_packet};
+use crate::accel::packet::LANES;
 use crate::color::Rgb;
-use crate::sampling::Sampler;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -138,20 +138,19 @@ impl Progressive {
                     let y0 = by * n;
                     let rows_here = rows.len() / w;
                     let cy = (y0 + n / 2).min(h - 1);
-                    for bx in 0..w.div_ceil(n) {
-                        let x0 = bx * n;
-                        let cx = (x0 + n / 2).min(w - 1);
-                        let c = sample(
-                            scene,
-                            dispersive,
-                            cx as f64 + 0.5,
-                            cy as f64 + 0.5,
-                            self.width,
-                            self.height,
-                        );
-                        for r in 0..rows_here {
-                            let row = &mut rows[r * w..(r + 1) * w];
-                            row[x0..(x0 + n).min(w)].fill(c);
+                    let blocks = w.div_ceil(n);
+                    // Block centres, eight to a packet.
+                    for b0 in (0..blocks).step_by(LANES) {
+                        let k = (blocks - b0).min(LANES);
+                        let xs = std::array::from_fn(|l| ((b0 + l) * n + n / 2).min(w - 1) as f64 + 0.5);
+                        let ys = [cy as f64 + 0.5; LANES];
+                        let c = sample_packet(scene, dispersive, &xs, &ys, k, self.width, self.height);
+                        for (l, &c) in c.iter().enumerate().take(k) {
+                            let x0 = (b0 + l) * n;
+                            for r in 0..rows_here {
+                                let row = &mut rows[r * w..(r + 1) * w];
+                                row[x0..(x0 + n).min(w)].fill(c);
+                            }
                         }
                     }
                     true
@@ -174,16 +173,16 @@ impl Progressive {
                     if cancelled() {
                         return false;
                     }
-                    for (i, px) in rows.iter_mut().enumerate() {
-                        let idx = band * BAND * w + i;
-                        let (x, y) = ((idx % w) as u32, (idx / w) as u32);
+                    let settings = RenderSettings {
+                        width,
+                        height,
+                        spp: target,
+                        seed,
+                    };
+                    for (r, row) in rows.chunks_mut(w).enumerate() {
+                        let y = (band * BAND + r) as u32;
                         for s in from..target {
-                            let (jx, jy) = if s == 0 {
-                                (0.5, 0.5)
-                            } else {
-                                Sampler::new(seed, idx as u64, s as u64).next_2d()
-                            };
-                            *px += sample(scene, dispersive, x as f64 + jx, y as f64 + jy, width, height);
+                            add_row_samples(scene, dispersive, y, s, s == 0, &settings, row);
                         }
                     }
                     true
