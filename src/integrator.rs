@@ -7,6 +7,7 @@
 
 use crate::color::Rgb;
 use crate::geometry::{Hit, Lens, LensTraceStatus};
+use crate::light::{Light, LightSample};
 use crate::math::{Ray, surface_offset};
 use crate::optics::{self, fresnel_dielectric};
 use crate::scene::{Object, Scene};
@@ -19,39 +20,38 @@ const MIN_WEIGHT: f64 = 1e-4;
 /// scene's BVH when it has one, else tests every object's box.
 #[inline]
 pub fn closest_hit(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
-    match &scene.bvh {
-        Some(bvh) => closest_hit_bvh(scene, bvh, ray, t_max),
-        None => closest_hit_list(scene, ray, t_max),
-    }
+    closest_hit_skip(scene, ray, t_max, usize::MAX)
 }
 
+/// [`closest_hit`] without testing object `skip` (one the ray is leaving:
+/// see [`Surface::leaving`]).
 #[inline]
-fn closest_hit_list(scene: &Scene, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
-    let inv = ray.dir.recip();
+pub fn closest_hit_skip(scene: &Scene, ray: &Ray, t_max: f64, skip: usize) -> Option<(usize, Hit)> {
     let mut best: Option<(usize, Hit)> = None;
-    let mut t_max = t_max;
-    for (i, o) in scene.objects.iter().enumerate() {
-        if !o.world_bounds.hit(ray, inv, 0.0, t_max) {
-            continue;
+    let mut test = |i: usize, t_max: f64| {
+        if i == skip {
+            return None;
         }
-        if let Some(h) = o.shape.intersect(&o.to_object(ray), 0.0, t_max) {
-            t_max = h.t;
+        let o = &scene.objects[i];
+        o.shape.intersect(&o.to_object(ray), 0.0, t_max).map(|h| {
             best = Some((i, h));
+            h.t
+        })
+    };
+    match &scene.bvh {
+        Some(bvh) => bvh.traverse(ray, t_max, |i, t_max| Ok(test(i as usize, t_max))),
+        None => {
+            let inv = ray.dir.recip();
+            let mut t_max = t_max;
+            for (i, o) in scene.objects.iter().enumerate() {
+                if o.world_bounds.hit(ray, inv, 0.0, t_max)
+                    && let Some(t) = test(i, t_max)
+                {
+                    t_max = t;
+                }
+            }
         }
     }
-    best
-}
-
-#[inline]
-fn closest_hit_bvh(scene: &Scene, bvh: &crate::accel::Bvh, ray: &Ray, t_max: f64) -> Option<(usize, Hit)> {
-    let mut best: Option<(usize, Hit)> = None;
-    bvh.traverse(ray, t_max, |i, t_max| {
-        let o = &scene.objects[i as usize];
-        Ok(o.shape.intersect(&o.to_object(ray), 0.0, t_max).map(|h| {
-            best = Some((i as usize, h));
-            h.t
-        }))
-    });
     best
 }
 
@@ -59,26 +59,25 @@ fn closest_hit_bvh(scene: &Scene, bvh: &crate::accel::Bvh, ray: &Ray, t_max: f64
 /// behind an opaque object (the search stops at the first), filtered by each
 /// transparent object crossed.
 pub fn transmittance(scene: &Scene, p: DVec3, dir: DVec3, dist: f64) -> Rgb {
-    let ray = Ray { origin: p, dir };
+    transmittance_skip(scene, &Ray { origin: p, dir }, dist, usize::MAX)
+}
+
+/// [`transmittance`] along `ray` without testing object `skip`.
+pub fn transmittance_skip(scene: &Scene, ray: &Ray, dist: f64, skip: usize) -> Rgb {
     let mut t = Rgb::ONE;
-    let mut test = |o: &Object| {
-        if o.shape.intersect(&o.to_object(&ray), 0.0, dist).is_some() {
+    let mut test = |i: usize| {
+        let o = &scene.objects[i];
+        if i != skip && o.shape.intersect(&o.to_object(ray), 0.0, dist).is_some() {
             t *= o.material.shadow_transmittance();
         }
         t != Rgb::ZERO
     };
     match &scene.bvh {
-        Some(bvh) => bvh.traverse(&ray, dist, |i, _| {
-            if test(&scene.objects[i as usize]) {
-                Ok(None)
-            } else {
-                Err(())
-            }
-        }),
+        Some(bvh) => bvh.traverse(ray, dist, |i, _| if test(i as usize) { Ok(None) } else { Err(()) }),
         None => {
-            let inv = dir.recip();
-            for o in &scene.objects {
-                if o.world_bounds.hit(&ray, inv, 0.0, dist) && !test(o) {
+            let inv = ray.dir.recip();
+            for (i, o) in scene.objects.iter().enumerate() {
+                if o.world_bounds.hit(ray, inv, 0.0, dist) && !test(i) {
                     break;
                 }
             }
@@ -109,22 +108,29 @@ pub fn spawn_ray(p: DVec3, normal: DVec3, dir: DVec3, scale: f64) -> Ray {
 /// [`Features`]: crate::scene::Features
 pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
     let f = scene.features;
-    with_features!(f, kernel, (scene, ray, depth, lambda_um, 1.0))
+    with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
 }
 
 /// [`radiance`] of a camera ray whose closest hit is already known (from a
-/// packet, [`crate::accel::packet`]): the same value, without walking the
-/// scene again for it.
-pub fn radiance_from_hit(scene: &Scene, ray: &Ray, hit: Option<(usize, Hit)>, lambda_um: f64) -> Rgb {
+/// packet, [`crate::accel::packet`]), with the transmittance of its shadow
+/// rays as `visibility(light, surface, sample)` gives it: the same value,
+/// without walking the scene again.
+pub fn radiance_from_hit(
+    scene: &Scene,
+    ray: &Ray,
+    hit: Option<&Surface>,
+    lambda_um: f64,
+    visibility: &mut impl FnMut(usize, &Surface, &LightSample) -> Rgb,
+) -> Rgb {
     let f = scene.features;
-    with_features!(f, shade, (scene, ray, hit, 0, lambda_um, 1.0))
+    with_features!(f, shade, (scene, ray, hit, 0, lambda_um, 1.0, visibility))
 }
 
 /// The kernel with every feature compiled in, deciding per hit from the
 /// materials and settings (the same picture): what a renderer that does not
 /// specialise would run. For benchmarks of the savings.
 pub fn radiance_unspecialised(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
-    kernel::<true, true, true, true>(scene, ray, depth, lambda_um, 1.0)
+    kernel::<true, true, true, true>(scene, ray, usize::MAX, depth, lambda_um, 1.0)
 }
 
 /// Calls `$f::<SHADOWS, GLASS, MIRROR, SPECULAR>$args` with the const
@@ -147,40 +153,102 @@ use with_features;
 fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     ray: &Ray,
+    skip: usize,
     depth: u32,
     lambda_um: f64,
     weight: f64,
 ) -> Rgb {
-    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-        scene,
-        ray,
-        closest_hit(scene, ray, f64::INFINITY),
-        depth,
-        lambda_um,
-        weight,
-    )
+    let hit = closest_hit_skip(scene, ray, f64::INFINITY, skip);
+    let hit = hit.map(|(i, h)| surface(scene, ray, i, h));
+    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, ray, hit.as_ref(), depth, lambda_um, weight, &mut |_, s, ls| {
+        let (sr, dist) = shadow_ray(s, ls);
+        transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
+    })
 }
 
-/// The radiance along `ray` given its closest hit.
+/// A hit with what shading needs of it.
+#[derive(Clone, Copy, Debug)]
+pub struct Surface<'a> {
+    pub index: usize,
+    pub object: &'a Object,
+    pub p: DVec3,
+    /// Outward unit normal.
+    pub n: DVec3,
+    /// The normal on the side the ray came from.
+    pub nf: DVec3,
+    /// Whether the ray arrived from outside the solid.
+    pub entering: bool,
+}
+
+impl Surface<'_> {
+    /// The object a ray leaving this point along `dir` cannot meet again,
+    /// or `usize::MAX`. Every shape is convex, so a ray that starts on the
+    /// surface and heads outward never returns to it: its test is skipped
+    /// (it could only find the point itself, which the start offset is
+    /// there to avoid).
+    #[inline]
+    pub fn leaving(&self, dir: DVec3) -> usize {
+        if dir.dot(self.n) > 0.0 { self.index } else { usize::MAX }
+    }
+}
+
+/// The shading data of hit `hit` of object `index` along `ray`.
+#[inline]
+pub fn surface<'a>(scene: &'a Scene, ray: &Ray, index: usize, hit: Hit) -> Surface<'a> {
+    let object = &scene.objects[index];
+    let p = ray.at(hit.t);
+    let n = object.world_normal(p, hit.part);
+    let entering = ray.dir.dot(n) < 0.0;
+    Surface {
+        index,
+        object,
+        p,
+        n,
+        nf: if entering { n } else { -n },
+        entering,
+    }
+}
+
+/// The light's sample at the surface when the light is on the side the ray
+/// came from (`None` when it lights the other side).
+#[inline]
+pub fn light_at(s: &Surface, light: &Light) -> Option<LightSample> {
+    let ls = light.sample(s.p);
+    (s.nf.dot(ls.to_light) > 0.0).then_some(ls)
+}
+
+/// The shadow ray from the surface toward a light, and the distance to the
+/// light along it.
+#[inline]
+pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
+    let sr = spawn_ray(s.p, s.nf, ls.to_light, s.object.scale);
+    let dist = if ls.distance.is_finite() {
+        (ls.distance - (sr.origin - s.p).length()).max(0.0)
+    } else {
+        f64::INFINITY
+    };
+    (sr, dist)
+}
+
+/// The radiance along `ray` given its closest hit. `visibility(j, s, ls)`
+/// is the transmittance of the shadow ray toward light `j` (asked only when
+/// shadows are on and the light faces the surface): the scalar kernel walks
+/// the scene for it, a packet has it ready.
 #[inline(always)]
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     ray: &Ray,
-    hit: Option<(usize, Hit)>,
+    hit: Option<&Surface>,
     depth: u32,
     lambda_um: f64,
     weight: f64,
+    visibility: &mut impl FnMut(usize, &Surface, &LightSample) -> Rgb,
 ) -> Rgb {
-    let Some((idx, hit)) = hit else {
+    let Some(s) = hit else {
         return scene.background;
     };
-    let obj = &scene.objects[idx];
+    let (obj, p, nf, entering) = (s.object, s.p, s.nf, s.entering);
     let m = &obj.material;
-    let p = ray.at(hit.t);
-    let n = obj.world_normal(p, hit.part);
-    let entering = ray.dir.dot(n) < 0.0;
-    // The normal on the side the ray came from.
-    let nf = if entering { n } else { -n };
     let scale = obj.scale;
     let view = -ray.dir;
 
@@ -189,21 +257,14 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
 
     // Local Phong shading.
     color += m.color * scene.ambient * (m.ambient * opacity);
-    for light in &scene.lights {
-        let ls = light.sample(p);
-        let cos = nf.dot(ls.to_light);
-        if cos <= 0.0 {
+    for (j, light) in scene.lights.iter().enumerate() {
+        let Some(ls) = light_at(s, light) else {
             continue;
-        }
+        };
+        let cos = nf.dot(ls.to_light);
         let mut e = ls.irradiance;
         if SHADOWS && scene.shadows {
-            let sr = spawn_ray(p, nf, ls.to_light, scale);
-            let dist = if ls.distance.is_finite() {
-                (ls.distance - (sr.origin - p).length()).max(0.0)
-            } else {
-                f64::INFINITY
-            };
-            e *= transmittance(scene, sr.origin, ls.to_light, dist);
+            e *= visibility(j, s, &ls);
             if e == Rgb::ZERO {
                 continue;
             }
@@ -234,8 +295,21 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             && depth + tr.bounces <= scene.max_depth
         {
             let w = kt * tr.factor;
+            // Out of a lens, or out of a solid: the ray has left the object.
+            let skip = if tr.ray.dir.dot(s.n) > 0.0 || obj.lens().is_some() {
+                s.index
+            } else {
+                usize::MAX
+            };
             color += m.color
-                * kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &tr.ray, depth + tr.bounces, lambda_um, weight * w)
+                * kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                    scene,
+                    &tr.ray,
+                    skip,
+                    depth + tr.bounces,
+                    lambda_um,
+                    weight * w,
+                )
                 * w;
         }
     }
@@ -244,6 +318,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
         color += kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
             scene,
             &spawn_ray(p, nf, r, scale),
+            s.leaving(r),
             depth + 1,
             lambda_um,
             weight * kr,

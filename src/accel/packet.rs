@@ -20,6 +20,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::camera::Camera;
+use crate::color::Rgb;
 use crate::geometry::{Hit, Shape};
 use crate::math::Ray;
 use crate::scene::Scene;
@@ -48,6 +49,11 @@ impl Packet {
     /// A packet of `rays` (1 ..= [`LANES`] of them; directions unit), each
     /// searched on `(0, t_max)`.
     pub fn new(rays: &[Ray], t_max: f64) -> Packet {
+        Self::with_limits(rays, &[t_max; LANES])
+    }
+
+    /// A packet of `rays`, ray `l` searched on `(0, t_max[l])`.
+    pub fn with_limits(rays: &[Ray], t_max: &Lanes<f64>) -> Packet {
         assert!(
             !rays.is_empty() && rays.len() <= LANES,
             "a packet holds 1 to {LANES} rays"
@@ -61,7 +67,7 @@ impl Packet {
         };
         for l in 0..LANES {
             let (r, tm) = match rays.get(l) {
-                Some(r) => (r, t_max),
+                Some(r) => (r, t_max[l]),
                 None => (&rays[0], -1.0),
             };
             let inv = r.dir.recip();
@@ -172,20 +178,33 @@ fn slab(min: DVec3, max: DVec3, p: &Packet, t_max: &Lanes<f64>) -> u32 {
     mask(&hit)
 }
 
+const _: () = assert!(LANES == 8, "`mask` packs eight lanes");
+
+/// Bit `l` set where `b[l]`: the eight flags as bytes of one word, gathered
+/// into its top byte by one multiplication (each byte's bit lands 7 places
+/// apart from the next; no two products meet in the top byte).
 #[inline(always)]
 fn mask(b: &Lanes<bool>) -> u32 {
-    let mut m = 0;
-    for (l, &x) in b.iter().enumerate() {
-        m |= (x as u32) << l;
-    }
-    m
+    let word = u64::from_le_bytes(b.map(u8::from));
+    (word.wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32
+}
+
+/// Hits of one object in a packet's lanes.
+#[derive(Clone, Copy, Debug)]
+struct ObjectHits {
+    /// Lanes that hit within `(0, t_max)`.
+    hit: Lanes<bool>,
+    t: Lanes<f64>,
+    part: Lanes<u8>,
 }
 
 /// [`crate::geometry::Cuboid::intersect`] in every lane, for a cuboid of
-/// half sides `h` at `position` without rotation; lanes that hit within
-/// `(0, best.t)` take the hit as their new best.
+/// half sides `h` at `position` without rotation, on `(0, t_max[l])`.
 #[inline(always)]
-fn cuboid(position: DVec3, h: DVec3, object: u32, p: &Packet, best: &mut PacketHits) {
+fn cuboid(position: DVec3, h: DVec3, p: &Packet, t_max: &Lanes<f64>) -> ObjectHits {
+    let mut hit = [false; LANES];
+    let mut out_t = [0.0; LANES];
+    let mut out_part = [0u8; LANES];
     for l in 0..LANES {
         // `Object::to_object` for a translation.
         let rx = p.o[0][l] - position.x;
@@ -225,83 +244,131 @@ fn cuboid(position: DVec3, h: DVec3, object: u32, p: &Packet, best: &mut PacketH
         let d = [dx, dy, dz];
         let f_in = 2 * k_in + u8::from(d[k_in as usize] > 0.0);
         let f_out = 2 * k_out + u8::from(d[k_out as usize] < 0.0);
-        // `first_crossing` on (0, best).
+        // `first_crossing` on (0, t_max).
         let (e, x) = (t_in + t0, t_out + t0);
-        let t_max = best.t[l];
-        let take_e = !(e > x) && e > 0.0 && e < t_max;
-        let take_x = !(e > x) && !take_e && x > 0.0 && x < t_max;
-        if take_e {
-            best.t[l] = e;
-            best.part[l] = f_in;
-            best.object[l] = object;
-        } else if take_x {
-            best.t[l] = x;
-            best.part[l] = f_out;
-            best.object[l] = object;
-        }
+        let take_e = !(e > x) && e > 0.0 && e < t_max[l];
+        let take_x = !(e > x) && x > 0.0 && x < t_max[l];
+        hit[l] = take_e || take_x;
+        out_t[l] = if take_e { e } else { x };
+        out_part[l] = if take_e { f_in } else { f_out };
+    }
+    ObjectHits {
+        hit,
+        t: out_t,
+        part: out_part,
     }
 }
 
-/// Tests object `i` against the lanes in `lanes` (a bit mask).
+/// Object `i`'s hits on `(0, t_max[l])`, each by the arithmetic of its
+/// scalar test: in the lanes of `lanes` (a bit mask) and, where a SIMD
+/// test is cheaper than picking lanes, in others too (a hit is a hit; the
+/// mask only says which rays reach the object's box). Lanes in `skip`
+/// never hit.
 #[inline(always)]
-fn test_object(scene: &Scene, i: u32, lanes: u32, p: &Packet, best: &mut PacketHits) {
+fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: &Lanes<f64>) -> ObjectHits {
     let o = &scene.objects[i as usize];
-    match &o.shape {
-        Shape::Cuboid(c) if o.translation_only => cuboid(o.position, 0.5 * c.size, i, p, best),
-        Shape::Lens(lens) if o.identity => {
-            let h = lens.intersect_lanes(&p.o, &p.d, &best.t);
+    let drop_skipped = |mut h: ObjectHits| {
+        if skip != 0 {
             for l in 0..LANES {
-                if lanes >> l & 1 != 0 && h.hit[l] {
-                    best.t[l] = h.t[l];
-                    best.part[l] = h.part[l];
-                    best.object[l] = i;
-                }
+                h.hit[l] &= skip >> l & 1 == 0;
             }
+        }
+        h
+    };
+    match &o.shape {
+        Shape::Cuboid(c) if o.translation_only => drop_skipped(cuboid(o.position, 0.5 * c.size, p, t_max)),
+        Shape::Lens(lens) if o.identity => {
+            let h = lens.intersect_lanes(&p.o, &p.d, t_max);
+            let mut out = ObjectHits {
+                hit: h.hit,
+                t: h.t,
+                part: h.part,
+            };
+            // Origins far from the lens need the scalar test's exact start.
             let mut slow = lanes & mask(&h.slow);
             while slow != 0 {
                 let l = slow.trailing_zeros() as usize;
                 slow &= slow - 1;
-                if let Some(h) = lens.intersect(&p.ray(l), 0.0, best.t[l]) {
-                    best.t[l] = h.t;
-                    best.part[l] = h.part;
-                    best.object[l] = i;
+                if let Some(h) = lens.intersect(&p.ray(l), 0.0, t_max[l]) {
+                    out.hit[l] = true;
+                    out.t[l] = h.t;
+                    out.part[l] = h.part;
                 }
             }
+            drop_skipped(out)
         }
         shape => {
+            let mut out = ObjectHits {
+                hit: [false; LANES],
+                t: [0.0; LANES],
+                part: [0; LANES],
+            };
             let mut m = lanes;
             while m != 0 {
                 let l = m.trailing_zeros() as usize;
                 m &= m - 1;
-                if let Some(h) = shape.intersect(&o.to_object(&p.ray(l)), 0.0, best.t[l]) {
-                    best.t[l] = h.t;
-                    best.part[l] = h.part;
-                    best.object[l] = i;
+                if let Some(h) = shape.intersect(&o.to_object(&p.ray(l)), 0.0, t_max[l]) {
+                    out.hit[l] = true;
+                    out.t[l] = h.t;
+                    out.part[l] = h.part;
                 }
             }
+            out
         }
     }
 }
 
+/// Walks the scene (its BVH, or every object's box) with the packet:
+/// `visit(i, lanes, skipped, t_max)` tests object `i` in the lanes whose
+/// rays reach its box (`lanes`, a bit mask), never in the lanes of
+/// `skipped` (those whose `skip[l]` is `i`), and may shorten `t_max` (a
+/// closer hit; −1 ends a lane). The walk ends when every lane
+/// has ended. `SKIP` and `ANY` switch off the skip test and the check
+/// for ended lanes where no lane skips or ends.
 #[inline(always)]
-fn closest_hits_impl(scene: &Scene, p: &Packet) -> PacketHits {
-    let mut best = PacketHits {
-        object: [NO_OBJECT; LANES],
-        t: p.t_max,
-        part: [0; LANES],
+fn walk<const SKIP: bool, const ANY: bool>(
+    scene: &Scene,
+    p: &Packet,
+    skip: &Lanes<u32>,
+    t_max: &mut Lanes<f64>,
+    visitor: &mut impl Visitor,
+) {
+    let skipped = |i: u32| {
+        if !SKIP {
+            return 0;
+        }
+        let mut b = [false; LANES];
+        for l in 0..LANES {
+            b[l] = skip[l] == i;
+        }
+        mask(&b)
+    };
+    let alive = |t_max: &Lanes<f64>| {
+        if !ANY {
+            return true;
+        }
+        let mut b = [false; LANES];
+        for l in 0..LANES {
+            b[l] = t_max[l] >= 0.0;
+        }
+        mask(&b) != 0
     };
     match &scene.bvh {
         None => {
             for (i, o) in scene.objects.iter().enumerate() {
-                let m = slab(o.world_bounds.min, o.world_bounds.max, p, &best.t);
+                let sk = skipped(i as u32);
+                let m = slab(o.world_bounds.min, o.world_bounds.max, p, t_max) & !sk;
                 if m != 0 {
-                    test_object(scene, i as u32, m, p, &mut best);
+                    visitor.visit(scene, p, i as u32, m, sk, t_max);
+                    if !alive(t_max) {
+                        return;
+                    }
                 }
             }
         }
         Some(bvh) => {
             if bvh.nodes.is_empty() {
-                return best;
+                return;
             }
             // Children in the order of the first lane's direction: the rays
             // of a packet travel nearly alike.
@@ -311,11 +378,18 @@ fn closest_hits_impl(scene: &Scene, p: &Packet) -> PacketHits {
             let mut i = 0usize;
             loop {
                 let node = &bvh.nodes[i];
-                let m = slab(node.min, node.max, p, &best.t);
+                let m = slab(node.min, node.max, p, t_max);
                 if m != 0 {
                     if node.count > 0 {
                         for &o in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
-                            test_object(scene, o, m, p, &mut best);
+                            let sk = skipped(o);
+                            let lanes = m & !sk;
+                            if lanes != 0 {
+                                visitor.visit(scene, p, o, lanes, sk, t_max);
+                            }
+                        }
+                        if !alive(t_max) {
+                            return;
                         }
                     } else {
                         let (near, far) = if neg[node.axis as usize] {
@@ -334,13 +408,77 @@ fn closest_hits_impl(scene: &Scene, p: &Packet) -> PacketHits {
                     }
                 }
                 if sp == 0 {
-                    break;
+                    return;
                 }
                 sp -= 1;
                 i = stack[sp] as usize;
             }
         }
     }
+}
+
+/// What a walk does with the objects it reaches (a trait rather than a
+/// closure, so that it is compiled inside the AVX2 build).
+trait Visitor {
+    /// Tests object `i` (see [`walk`]).
+    fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>);
+}
+
+/// Closest hits: every hit shortens its lane.
+struct Closest {
+    part: Lanes<u8>,
+    object: Lanes<u32>,
+}
+
+impl Visitor for Closest {
+    #[inline(always)]
+    fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>) {
+        let h = test_object(scene, i, lanes, skipped, p, t_max);
+        for l in 0..LANES {
+            let hit = h.hit[l];
+            t_max[l] = if hit { h.t[l] } else { t_max[l] };
+            self.part[l] = if hit { h.part[l] } else { self.part[l] };
+            self.object[l] = if hit { i } else { self.object[l] };
+        }
+    }
+}
+
+/// Shadow rays: every hit filters its lane's light, an opaque one ends it.
+struct Shadow {
+    light: Lanes<Rgb>,
+}
+
+impl Visitor for Shadow {
+    #[inline(always)]
+    fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>) {
+        let h = test_object(scene, i, lanes, skipped, p, t_max);
+        if h.hit.contains(&true) {
+            let filter = scene.objects[i as usize].material.shadow_transmittance();
+            for l in 0..LANES {
+                if h.hit[l] {
+                    self.light[l] *= filter;
+                    if self.light[l] == Rgb::ZERO {
+                        t_max[l] = -1.0;
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn closest_hits_impl<const SKIP: bool>(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> PacketHits {
+    let mut c = Closest {
+        part: [0; LANES],
+        object: [NO_OBJECT; LANES],
+    };
+    let mut t_max = p.t_max;
+    walk::<SKIP, false>(scene, p, skip, &mut t_max, &mut c);
+    let mut best = PacketHits {
+        object: c.object,
+        t: t_max,
+        part: c.part,
+    };
     // Unused lanes report no hit.
     for l in p.len..LANES {
         best.object[l] = NO_OBJECT;
@@ -348,11 +486,90 @@ fn closest_hits_impl(scene: &Scene, p: &Packet) -> PacketHits {
     best
 }
 
-/// [`closest_hits_impl`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn closest_hits_avx2(scene: &Scene, p: &Packet) -> PacketHits {
-    closest_hits_impl(scene, p)
+#[inline(always)]
+fn closest_hits_skip_impl(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> PacketHits {
+    closest_hits_impl::<true>(scene, p, skip)
+}
+
+/// [`crate::integrator::transmittance_skip`] in every lane: the light
+/// reaching along each ray over `(0, t_max)`, zero once an opaque object is
+/// met. (With several transparent objects on one ray the filters may be
+/// multiplied in another order than the scalar walk's.)
+#[inline(always)]
+fn transmittances_impl(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> Lanes<Rgb> {
+    let mut v = Shadow {
+        light: [Rgb::ONE; LANES],
+    };
+    let mut t_max = p.t_max;
+    walk::<true, true>(scene, p, skip, &mut t_max, &mut v);
+    v.light
+}
+
+#[inline(always)]
+fn camera_hits_impl(
+    scene: &Scene,
+    xs: &Lanes<f64>,
+    ys: &Lanes<f64>,
+    n: usize,
+    width: u32,
+    height: u32,
+) -> (Packet, PacketHits) {
+    let p = Packet::camera(&scene.camera, xs, ys, n, width, height);
+    let h = closest_hits_impl::<false>(scene, &p, &[NO_OBJECT; LANES]);
+    (p, h)
+}
+
+/// Compiles each `*_impl` function a second time with AVX2 enabled, and
+/// defines the public function that picks the build at run time.
+macro_rules! with_avx2 {
+    ($(#[$doc:meta])* pub fn $name:ident / $avx2:ident => $imp:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        fn $avx2($($arg: $ty),*) -> $ret {
+            $imp($($arg),*)
+        }
+
+        $(#[$doc])*
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the AVX2 build differs from the portable one only
+                // in being compiled with AVX2 instructions, and the line
+                // above has just checked that this CPU has them. Calling a
+                // `target_feature` function needs `unsafe` in Rust; nothing
+                // else here is unchecked.
+                return unsafe { $avx2($($arg),*) };
+            }
+            $imp($($arg),*)
+        }
+    };
+}
+
+with_avx2! {
+    /// The closest hit of every ray of the packet (lanes past its length
+    /// report none); lane `l` never meets object `skip[l]` ([`NO_OBJECT`]
+    /// for none).
+    pub fn closest_hits / closest_hits_avx2 => closest_hits_skip_impl(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> PacketHits
+}
+
+with_avx2! {
+    /// The light reaching along every ray of the packet, each to its
+    /// `t_max` (lane `l` never meets object `skip[l]`).
+    pub fn transmittances / transmittances_avx2 => transmittances_impl(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> Lanes<Rgb>
+}
+
+with_avx2! {
+    /// The primary rays of a `width × height` image through the continuous
+    /// pixel positions `(xs[l], ys[l])`, `l < n` (1 ..= [`LANES`]), and
+    /// their closest hits: the rays are exactly [`Camera::ray`]'s.
+    pub fn camera_hits / camera_hits_avx2 => camera_hits_impl(
+        scene: &Scene,
+        xs: &Lanes<f64>,
+        ys: &Lanes<f64>,
+        n: usize,
+        width: u32,
+        height: u32
+    ) -> (Packet, PacketHits)
 }
 
 /// Whether this CPU runs the AVX2 build of the packet code.
@@ -367,71 +584,14 @@ pub fn uses_avx2() -> bool {
     }
 }
 
-/// The closest hit of every ray of the packet (lanes past its length report
-/// none).
-pub fn closest_hits(scene: &Scene, p: &Packet) -> PacketHits {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: `closest_hits_avx2` only differs from the portable build in
-        // being compiled with AVX2 instructions, and the line above has just
-        // checked that this CPU has them. Calling a `target_feature` function
-        // needs `unsafe` in Rust; nothing else here is unchecked.
-        return unsafe { closest_hits_avx2(scene, p) };
-    }
-    closest_hits_impl(scene, p)
+/// The portable (SSE2) build of [`closest_hits`], for tests on any CPU.
+pub fn closest_hits_portable(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> PacketHits {
+    closest_hits_impl::<true>(scene, p, skip)
 }
 
-#[inline(always)]
-fn camera_hits_impl(
-    scene: &Scene,
-    xs: &Lanes<f64>,
-    ys: &Lanes<f64>,
-    n: usize,
-    width: u32,
-    height: u32,
-) -> (Packet, PacketHits) {
-    let p = Packet::camera(&scene.camera, xs, ys, n, width, height);
-    let h = closest_hits_impl(scene, &p);
-    (p, h)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn camera_hits_avx2(
-    scene: &Scene,
-    xs: &Lanes<f64>,
-    ys: &Lanes<f64>,
-    n: usize,
-    width: u32,
-    height: u32,
-) -> (Packet, PacketHits) {
-    camera_hits_impl(scene, xs, ys, n, width, height)
-}
-
-/// The primary rays of a `width × height` image through the continuous
-/// pixel positions `(xs[l], ys[l])`, `l < n` (1 ..= [`LANES`]), and their
-/// closest hits: the rays are exactly [`Camera::ray`]'s.
-pub fn camera_hits(
-    scene: &Scene,
-    xs: &Lanes<f64>,
-    ys: &Lanes<f64>,
-    n: usize,
-    width: u32,
-    height: u32,
-) -> (Packet, PacketHits) {
-    assert!((1..=LANES).contains(&n), "a packet holds 1 to {LANES} rays");
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: as in `closest_hits`: the AVX2 build of the same code,
-        // called only after checking that the CPU has AVX2.
-        return unsafe { camera_hits_avx2(scene, xs, ys, n, width, height) };
-    }
-    camera_hits_impl(scene, xs, ys, n, width, height)
-}
-
-/// The portable (SSE2) build, for tests and benchmarks on any CPU.
-pub fn closest_hits_portable(scene: &Scene, p: &Packet) -> PacketHits {
-    closest_hits_impl(scene, p)
+/// The portable build of [`transmittances`].
+pub fn transmittances_portable(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> Lanes<Rgb> {
+    transmittances_impl(scene, p, skip)
 }
 
 #[cfg(test)]
@@ -467,7 +627,7 @@ mod tests {
 
     /// Packets of camera rays (coherent) and of random rays from random
     /// points (incoherent) give the scalar walk's hit in every lane.
-    fn check(hits: fn(&Scene, &Packet) -> PacketHits) {
+    fn check(hits: fn(&Scene, &Packet, &Lanes<u32>) -> PacketHits) {
         for (name, scene) in scenes() {
             let mut s = Sampler::new(7, 0, 0);
             let mut compared = 0;
@@ -486,7 +646,7 @@ mod tests {
                         }
                     })
                     .collect();
-                let got = hits(&scene, &Packet::new(&rays, f64::INFINITY));
+                let got = hits(&scene, &Packet::new(&rays, f64::INFINITY), &[NO_OBJECT; LANES]);
                 for (l, r) in rays.iter().enumerate() {
                     let want = closest_hit(&scene, r, f64::INFINITY);
                     let have = got.get(l);
@@ -516,6 +676,91 @@ mod tests {
             }
             assert!(compared > 1000, "{name}: only {compared} hits compared");
         }
+    }
+
+    #[test]
+    fn mask_sets_bit_l_for_lane_l() {
+        for m in 0u32..256 {
+            let b: Lanes<bool> = std::array::from_fn(|l| m >> l & 1 != 0);
+            assert_eq!(mask(&b), m);
+        }
+    }
+
+    /// Shadow-like rays (random segments, some lanes skipping an object,
+    /// some unused) give the scalar transmittance, and closest hits with
+    /// skips give the scalar `closest_hit_skip`.
+    fn check_skips(
+        shadow: fn(&Scene, &Packet, &Lanes<u32>) -> Lanes<Rgb>,
+        closest: fn(&Scene, &Packet, &Lanes<u32>) -> PacketHits,
+    ) {
+        use crate::integrator::{closest_hit_skip, transmittance_skip};
+        for (name, scene) in scenes() {
+            let mut s = Sampler::new(3, 1, 0);
+            let (mut blocked, mut open) = (0, 0);
+            for k in 0..1500 {
+                let mut rays = [Ray {
+                    origin: DVec3::ZERO,
+                    dir: DVec3::X,
+                }; LANES];
+                let mut t_max = [-1.0; LANES];
+                let mut skip = [NO_OBJECT; LANES];
+                for l in 0..LANES {
+                    let o =
+                        DVec3::new(s.next_f64(), s.next_f64() * 0.6, s.next_f64()) * 12.0 - DVec3::new(6.0, 0.5, 6.0);
+                    let to =
+                        DVec3::new(5.0, 10.0, 6.0) + (DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) - 0.5) * 4.0;
+                    rays[l] = Ray::new(o, to - o);
+                    if (k + l) % 5 != 0 {
+                        t_max[l] = (to - o).length();
+                    }
+                    if (k + l) % 3 == 0 {
+                        skip[l] = (s.next_f64() * scene.objects.len() as f64) as u32;
+                    }
+                }
+                let p = Packet::with_limits(&rays, &t_max);
+                let got = shadow(&scene, &p, &skip);
+                let hits = closest(&scene, &p, &skip);
+                for l in 0..LANES {
+                    if t_max[l] < 0.0 {
+                        assert_eq!(got[l], Rgb::ONE);
+                        assert!(hits.get(l).is_none());
+                        continue;
+                    }
+                    let sk = if skip[l] == NO_OBJECT {
+                        usize::MAX
+                    } else {
+                        skip[l] as usize
+                    };
+                    let want = transmittance_skip(&scene, &rays[l], t_max[l], sk);
+                    assert!(
+                        (got[l] - want).abs().max_element() <= 1e-15,
+                        "{name}: packet {k} lane {l}"
+                    );
+                    if want == Rgb::ONE {
+                        open += 1;
+                    } else {
+                        blocked += 1;
+                    }
+                    let want = closest_hit_skip(&scene, &rays[l], t_max[l], sk);
+                    assert_eq!(
+                        want.map(|h| h.1.t),
+                        hits.get(l).map(|h| h.1.t),
+                        "{name}: packet {k} lane {l}"
+                    );
+                }
+            }
+            assert!(blocked > 500 && open > 500, "{name}: {blocked} blocked, {open} open");
+        }
+    }
+
+    #[test]
+    fn shadow_packets_give_the_scalar_transmittance() {
+        check_skips(transmittances, closest_hits);
+    }
+
+    #[test]
+    fn portable_shadow_packets_give_the_scalar_transmittance() {
+        check_skips(transmittances_portable, closest_hits_portable);
     }
 
     #[test]
