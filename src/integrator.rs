@@ -5,6 +5,7 @@
 //! Light through a lens follows the lens's own exact tracer
 //! ([`Lens::propagate_inside`]): the same code `lensview lens trace` reports.
 
+use crate::accel::packet::{LANES, NO_OBJECT, Packet, PacketHits, closest_hits, transmittances};
 use crate::color::Rgb;
 use crate::geometry::{Hit, Lens, LensTraceStatus};
 use crate::light::{Light, LightSample};
@@ -111,19 +112,146 @@ pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
     with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
 }
 
-/// [`radiance`] of a camera ray whose closest hit is already known (from a
-/// packet, [`crate::accel::packet`]), with the transmittance of its shadow
-/// rays as `visibility(light, surface, sample)` gives it: the same value,
-/// without walking the scene again.
-pub fn radiance_from_hit(
+/// [`radiance`] of every ray of a packet whose closest hits are known
+/// (lanes of `active`, a bit mask, at path depth `depth[l]` and weight
+/// `weight[l]`): the same values, lane by lane, with the shadow rays and
+/// the refracted and reflected rays of the lanes traced as packets too.
+pub fn radiance_packet(
     scene: &Scene,
-    ray: &Ray,
-    hit: Option<&Surface>,
+    p: &Packet,
+    hits: &PacketHits,
+    active: u32,
+    depth: &[u32; LANES],
+    weight: &[f64; LANES],
     lambda_um: f64,
-    visibility: &mut impl FnMut(usize, &Surface, &LightSample) -> Rgb,
-) -> Rgb {
+) -> [Rgb; LANES] {
     let f = scene.features;
-    with_features!(f, shade, (scene, ray, hit, 0, lambda_um, 1.0, visibility))
+    with_features!(f, packet_kernel, (scene, p, hits, active, depth, weight, lambda_um))
+}
+
+/// Lights whose shadow rays a packet casts as packets (the shadow rays of
+/// any further light are cast one by one).
+const PACKET_LIGHTS: usize = 4;
+
+/// Below this many rays, secondary rays are traced one by one.
+const MIN_PACKET: u32 = 3;
+
+fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    p: &Packet,
+    hits: &PacketHits,
+    active: u32,
+    depth: &[u32; LANES],
+    weight: &[f64; LANES],
+    lambda_um: f64,
+) -> [Rgb; LANES] {
+    let rays: [Ray; LANES] = std::array::from_fn(|l| p.ray(l));
+    let surfaces: [Option<Surface>; LANES] = std::array::from_fn(|l| {
+        hits.get(l)
+            .filter(|_| active >> l & 1 != 0)
+            .map(|(i, h)| surface(scene, &rays[l], i, h))
+    });
+    // The shadow rays of the first lights, a packet per light.
+    let mut vis = [[Rgb::ONE; LANES]; PACKET_LIGHTS];
+    if SHADOWS && scene.shadows {
+        for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
+            let mut shadow = rays;
+            let mut t_max = [-1.0; LANES];
+            let mut skip = [NO_OBJECT; LANES];
+            for l in 0..LANES {
+                if let Some(s) = &surfaces[l]
+                    && let Some(ls) = light_at(s, light)
+                {
+                    (shadow[l], t_max[l]) = shadow_ray(s, &ls);
+                    skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
+                }
+            }
+            if t_max.iter().any(|&t| t >= 0.0) {
+                vis[j] = transmittances(scene, &Packet::with_limits(&shadow, &t_max), &skip);
+            }
+        }
+    }
+    // Local shading of every lane; refracted (0) and reflected (1) rays are
+    // collected and traced afterwards, a packet of each kind.
+    let mut out = [Rgb::ZERO; LANES];
+    let mut sent: [[Option<Secondary>; 2]; LANES] = [[None; 2]; LANES];
+    for l in 0..LANES {
+        if active >> l & 1 == 0 {
+            continue;
+        }
+        out[l] = shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            scene,
+            &rays[l],
+            surfaces[l].as_ref(),
+            depth[l],
+            lambda_um,
+            weight[l],
+            &mut |j, s, ls| {
+                if j < PACKET_LIGHTS {
+                    vis[j][l]
+                } else {
+                    let (sr, dist) = shadow_ray(s, ls);
+                    transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
+                }
+            },
+            &mut |sec, _| {
+                let kind = usize::from(sec.tint.is_none());
+                sent[l][kind] = Some(sec);
+            },
+        );
+    }
+    let mut back = [[Rgb::ZERO; LANES]; 2];
+    for (kind, back) in back.iter_mut().enumerate() {
+        let mut rays = rays;
+        let mut t_max = [-1.0; LANES];
+        let mut skip = [NO_OBJECT; LANES];
+        let mut depth = [0; LANES];
+        let mut weight = [0.0; LANES];
+        let mut active = 0u32;
+        for l in 0..LANES {
+            if let Some(sec) = &sent[l][kind] {
+                rays[l] = sec.ray;
+                t_max[l] = f64::INFINITY;
+                skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
+                depth[l] = sec.depth;
+                weight[l] = sec.weight;
+                active |= 1 << l;
+            }
+        }
+        if active == 0 {
+            continue;
+        }
+        if active.count_ones() < MIN_PACKET {
+            for l in 0..LANES {
+                if let Some(sec) = &sent[l][kind] {
+                    back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                    );
+                }
+            }
+            continue;
+        }
+        let child = Packet::with_limits(&rays, &t_max);
+        let child_hits = closest_hits(scene, &child, &skip);
+        *back = packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            scene,
+            &child,
+            &child_hits,
+            active,
+            &depth,
+            &weight,
+            lambda_um,
+        );
+    }
+    // In the order `shade` asked for them: refracted, then reflected.
+    for l in 0..LANES {
+        for kind in 0..2 {
+            if let Some(sec) = &sent[l][kind] {
+                sec.join(&mut out[l], back[kind][l]);
+            }
+        }
+    }
+    out
 }
 
 /// The kernel with every feature compiled in, deciding per hit from the
@@ -160,10 +288,49 @@ fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPEC
 ) -> Rgb {
     let hit = closest_hit_skip(scene, ray, f64::INFINITY, skip);
     let hit = hit.map(|(i, h)| surface(scene, ray, i, h));
-    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, ray, hit.as_ref(), depth, lambda_um, weight, &mut |_, s, ls| {
-        let (sr, dist) = shadow_ray(s, ls);
-        transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
-    })
+    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+        scene,
+        ray,
+        hit.as_ref(),
+        depth,
+        lambda_um,
+        weight,
+        &mut |_, s, ls| {
+            let (sr, dist) = shadow_ray(s, ls);
+            transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
+        },
+        &mut |sec, color| {
+            sec.join(
+                color,
+                kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
+            )
+        },
+    )
+}
+
+/// A ray that shading sends on (refracted or reflected), and how its
+/// radiance `L` joins the colour: `colour += tint · L · factor`.
+#[derive(Clone, Copy, Debug)]
+pub struct Secondary {
+    pub ray: Ray,
+    /// The object the ray leaves ([`Surface::leaving`]), or `usize::MAX`.
+    pub skip: usize,
+    pub depth: u32,
+    /// Path weight after this ray.
+    pub weight: f64,
+    pub tint: Option<Rgb>,
+    pub factor: f64,
+}
+
+impl Secondary {
+    /// Adds the radiance `l` that came back along the ray.
+    #[inline]
+    pub fn join(&self, color: &mut Rgb, l: Rgb) {
+        *color += match self.tint {
+            Some(t) => t * l * self.factor,
+            None => l * self.factor,
+        };
+    }
 }
 
 /// A hit with what shading needs of it.
@@ -233,8 +400,12 @@ pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
 /// The radiance along `ray` given its closest hit. `visibility(j, s, ls)`
 /// is the transmittance of the shadow ray toward light `j` (asked only when
 /// shadows are on and the light faces the surface): the scalar kernel walks
-/// the scene for it, a packet has it ready.
+/// the scene for it, a packet has it ready. `trace(secondary, colour)`
+/// follows a refracted or reflected ray and adds what it brings (the scalar
+/// kernel at once, a packet after the local shading of all its lanes: the
+/// additions come in the same order either way).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // the two callbacks are what differ between the scalar and packet kernels
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     ray: &Ray,
@@ -243,6 +414,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
     lambda_um: f64,
     weight: f64,
     visibility: &mut impl FnMut(usize, &Surface, &LightSample) -> Rgb,
+    trace: &mut impl FnMut(Secondary, &mut Rgb),
 ) -> Rgb {
     let Some(s) = hit else {
         return scene.background;
@@ -301,28 +473,32 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             } else {
                 usize::MAX
             };
-            color += m.color
-                * kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                    scene,
-                    &tr.ray,
+            trace(
+                Secondary {
+                    ray: tr.ray,
                     skip,
-                    depth + tr.bounces,
-                    lambda_um,
-                    weight * w,
-                )
-                * w;
+                    depth: depth + tr.bounces,
+                    weight: weight * w,
+                    tint: Some(m.color),
+                    factor: w,
+                },
+                &mut color,
+            );
         }
     }
     if kr * weight > MIN_WEIGHT {
         let r = optics::reflect(ray.dir, nf);
-        color += kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-            scene,
-            &spawn_ray(p, nf, r, scale),
-            s.leaving(r),
-            depth + 1,
-            lambda_um,
-            weight * kr,
-        ) * kr;
+        trace(
+            Secondary {
+                ray: spawn_ray(p, nf, r, scale),
+                skip: s.leaving(r),
+                depth: depth + 1,
+                weight: weight * kr,
+                tint: None,
+                factor: kr,
+            },
+            &mut color,
+        );
     }
     color
 }

@@ -10,20 +10,14 @@ pub mod worker;
 
 pub use image::Image;
 
-use crate::accel::packet::{LANES, NO_OBJECT, Packet, camera_hits, transmittances};
+use crate::accel::packet::{LANES, camera_hits};
 use crate::color::Rgb;
-use crate::integrator::{Surface, light_at, radiance, radiance_from_hit, shadow_ray, surface, transmittance_skip};
-use crate::light::LightSample;
-use crate::math::Ray;
+use crate::integrator::{radiance, radiance_packet};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Lights whose shadow rays a camera packet casts as packets (the shadow
-/// rays of any further light are cast one by one).
-const PACKET_LIGHTS: usize = 4;
 
 /// Wavelengths (µm) at which dispersive glass is traced for the red, green
 /// and blue channels: the Fraunhofer C (hydrogen, 656.3 nm), d (helium,
@@ -76,51 +70,20 @@ pub fn sample_packet(
     height: u32,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    let rays: [Ray; LANES] = std::array::from_fn(|l| p.ray(l));
-    let surfaces: [Option<Surface>; LANES] =
-        std::array::from_fn(|l| hits.get(l).map(|(i, h)| surface(scene, &rays[l], i, h)));
-    // The shadow rays of the first lights, eight at a time.
-    let mut vis = [[Rgb::ONE; LANES]; PACKET_LIGHTS];
-    if scene.features.shadows {
-        for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
-            let mut shadow = rays;
-            let mut t_max = [-1.0; LANES];
-            let mut skip = [NO_OBJECT; LANES];
-            for l in 0..LANES {
-                if let Some(s) = &surfaces[l]
-                    && let Some(ls) = light_at(s, light)
-                {
-                    (shadow[l], t_max[l]) = shadow_ray(s, &ls);
-                    skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
-                }
-            }
-            if t_max.iter().any(|&t| t >= 0.0) {
-                vis[j] = transmittances(scene, &Packet::with_limits(&shadow, &t_max), &skip);
+    let active = (1u32 << n) - 1;
+    let (depth, weight) = ([0; LANES], [1.0; LANES]);
+    if dispersive {
+        let mut out = [Rgb::ZERO; LANES];
+        for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
+            let c = radiance_packet(scene, &p, &hits, active, &depth, &weight, lambda);
+            for l in 0..n {
+                out[l][ch] = c[l][ch];
             }
         }
+        out
+    } else {
+        radiance_packet(scene, &p, &hits, active, &depth, &weight, WAVELENGTH_D_UM)
     }
-    let mut out = [Rgb::ZERO; LANES];
-    for (l, c) in out.iter_mut().enumerate().take(n) {
-        let mut visibility = |j: usize, s: &Surface, ls: &LightSample| {
-            if j < PACKET_LIGHTS {
-                vis[j][l]
-            } else {
-                let (sr, dist) = shadow_ray(s, ls);
-                transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
-            }
-        };
-        let hit = surfaces[l].as_ref();
-        *c = if dispersive {
-            let mut c = Rgb::ZERO;
-            for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
-                c[ch] = radiance_from_hit(scene, &rays[l], hit, lambda, &mut visibility)[ch];
-            }
-            c
-        } else {
-            radiance_from_hit(scene, &rays[l], hit, WAVELENGTH_D_UM, &mut visibility)
-        };
-    }
-    out
 }
 
 /// Adds sample `i` of every pixel of row `y` to `row` (sample 0 of a
