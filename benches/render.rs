@@ -115,8 +115,12 @@ fn frames(c: &mut Criterion) {
             p.run(black_box(&scene), Stage::Blocks(8), &|| false)
         })
     });
-    g.bench_function("1280x720-primary-rays-closest-hit", |b| {
+    // Camera rays in packets of eight (what the renderer casts) and one by one.
+    g.bench_function("1280x720-primary-rays-closest-hit-packets", |b| {
         b.iter(|| lensview::bench::primary_rays_per_second(black_box(&scene), 1280, 720, 1))
+    });
+    g.bench_function("1280x720-primary-rays-closest-hit-one-by-one", |b| {
+        b.iter(|| lensview::bench::primary_rays_per_second_scalar(black_box(&scene), 1280, 720, 1))
     });
     g.finish();
 }

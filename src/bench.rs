@@ -4,7 +4,7 @@
 //! of several timed runs of the real renderer.
 
 use crate::color::Rgb;
-use crate::integrator::{closest_hit, radiance_unspecialised};
+use crate::integrator::{closest_hit, radiance_packet_unspecialised};
 use crate::render::{RenderSettings, render};
 use crate::scene::file::{ObjectFile, SceneFile, ShapeKind};
 use crate::scene::{Features, Scene};
@@ -38,7 +38,8 @@ pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
     })
 }
 
-/// A frame at 1 sample per pixel through `kernel`, in a plain parallel loop
+/// A frame at 1 sample per pixel (pixel centres, camera packets of eight
+/// as the renderer casts them) shaded by `kernel`, in a plain parallel loop
 /// (no image kept): the harness in which the specialised and unspecialised
 /// kernels are compared on equal terms.
 pub fn frame_time_with(
@@ -46,16 +47,29 @@ pub fn frame_time_with(
     width: u32,
     height: u32,
     runs: usize,
-    kernel: fn(&Scene, &crate::math::Ray, u32, f64) -> Rgb,
+    kernel: crate::integrator::PacketKernel,
 ) -> f64 {
+    use crate::accel::packet::{LANES, camera_hits};
     median_time(runs, || {
         let sum: Rgb = (0..height)
             .into_par_iter()
             .map(|y| {
                 let mut acc = Rgb::ZERO;
-                for x in 0..width {
-                    let ray = scene.camera.ray(x as f64 + 0.5, y as f64 + 0.5, width, height);
-                    acc += kernel(scene, &ray, 0, crate::optics::WAVELENGTH_D_UM);
+                let ys = [y as f64 + 0.5; LANES];
+                for x0 in (0..width).step_by(LANES) {
+                    let k = ((width - x0) as usize).min(LANES);
+                    let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+                    let (p, hits) = camera_hits(scene, &xs, &ys, k, width, height);
+                    let c = kernel(
+                        scene,
+                        &p,
+                        &hits,
+                        (1 << k) - 1,
+                        &[0; LANES],
+                        &[1.0; LANES],
+                        crate::optics::WAVELENGTH_D_UM,
+                    );
+                    acc += c.iter().sum::<Rgb>();
                 }
                 acc
             })
@@ -236,8 +250,8 @@ pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<Featu
             let mut spec = Vec::new();
             let mut generic = Vec::new();
             for _ in 0..3 {
-                spec.push(frame_time_with(&without, w, h, runs, crate::integrator::radiance) * 1e3);
-                generic.push(frame_time_with(&without, w, h, runs, radiance_unspecialised) * 1e3);
+                spec.push(frame_time_with(&without, w, h, runs, crate::integrator::radiance_packet) * 1e3);
+                generic.push(frame_time_with(&without, w, h, runs, radiance_packet_unspecialised) * 1e3);
             }
             spec.sort_by(f64::total_cmp);
             generic.sort_by(f64::total_cmp);
@@ -283,6 +297,7 @@ mod tests {
 
     #[test]
     fn unspecialised_kernel_draws_the_same_picture() {
+        use crate::integrator::radiance_unspecialised;
         let (sf, _) = Scene::default_scene();
         let mut no_spec = sf.clone();
         no_spec.materials.values_mut().for_each(|m| m.specular = 0.0);
@@ -296,5 +311,14 @@ mod tests {
             let b = radiance_unspecialised(&s, &ray, 0, crate::optics::WAVELENGTH_D_UM);
             assert_eq!(a, b);
         }
+        // And the packet kernels, eight pixels at a time.
+        use crate::accel::packet::{LANES, camera_hits};
+        let xs = std::array::from_fn(|l| 37.0 * l as f64 + 3.5);
+        let (p, hits) = camera_hits(&s, &xs, &[200.5; LANES], LANES, 400, 400);
+        let args = (0xff, &[0; LANES], &[1.0; LANES], crate::optics::WAVELENGTH_D_UM);
+        let a = crate::integrator::radiance_packet(&s, &p, &hits, args.0, args.1, args.2, args.3);
+        let b = radiance_packet_unspecialised(&s, &p, &hits, args.0, args.1, args.2, args.3);
+        assert_eq!(a, b);
+        assert!(a.iter().all(|c| *c != Rgb::ZERO));
     }
 }

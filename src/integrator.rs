@@ -129,6 +129,23 @@ pub fn radiance_packet(
     with_features!(f, packet_kernel, (scene, p, hits, active, depth, weight, lambda_um))
 }
 
+/// [`radiance_packet`] with every feature compiled in: what a renderer that
+/// does not specialise would run. For benchmarks of the savings.
+pub fn radiance_packet_unspecialised(
+    scene: &Scene,
+    p: &Packet,
+    hits: &PacketHits,
+    active: u32,
+    depth: &[u32; LANES],
+    weight: &[f64; LANES],
+    lambda_um: f64,
+) -> [Rgb; LANES] {
+    packet_kernel::<true, true, true, true>(scene, p, hits, active, depth, weight, lambda_um)
+}
+
+/// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
+pub type PacketKernel = fn(&Scene, &Packet, &PacketHits, u32, &[u32; LANES], &[f64; LANES], f64) -> [Rgb; LANES];
+
 /// Lights whose shadow rays a packet casts as packets (the shadow rays of
 /// any further light are cast one by one).
 const PACKET_LIGHTS: usize = 4;
