@@ -49,33 +49,38 @@ pub fn frame_time_with(
     runs: usize,
     kernel: crate::integrator::PacketKernel,
 ) -> f64 {
-    use crate::accel::packet::{LANES, camera_hits};
     median_time(runs, || {
-        let sum: Rgb = (0..height)
-            .into_par_iter()
-            .map(|y| {
-                let mut acc = Rgb::ZERO;
-                let ys = [y as f64 + 0.5; LANES];
-                for x0 in (0..width).step_by(LANES) {
-                    let k = ((width - x0) as usize).min(LANES);
-                    let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
-                    let (p, hits) = camera_hits(scene, &xs, &ys, k, width, height);
-                    let c = kernel(
-                        scene,
-                        &p,
-                        &hits,
-                        (1 << k) - 1,
-                        &[0; LANES],
-                        &[1.0; LANES],
-                        crate::optics::WAVELENGTH_D_UM,
-                    );
-                    acc += c.iter().sum::<Rgb>();
-                }
-                acc
-            })
-            .sum();
-        std::hint::black_box(sum);
+        std::hint::black_box(packet_frame(scene, width, height, kernel));
     })
+}
+
+/// One frame at pixel centres through `kernel`, in camera packets, in
+/// parallel rows; returns the sum of its pixels.
+pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: crate::integrator::PacketKernel) -> Rgb {
+    use crate::accel::packet::{LANES, camera_hits};
+    (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let mut acc = Rgb::ZERO;
+            let ys = [y as f64 + 0.5; LANES];
+            for x0 in (0..width).step_by(LANES) {
+                let k = ((width - x0) as usize).min(LANES);
+                let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+                let (p, hits) = camera_hits(scene, &xs, &ys, k, width, height);
+                let c = kernel(
+                    scene,
+                    &p,
+                    &hits,
+                    (1 << k) - 1,
+                    &[0; LANES],
+                    &[1.0; LANES],
+                    crate::optics::WAVELENGTH_D_UM,
+                );
+                acc += c.iter().sum::<Rgb>();
+            }
+            acc
+        })
+        .sum()
 }
 
 /// Closest-hit primary rays per second (pixel centres, no shading), cast
@@ -196,8 +201,13 @@ impl FeatureCost {
     }
 }
 
-/// Measures every feature on variants of the cubes scene at `w × h`.
-pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<FeatureCost> {
+/// The features [`feature_variants`] measures, by the names the command
+/// line takes.
+pub const FEATURES: [&str; 5] = ["shadows", "glass", "mirror", "specular", "dispersion"];
+
+/// For each feature of [`FEATURES`]: its label, the cubes scene using it and
+/// the same scene without it.
+pub fn feature_variants(base: &SceneFile) -> Vec<(&'static str, Scene, Scene)> {
     let build = |f: &dyn Fn(&mut SceneFile)| {
         let mut sf = base.clone();
         f(&mut sf);
@@ -215,10 +225,18 @@ pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<Featu
             l.n = crate::scene::file::IndexFile::Cauchy([1.4846, 0.0042]);
         }
     };
-    let variants: Vec<(&'static str, Scene, Scene)> = vec![
+    vec![
         ("shadows", build(&|_| {}), build(&|sf| sf.render.shadows = false)),
         ("glass (the lens)", build(&|_| {}), build(&no_lens)),
-        ("mirror", build(&mirror), build(&|_| {})),
+        // Glass reflects too: the mirror path is unused only without the lens.
+        (
+            "mirror",
+            build(&|sf| {
+                no_lens(sf);
+                mirror(sf)
+            }),
+            build(&no_lens),
+        ),
         // The lens glass has a highlight of its own: measured without it.
         (
             "specular",
@@ -229,7 +247,43 @@ pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<Featu
             }),
         ),
         ("dispersion", build(&dispersive), build(&|_| {})),
-    ];
+    ]
+}
+
+/// The scene without `feature` (one of [`FEATURES`]), and the same scene
+/// as a renderer that does not leave the feature out would run it: the
+/// unspecialised kernel, or for dispersion three wavelengths a sample.
+pub fn unused_feature_frame(base: &SceneFile, feature: &str, unspecialised: bool, w: u32, h: u32) -> Option<()> {
+    let k = FEATURES.iter().position(|&f| f == feature)?;
+    let (_, _, mut without) = feature_variants(base).swap_remove(k);
+    if feature == "dispersion" {
+        if unspecialised {
+            without.features.dispersion = true;
+        }
+        std::hint::black_box(render(
+            &without,
+            &RenderSettings {
+                width: w,
+                height: h,
+                spp: 1,
+                seed: 0,
+            },
+            None,
+        ));
+    } else {
+        let kernel = if unspecialised {
+            radiance_packet_unspecialised
+        } else {
+            crate::integrator::radiance_packet
+        };
+        std::hint::black_box(packet_frame(&without, w, h, kernel));
+    }
+    Some(())
+}
+
+/// Measures every feature on variants of the cubes scene at `w × h`.
+pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<FeatureCost> {
+    let variants = feature_variants(base);
     let mut out = Vec::new();
     for (name, with, without) in variants {
         let with_ms = frame_time(&with, w, h, runs) * 1e3;
@@ -292,6 +346,21 @@ mod tests {
         };
         for (a, b) in pos(&g5).iter().zip(pos(&orig)) {
             assert!((*a - b).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn each_variant_pair_differs_in_its_feature_only_being_used() {
+        let (sf, _) = Scene::default_scene();
+        for ((label, with, without), name) in feature_variants(&sf).into_iter().zip(FEATURES) {
+            let pick = |f: Features| match name {
+                "shadows" => f.shadows,
+                "glass" => f.glass,
+                "mirror" => f.mirror,
+                "specular" => f.specular,
+                _ => f.dispersion,
+            };
+            assert!(pick(with.features) && !pick(without.features), "{label}");
         }
     }
 

@@ -78,6 +78,17 @@ pub struct BenchArgs {
     pub width: u32,
     #[arg(long, default_value_t = 720)]
     pub height: u32,
+    /// Render FRAMES frames at WIDTH×HEIGHT of the cubes scene without this
+    /// feature (shadows, glass, mirror, specular, dispersion) and exit: for
+    /// counting instructions (benches/feature-instructions.sh).
+    #[arg(long, value_name = "FEATURE")]
+    pub unused_feature: Option<String>,
+    /// With --unused-feature: through the kernel that has every feature compiled in.
+    #[arg(long, requires = "unused_feature")]
+    pub unspecialised: bool,
+    /// With --unused-feature: how many frames.
+    #[arg(long, default_value_t = 1, requires = "unused_feature")]
+    pub frames: u32,
 }
 
 #[derive(Subcommand, Debug)]
@@ -253,6 +264,17 @@ fn bench(a: &BenchArgs) -> Result<()> {
         bail!("--width, --height and --runs must be at least 1");
     }
     let threads = rayon::current_num_threads();
+    if let Some(f) = &a.unused_feature {
+        for _ in 0..a.frames {
+            if unused_feature_frame(&sf, f, a.unspecialised, a.width, a.height).is_none() {
+                bail!(
+                    "--unused-feature: unknown feature {f:?}; one of {}",
+                    FEATURES.join(", ")
+                );
+            }
+        }
+        return Ok(());
+    }
     if a.primary_only {
         let rps = primary_rays_per_second(&scene, a.width, a.height, a.runs);
         let scalar = primary_rays_per_second_scalar(&scene, a.width, a.height, a.runs);
@@ -378,11 +400,21 @@ fn bench(a: &BenchArgs) -> Result<()> {
     // 3. Throughput and frame rate.
     let (tw, th) = if a.quick { (64, 36) } else { (1280, 720) };
     let rps = primary_rays_per_second(&scene, tw, th, runs);
+    let rps_scalar = primary_rays_per_second_scalar(&scene, tw, th, runs);
     let frame = frame_time(&scene, tw, th, runs.min(3));
     let small = frame_time(&scene, 400, 400, runs);
     println!(
-        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s",
-        rps / 1e6
+        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in packets of {} ({}), \
+         {:.2} M rays/s one by one ({:.2}×)",
+        rps / 1e6,
+        lensview::accel::packet::LANES,
+        if lensview::accel::packet::uses_avx2() {
+            "AVX2"
+        } else {
+            "SSE2"
+        },
+        rps_scalar / 1e6,
+        rps / rps_scalar
     );
     println!(
         "full Whitted frame at {tw}×{th}: {:.1} ms ({:.1} fps); at 400×400: {:.1} ms",
@@ -402,6 +434,16 @@ fn bench(a: &BenchArgs) -> Result<()> {
         "first progressive level (8×8 blocks) at {tw}×{th}: {:.2} ms",
         first * 1e3
     );
+    std::fs::write(
+        out("bench-throughput.csv"),
+        format!(
+            "measure,value\nprimary_rays_per_s_packets,{rps:.0}\nprimary_rays_per_s_one_by_one,{rps_scalar:.0}\n\
+             frame_ms_{tw}x{th},{:.3}\nframe_ms_400x400,{:.3}\nfirst_level_8x8_ms_{tw}x{th},{:.3}\n",
+            frame * 1e3,
+            small * 1e3,
+            first * 1e3
+        ),
+    )?;
 
     // 4. What features cost.
     let (fw, fh) = if a.quick { (48, 48) } else { (400, 400) };
@@ -430,7 +472,7 @@ fn bench(a: &BenchArgs) -> Result<()> {
     }
     std::fs::write(out("bench-features.csv"), &csv)?;
     println!(
-        "\nwrote bench-size.csv/png, bench-objects.csv/png, bench-features.csv in {}",
+        "\nwrote bench-size.csv/png, bench-objects.csv/png, bench-throughput.csv, bench-features.csv in {}",
         a.out_dir.display()
     );
     Ok(())

@@ -224,3 +224,69 @@ fn lens_info_prints_paraxial_data_as_text_and_json() {
         "index 0.5 must be ≥ 1",
     );
 }
+
+/// `bench --quick` writes every table and plot with numbers in them, and its
+/// side modes answer as the benchmark scripts expect.
+#[test]
+fn bench_writes_its_tables_and_plots() {
+    let dir = tmp("bench");
+    let _ = std::fs::remove_dir_all(&dir);
+    let o = bin()
+        .args(["bench", "--quick", "--runs", "1", "--out-dir", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["bench-size.png", "bench-objects.png"] {
+        assert!(std::fs::metadata(dir.join(f)).unwrap().len() > 1000, "{f}");
+    }
+    for f in [
+        "bench-size.csv",
+        "bench-objects.csv",
+        "bench-throughput.csv",
+        "bench-features.csv",
+    ] {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        let rows: Vec<&str> = text.lines().skip(1).collect();
+        assert!(rows.len() >= 3, "{f}: {text}");
+        for r in rows {
+            let last = r.rsplit(',').next().unwrap();
+            assert!(last.parse::<f64>().is_ok_and(|v| v > 0.0), "{f}: {r}");
+        }
+    }
+    let o = bin()
+        .args([
+            "bench",
+            "--primary-only",
+            "--runs",
+            "1",
+            "--width",
+            "64",
+            "--height",
+            "36",
+        ])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.lines().any(|l| l.starts_with("primary_rays_per_s ")), "{out}");
+    assert!(
+        out.lines().any(|l| l.starts_with("primary_rays_per_s_scalar ")),
+        "{out}"
+    );
+    let o = bin()
+        .args([
+            "bench",
+            "--unused-feature",
+            "glass",
+            "--unspecialised",
+            "--width",
+            "16",
+            "--height",
+            "16",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bin().args(["bench", "--unused-feature", "fog"]).output().unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("unknown feature \"fog\""));
+}

@@ -33,12 +33,11 @@ pub struct RenderSettings {
     pub seed: u64,
 }
 
-/// Whether any glass in the scene has a wavelength-dependent index.
+/// Whether samples are traced at three wavelengths: some glass in the scene
+/// has a wavelength-dependent index ([`crate::scene::Features::dispersion`],
+/// decided when the scene is compiled).
 pub fn is_dispersive(scene: &Scene) -> bool {
-    scene
-        .objects
-        .iter()
-        .any(|o| o.material.transparency > 0.0 && o.material.ior.is_dispersive())
+    scene.features.dispersion
 }
 
 /// Radiance of one camera sample at continuous pixel position `(x, y)`.
