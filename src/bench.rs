@@ -25,6 +25,40 @@ pub fn median_time(runs: usize, mut f: impl FnMut()) -> f64 {
     v[v.len() / 2]
 }
 
+/// Median frame times (seconds, 1 sample per pixel) of several scenes and
+/// sizes, timed round-robin: `runs` rounds, each timing every item once
+/// (after one warm-up each), so that a slow spell of a shared machine falls
+/// on all the points of a sweep alike instead of bending one of them.
+pub fn interleaved_frame_times(items: &[(&Scene, u32, u32)], runs: usize) -> Vec<f64> {
+    let frame = |&(scene, width, height): &(&Scene, u32, u32)| {
+        let s = RenderSettings {
+            width,
+            height,
+            spp: 1,
+            seed: 0,
+        };
+        let t = Instant::now();
+        std::hint::black_box(render(scene, &s, None));
+        t.elapsed().as_secs_f64()
+    };
+    items.iter().for_each(|i| {
+        frame(i);
+    });
+    let mut times = vec![Vec::new(); items.len()];
+    for _ in 0..runs.max(1) {
+        for (i, item) in items.iter().enumerate() {
+            times[i].push(frame(item));
+        }
+    }
+    times
+        .into_iter()
+        .map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect()
+}
+
 /// One full Whitted frame at 1 sample per pixel.
 pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
     let s = RenderSettings {

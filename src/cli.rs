@@ -300,7 +300,10 @@ fn bench(a: &BenchArgs) -> Result<()> {
     std::fs::create_dir_all(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;
     let out = |name: &str| a.out_dir.join(name);
     let runs = a.runs;
-    println!("lensview bench: median of {runs} runs, {threads} threads, 1 sample per pixel, full Whitted shading");
+    println!(
+        "lensview bench: median of {runs} runs (the points of a sweep timed round-robin), {threads} threads, \
+         1 sample per pixel, full Whitted shading"
+    );
 
     // 1. Render time against image size.
     let sizes: Vec<(u32, u32)> = if a.quick {
@@ -318,9 +321,10 @@ fn bench(a: &BenchArgs) -> Result<()> {
     let mut csv = String::from("width,height,pixels,median_ms\n");
     let mut pts = Vec::new();
     println!("\nimage size      median ms    M samples/s");
-    for &(w, h) in &sizes {
-        let r = if w * h >= 1_000_000 { runs.min(3) } else { runs };
-        let ms = frame_time(&scene, w, h, r) * 1e3;
+    let items: Vec<(&Scene, u32, u32)> = sizes.iter().map(|&(w, h)| (&scene, w, h)).collect();
+    let times = interleaved_frame_times(&items, runs);
+    for (&(w, h), t) in sizes.iter().zip(times) {
+        let ms = t * 1e3;
         let px = (w * h) as f64;
         println!("{:>5}×{:<5} {:>12.2} {:>14.2}", w, h, ms, px / ms / 1e3);
         let _ = writeln!(csv, "{w},{h},{px},{ms:.3}");
@@ -351,24 +355,28 @@ fn bench(a: &BenchArgs) -> Result<()> {
     let counts: Vec<usize> = if a.quick { vec![0, 5, 25] } else { (0..=25).collect() };
     let mut removal = Vec::new();
     println!("\ncubes (of 25) at {w}×{h}: median ms");
-    for &n in &counts {
-        let s = cubes_subset(&sf, n);
-        let ms = frame_time(&s, w, h, runs) * 1e3;
-        print!("{n}:{ms:.2}  ");
-        let _ = writeln!(csv, "cubes scene,{n},{ms:.3}");
-        removal.push((n.max(1) as f64, ms));
-    }
-    println!();
+    let subsets: Vec<Scene> = counts.iter().map(|&n| cubes_subset(&sf, n)).collect();
     let sides: Vec<usize> = if a.quick {
         vec![2, 5, 10]
     } else {
         vec![5, 10, 20, 30, 40, 50]
     };
+    let grids: Vec<Scene> = sides.iter().map(|&side| cubes_grid(&sf, side)).collect();
+    // Both series in one round-robin.
+    let items: Vec<(&Scene, u32, u32)> = subsets.iter().chain(&grids).map(|s| (s, w, h)).collect();
+    let times = interleaved_frame_times(&items, runs);
+    let (removal_times, grid_times) = times.split_at(counts.len());
+    for (&n, t) in counts.iter().zip(removal_times) {
+        let ms = t * 1e3;
+        print!("{n}:{ms:.2}  ");
+        let _ = writeln!(csv, "cubes scene,{n},{ms:.3}");
+        removal.push((n.max(1) as f64, ms));
+    }
+    println!();
     let mut grid = Vec::new();
     println!("grid of cubes at {w}×{h}:");
-    for &side in &sides {
-        let s = cubes_grid(&sf, side);
-        let ms = frame_time(&s, w, h, runs) * 1e3;
+    for (&side, t) in sides.iter().zip(grid_times) {
+        let ms = t * 1e3;
         let n = side * side;
         println!("  {n:>5} cubes {ms:>10.2} ms");
         let _ = writeln!(csv, "grid,{n},{ms:.3}");
