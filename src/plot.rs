@@ -95,6 +95,7 @@ pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 15))
