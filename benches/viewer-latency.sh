@@ -12,7 +12,7 @@ w=${size%x*}; h=${size#*x}
 cargo build --release --quiet
 tmp=$(mktemp -d)
 display=:$((200 + RANDOM % 300))
-Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp >/dev/null 2>&1 &
+Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
 xvfb=$!
 trap 'kill $xvfb 2>/dev/null || true; cp "$tmp/frames.jsonl" /tmp/last-frames.jsonl 2>/dev/null || true; rm -rf "$tmp"' EXIT
 export DISPLAY=$display XDG_RUNTIME_DIR=$tmp

@@ -3,8 +3,11 @@
 //! resizing and unmapping do not crash, and Escape exits with status 0.
 //!
 //! Needs `Xvfb`, `xdotool` and ImageMagick's `import` (`.ci/run` installs
-//! them). Every wait polls with a generous time-out; the X server is killed
-//! when the test ends, pass or fail.
+//! them). Every wait polls with a generous time-out; the X server is stopped
+//! when the test ends, pass or fail. The server runs with `-noreset`: by
+//! default Xvfb resets whenever its last client leaves, and a viewer that
+//! connected just as an `xdotool` poll disconnected was refused
+//! (intermittently, "Failed to open connection to X server").
 
 use lensview::render::{Image, RenderSettings, render};
 use lensview::scene::Scene;
@@ -21,45 +24,61 @@ struct Xvfb {
 }
 
 impl Xvfb {
+    /// Starts a server on a display number of its own choosing: with
+    /// `-displayfd` Xvfb picks a free number (clearing stale locks) and
+    /// writes it to our pipe only once it accepts connections, so there is
+    /// neither a race for the number nor a guess at when it is ready.
     fn start() -> Xvfb {
-        // A display number of our own: the first free one from a base per
-        // process and per test (the tests of this file run in parallel).
-        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-        let base = 90 + (std::process::id() % 400) + 500 * k;
-        for n in base..base + 100 {
-            if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
-                continue;
-            }
-            let child = Command::new("Xvfb")
-                .args([&format!(":{n}"), "-screen", "0", "1600x1000x24", "-nolisten", "tcp"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .expect("Xvfb is not installed (apt-get install xvfb)");
-            let mut x = Xvfb {
+        use std::io::BufRead;
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1600x1000x24",
+                "-nolisten",
+                "tcp",
+                "-noreset",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb is not installed (apt-get install xvfb)");
+        let out = child.stdout.take().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut line = String::new();
+            let _ = std::io::BufReader::new(out).read_line(&mut line);
+            let _ = tx.send(line);
+        });
+        match rx.recv_timeout(Duration::from_secs(120)) {
+            Ok(line) if line.trim().parse::<u32>().is_ok() => Xvfb {
                 child,
-                display: format!(":{n}"),
-            };
-            // Ours only if our server is still running once the socket is
-            // there (a server that lost a race for the number exits).
-            if wait_until(Duration::from_secs(20), || {
-                Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-            }) {
-                std::thread::sleep(Duration::from_millis(300));
-                if x.child.try_wait().ok().flatten().is_none() {
-                    return x;
-                }
+                display: format!(":{}", line.trim()),
+            },
+            other => {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("Xvfb did not start: {other:?}");
             }
-            let _ = x.child.kill();
         }
-        panic!("could not start Xvfb");
     }
 }
 
 impl Drop for Xvfb {
+    /// SIGTERM first, so that the server removes its lock file and socket;
+    /// SIGKILL if it has not gone within 10 s.
     fn drop(&mut self) {
-        let _ = self.child.kill();
+        // `kill` as the shell's builtin: no package beyond `sh` needed.
+        let _ = Command::new("sh")
+            .args(["-c", &format!("kill {}", self.child.id())])
+            .status();
+        if !wait_until(Duration::from_secs(10), || {
+            self.child.try_wait().ok().flatten().is_some()
+        }) {
+            let _ = self.child.kill();
+        }
         let _ = self.child.wait();
     }
 }
@@ -142,7 +161,12 @@ impl<'a> Session<'a> {
                 use std::io::Read;
                 let _ = e.read_to_string(&mut err);
             }
-            panic!("the window never appeared (viewer exit: {exited:?}); stderr: {err}");
+            let probe = Command::new("xdpyinfo").args(["-display", &x.display]).output();
+            let alive = probe.map(|o| o.status.success());
+            panic!(
+                "the window never appeared on {} (server answers: {alive:?}; viewer exit: {exited:?}); stderr: {err}",
+                x.display
+            );
         }
         s.window = id;
         s.xdotool(&["windowfocus", "--sync", &s.window]);

@@ -165,8 +165,7 @@ impl Bvh {
         }
         let inv = ray.dir.recip();
         let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
-        let mut stack = [0u32; 64];
-        let mut sp = 0usize;
+        let mut stack = Stack::new();
         let mut i = 0usize;
         loop {
             let node = &self.nodes[i];
@@ -180,30 +179,72 @@ impl Bvh {
                         }
                     }
                 } else {
-                    // Nearer child first along the split axis.
-                    let (near, far) = if neg[node.axis as usize] {
-                        (node.first as usize, i + 1)
-                    } else {
-                        (i + 1, node.first as usize)
-                    };
-                    if sp < stack.len() {
-                        stack[sp] = far as u32;
-                        sp += 1;
-                        i = near;
-                        continue;
-                    }
-                    // A degenerate tree deeper than the stack: fall back to
-                    // visiting this subtree's leaves in order (still correct).
+                    let (near, far) = node.near_far(i, neg);
+                    stack.push(far);
                     i = near;
                     continue;
                 }
             }
-            if sp == 0 {
-                return;
+            match stack.pop() {
+                Some(next) => i = next,
+                None => return,
             }
-            sp -= 1;
-            i = stack[sp] as usize;
         }
+    }
+}
+
+impl Node {
+    /// An inner node's children, nearer first along its split axis for a
+    /// ray whose direction has the signs `neg` (`i` is this node's index).
+    #[inline(always)]
+    pub(crate) fn near_far(&self, i: usize, neg: [bool; 3]) -> (usize, usize) {
+        if neg[self.axis as usize] {
+            (self.first as usize, i + 1)
+        } else {
+            (i + 1, self.first as usize)
+        }
+    }
+}
+
+/// The traversal stack of node indices: 64 on the stack frame, which a
+/// balanced tree never outgrows, then a vector that a degenerate tree (one
+/// object a level) spills into, so that no subtree is ever left out.
+pub(crate) struct Stack {
+    items: [u32; 64],
+    len: usize,
+    spill: Vec<u32>,
+}
+
+impl Stack {
+    #[inline(always)]
+    pub(crate) fn new() -> Stack {
+        Stack {
+            items: [0; 64],
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn push(&mut self, i: usize) {
+        if self.len < self.items.len() {
+            self.items[self.len] = i as u32;
+            self.len += 1;
+        } else {
+            self.spill.push(i as u32);
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn pop(&mut self) -> Option<usize> {
+        if let Some(i) = self.spill.pop() {
+            return Some(i as usize);
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.items[self.len] as usize)
     }
 }
 
@@ -293,6 +334,43 @@ mod tests {
             let want = brute(&b, &ray);
             assert_eq!(best.map(|x| x.1), want.map(|x| x.1), "ray {o} {d}");
         }
+    }
+
+    /// Boxes at 20⁻ᵏ put all but one centroid in the first of the 12 bins
+    /// at every level, so the SAH peels one object a level: a tree far deeper
+    /// than the 64-entry stack, which must still be walked whole.
+    #[test]
+    fn a_degenerate_tree_deeper_than_the_stack_is_walked_whole() {
+        let b: Vec<Aabb> = (0..100)
+            .map(|k| {
+                let x = 0.05f64.powi(k);
+                Aabb::new(DVec3::new(x, -1.0, -1.0), DVec3::new(x + 0.01 * x, 1.0, 1.0))
+            })
+            .collect();
+        let bvh = Bvh::build(&b);
+        fn depth(bvh: &Bvh, i: usize) -> usize {
+            let n = &bvh.nodes[i];
+            if n.count > 0 {
+                1
+            } else {
+                1 + depth(bvh, i + 1).max(depth(bvh, n.first as usize))
+            }
+        }
+        assert!(depth(&bvh, 0) > 64, "depth {}", depth(&bvh, 0));
+        // Along +x every box is in the way, and the walk goes down the deep
+        // side first, leaving one far child on the stack a level.
+        let ray = Ray::new(DVec3::new(-1e9, 0.0, 0.0), DVec3::X);
+        let mut seen = vec![false; b.len()];
+        bvh.traverse(&ray, f64::INFINITY, |p, _| {
+            seen[p as usize] = true;
+            Ok(None)
+        });
+        assert!(
+            seen.iter().all(|&s| s),
+            "{} of {} boxes visited",
+            seen.iter().filter(|&&s| s).count(),
+            b.len()
+        );
     }
 
     #[test]

@@ -373,8 +373,7 @@ fn walk<const SKIP: bool, const ANY: bool>(
             // Children in the order of the first lane's direction: the rays
             // of a packet travel nearly alike.
             let neg = [p.inv[0][0] < 0.0, p.inv[1][0] < 0.0, p.inv[2][0] < 0.0];
-            let mut stack = [0u32; 64];
-            let mut sp = 0usize;
+            let mut stack = super::Stack::new();
             let mut i = 0usize;
             loop {
                 let node = &bvh.nodes[i];
@@ -392,26 +391,16 @@ fn walk<const SKIP: bool, const ANY: bool>(
                             return;
                         }
                     } else {
-                        let (near, far) = if neg[node.axis as usize] {
-                            (node.first as usize, i + 1)
-                        } else {
-                            (i + 1, node.first as usize)
-                        };
-                        if sp < stack.len() {
-                            stack[sp] = far as u32;
-                            sp += 1;
-                        }
-                        // (A tree deeper than the stack is walked without its
-                        // far children; `Bvh::build` never makes one.)
+                        let (near, far) = node.near_far(i, neg);
+                        stack.push(far);
                         i = near;
                         continue;
                     }
                 }
-                if sp == 0 {
-                    return;
+                match stack.pop() {
+                    Some(next) => i = next,
+                    None => return,
                 }
-                sp -= 1;
-                i = stack[sp] as usize;
             }
         }
     }
