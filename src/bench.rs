@@ -3,8 +3,9 @@
 //! scene that uses it and a scene that does not. Every figure is the median
 //! of several timed runs of the real renderer.
 
+use crate::accel::packet::{LANES, Packet, PacketHits, camera_hits};
 use crate::color::Rgb;
-use crate::integrator::{closest_hit, radiance_packet_unspecialised};
+use crate::integrator::{PacketKernel, PacketPaths, closest_hit, radiance_packet_unspecialised};
 use crate::render::{RenderSettings, render};
 use crate::scene::file::{ObjectFile, SceneFile, ShapeKind};
 use crate::scene::{Features, Scene};
@@ -76,42 +77,36 @@ pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
 /// as the renderer casts them) shaded by `kernel`, in a plain parallel loop
 /// (no image kept): the harness in which the specialised and unspecialised
 /// kernels are compared on equal terms.
-pub fn frame_time_with(
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    runs: usize,
-    kernel: crate::integrator::PacketKernel,
-) -> f64 {
+pub fn frame_time_with(scene: &Scene, width: u32, height: u32, runs: usize, kernel: PacketKernel) -> f64 {
     median_time(runs, || {
         std::hint::black_box(packet_frame(scene, width, height, kernel));
     })
 }
 
+/// Calls `f(packet, hits, n)` for the camera packets of row `y`: eight
+/// pixel centres at a time (`n` of them in the last), as the renderer casts
+/// them.
+fn centre_packets(scene: &Scene, width: u32, height: u32, y: u32, mut f: impl FnMut(&Packet, &PacketHits, usize)) {
+    let ys = [y as f64 + 0.5; LANES];
+    for x0 in (0..width).step_by(LANES) {
+        let n = ((width - x0) as usize).min(LANES);
+        let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+        let (p, hits) = camera_hits(scene, &xs, &ys, n, width, height);
+        f(&p, &hits, n);
+    }
+}
+
 /// One frame at pixel centres through `kernel`, in camera packets, in
 /// parallel rows; returns the sum of its pixels.
-pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: crate::integrator::PacketKernel) -> Rgb {
-    use crate::accel::packet::{LANES, camera_hits};
+pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel) -> Rgb {
     (0..height)
         .into_par_iter()
         .map(|y| {
             let mut acc = Rgb::ZERO;
-            let ys = [y as f64 + 0.5; LANES];
-            for x0 in (0..width).step_by(LANES) {
-                let k = ((width - x0) as usize).min(LANES);
-                let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
-                let (p, hits) = camera_hits(scene, &xs, &ys, k, width, height);
-                let c = kernel(
-                    scene,
-                    &p,
-                    &hits,
-                    (1 << k) - 1,
-                    &[0; LANES],
-                    &[1.0; LANES],
-                    crate::optics::WAVELENGTH_D_UM,
-                );
+            centre_packets(scene, width, height, y, |p, hits, n| {
+                let c = kernel(scene, &PacketPaths::camera(p, hits, n), crate::optics::WAVELENGTH_D_UM);
                 acc += c.iter().sum::<Rgb>();
-            }
+            });
             acc
         })
         .sum()
@@ -121,20 +116,15 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: crate::integ
 /// the way the renderer casts them: packets of eight neighbouring pixels
 /// ([`crate::accel::packet`]).
 pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
-    use crate::accel::packet::{LANES, camera_hits};
     let t = median_time(runs, || {
         let hits: usize = (0..height)
             .into_par_iter()
             .map(|y| {
-                let mut n = 0;
-                let ys = [y as f64 + 0.5; LANES];
-                for x0 in (0..width).step_by(LANES) {
-                    let k = ((width - x0) as usize).min(LANES);
-                    let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
-                    let (_, h) = camera_hits(scene, &xs, &ys, k, width, height);
-                    n += (0..k).filter(|&l| h.get(l).is_some()).count();
-                }
-                n
+                let mut count = 0;
+                centre_packets(scene, width, height, y, |_, hits, n| {
+                    count += (0..n).filter(|&l| hits.get(l).is_some()).count();
+                });
+                count
             })
             .sum();
         std::hint::black_box(hits);
@@ -400,7 +390,6 @@ mod tests {
 
     #[test]
     fn unspecialised_kernel_draws_the_same_picture() {
-        use crate::integrator::radiance_unspecialised;
         let (sf, _) = Scene::default_scene();
         let mut no_spec = sf.clone();
         no_spec.materials.values_mut().for_each(|m| m.specular = 0.0);
@@ -408,20 +397,27 @@ mod tests {
         no_spec.lenses.clear();
         let s = Scene::build(&no_spec).unwrap();
         assert!(!s.features.specular && !s.features.shadows);
-        for (x, y) in [(10.0, 10.0), (200.0, 200.0), (150.0, 300.0), (390.0, 390.0)] {
-            let ray = s.camera.ray(x, y, 400, 400);
-            let a = crate::integrator::radiance(&s, &ray, 0, crate::optics::WAVELENGTH_D_UM);
-            let b = radiance_unspecialised(&s, &ray, 0, crate::optics::WAVELENGTH_D_UM);
+        // Packets of one pixel at the corners and middle, and one of eight
+        // across a row: the specialised and unspecialised packet kernels
+        // and the scalar `radiance` agree in every lane.
+        let wavelength = crate::optics::WAVELENGTH_D_UM;
+        let mut packets: Vec<([f64; LANES], f64, usize)> =
+            [(10.0, 10.0), (200.0, 200.0), (150.0, 300.0), (390.0, 390.0)]
+                .iter()
+                .map(|&(x, y)| ([x; LANES], y, 1))
+                .collect();
+        packets.push((std::array::from_fn(|l| 37.0 * l as f64 + 3.5), 200.5, LANES));
+        for (xs, y, n) in packets {
+            let (p, hits) = camera_hits(&s, &xs, &[y; LANES], n, 400, 400);
+            let paths = PacketPaths::camera(&p, &hits, n);
+            let a = crate::integrator::radiance_packet(&s, &paths, wavelength);
+            let b = radiance_packet_unspecialised(&s, &paths, wavelength);
             assert_eq!(a, b);
+            for l in 0..n {
+                let ray = s.camera.ray(xs[l], y, 400, 400);
+                assert_eq!(a[l], crate::integrator::radiance(&s, &ray, 0, wavelength), "lane {l}");
+                assert!(a[l] != Rgb::ZERO);
+            }
         }
-        // And the packet kernels, eight pixels at a time.
-        use crate::accel::packet::{LANES, camera_hits};
-        let xs = std::array::from_fn(|l| 37.0 * l as f64 + 3.5);
-        let (p, hits) = camera_hits(&s, &xs, &[200.5; LANES], LANES, 400, 400);
-        let args = (0xff, &[0; LANES], &[1.0; LANES], crate::optics::WAVELENGTH_D_UM);
-        let a = crate::integrator::radiance_packet(&s, &p, &hits, args.0, args.1, args.2, args.3);
-        let b = radiance_packet_unspecialised(&s, &p, &hits, args.0, args.1, args.2, args.3);
-        assert_eq!(a, b);
-        assert!(a.iter().all(|c| *c != Rgb::ZERO));
     }
 }

@@ -112,39 +112,46 @@ pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
     with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
 }
 
-/// [`radiance`] of every ray of a packet whose closest hits are known
-/// (lanes of `active`, a bit mask, at path depth `depth[l]` and weight
-/// `weight[l]`): the same values, lane by lane, with the shadow rays and
-/// the refracted and reflected rays of the lanes traced as packets too.
-pub fn radiance_packet(
-    scene: &Scene,
-    p: &Packet,
-    hits: &PacketHits,
-    active: u32,
-    depth: &[u32; LANES],
-    weight: &[f64; LANES],
-    lambda_um: f64,
-) -> [Rgb; LANES] {
+/// The rays of a packet in flight: their closest hits, which lanes are live
+/// (`active`, a bit mask), and each lane's path depth and weight.
+#[derive(Clone, Copy, Debug)]
+pub struct PacketPaths<'a> {
+    pub rays: &'a Packet,
+    pub hits: &'a PacketHits,
+    pub active: u32,
+    pub depth: [u32; LANES],
+    pub weight: [f64; LANES],
+}
+
+impl<'a> PacketPaths<'a> {
+    /// Camera rays: the first `n` lanes live, at depth 0 and weight 1.
+    pub fn camera(rays: &'a Packet, hits: &'a PacketHits, n: usize) -> Self {
+        PacketPaths {
+            rays,
+            hits,
+            active: (1u32 << n) - 1,
+            depth: [0; LANES],
+            weight: [1.0; LANES],
+        }
+    }
+}
+
+/// [`radiance`] of every live ray of a packet whose closest hits are known:
+/// the same values, lane by lane, with the shadow rays and the refracted and
+/// reflected rays of the lanes traced as packets too.
+pub fn radiance_packet(scene: &Scene, paths: &PacketPaths, lambda_um: f64) -> [Rgb; LANES] {
     let f = scene.features;
-    with_features!(f, packet_kernel, (scene, p, hits, active, depth, weight, lambda_um))
+    with_features!(f, packet_kernel, (scene, paths, lambda_um))
 }
 
 /// [`radiance_packet`] with every feature compiled in: what a renderer that
 /// does not specialise would run. For benchmarks of the savings.
-pub fn radiance_packet_unspecialised(
-    scene: &Scene,
-    p: &Packet,
-    hits: &PacketHits,
-    active: u32,
-    depth: &[u32; LANES],
-    weight: &[f64; LANES],
-    lambda_um: f64,
-) -> [Rgb; LANES] {
-    packet_kernel::<true, true, true, true>(scene, p, hits, active, depth, weight, lambda_um)
+pub fn radiance_packet_unspecialised(scene: &Scene, paths: &PacketPaths, lambda_um: f64) -> [Rgb; LANES] {
+    packet_kernel::<true, true, true, true>(scene, paths, lambda_um)
 }
 
 /// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
-pub type PacketKernel = fn(&Scene, &Packet, &PacketHits, u32, &[u32; LANES], &[f64; LANES], f64) -> [Rgb; LANES];
+pub type PacketKernel = fn(&Scene, &PacketPaths, f64) -> [Rgb; LANES];
 
 /// Lights whose shadow rays a packet casts as packets (the shadow rays of
 /// any further light are cast one by one).
@@ -155,13 +162,16 @@ const MIN_PACKET: u32 = 3;
 
 fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
-    p: &Packet,
-    hits: &PacketHits,
-    active: u32,
-    depth: &[u32; LANES],
-    weight: &[f64; LANES],
+    paths: &PacketPaths,
     lambda_um: f64,
 ) -> [Rgb; LANES] {
+    let PacketPaths {
+        rays: p,
+        hits,
+        active,
+        depth,
+        weight,
+    } = *paths;
     let rays: [Ray; LANES] = std::array::from_fn(|l| p.ray(l));
     let surfaces: [Option<Surface>; LANES] = std::array::from_fn(|l| {
         hits.get(l)
@@ -250,15 +260,14 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         }
         let child = Packet::with_limits(&rays, &t_max);
         let child_hits = closest_hits(scene, &child, &skip);
-        *back = packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-            scene,
-            &child,
-            &child_hits,
+        let child_paths = PacketPaths {
+            rays: &child,
+            hits: &child_hits,
             active,
-            &depth,
-            &weight,
-            lambda_um,
-        );
+            depth,
+            weight,
+        };
+        *back = packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &child_paths, lambda_um);
     }
     // In the order `shade` asked for them: refracted, then reflected.
     for l in 0..LANES {
@@ -269,13 +278,6 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         }
     }
     out
-}
-
-/// The kernel with every feature compiled in, deciding per hit from the
-/// materials and settings (the same picture): what a renderer that does not
-/// specialise would run. For benchmarks of the savings.
-pub fn radiance_unspecialised(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
-    kernel::<true, true, true, true>(scene, ray, usize::MAX, depth, lambda_um, 1.0)
 }
 
 /// Calls `$f::<SHADOWS, GLASS, MIRROR, SPECULAR>$args` with the const

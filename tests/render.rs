@@ -50,7 +50,7 @@ fn point_light_over_diffuse_plane_follows_inverse_square_cosine_law() {
     let albedo = DVec3::new(0.8, 0.6, 0.4) * 0.9;
     let mut checked = 0;
     for (px, py) in [(0, 0), (32, 24), (5, 40), (63, 47), (20, 10)] {
-        let got = render_pixel(&scene, false, px, py, &s);
+        let got = render_pixel(&scene, px, py, &s);
         // Where the pixel's ray meets the plane y = 0, computed here directly.
         let ray = scene.camera.ray(px as f64 + 0.5, py as f64 + 0.5, w, h);
         let t = -ray.origin.y / ray.dir.y;

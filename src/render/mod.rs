@@ -12,7 +12,7 @@ pub use image::Image;
 
 use crate::accel::packet::{LANES, camera_hits};
 use crate::color::Rgb;
-use crate::integrator::{radiance, radiance_packet};
+use crate::integrator::{PacketPaths, radiance, radiance_packet};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -33,18 +33,11 @@ pub struct RenderSettings {
     pub seed: u64,
 }
 
-/// Whether samples are traced at three wavelengths: some glass in the scene
-/// has a wavelength-dependent index ([`crate::scene::Features::dispersion`],
-/// decided when the scene is compiled).
-pub fn is_dispersive(scene: &Scene) -> bool {
-    scene.features.dispersion
-}
-
 /// Radiance of one camera sample at continuous pixel position `(x, y)`.
 #[inline]
-pub fn sample(scene: &Scene, dispersive: bool, x: f64, y: f64, width: u32, height: u32) -> Rgb {
+pub fn sample(scene: &Scene, x: f64, y: f64, width: u32, height: u32) -> Rgb {
     let ray = scene.camera.ray(x, y, width, height);
-    if dispersive {
+    if scene.features.dispersion {
         let mut c = Rgb::ZERO;
         for (ch, &l) in RGB_WAVELENGTHS_UM.iter().enumerate() {
             c[ch] = radiance(scene, &ray, 0, l)[ch];
@@ -61,7 +54,6 @@ pub fn sample(scene: &Scene, dispersive: bool, x: f64, y: f64, width: u32, heigh
 #[inline]
 pub fn sample_packet(
     scene: &Scene,
-    dispersive: bool,
     xs: &[f64; LANES],
     ys: &[f64; LANES],
     n: usize,
@@ -69,19 +61,18 @@ pub fn sample_packet(
     height: u32,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    let active = (1u32 << n) - 1;
-    let (depth, weight) = ([0; LANES], [1.0; LANES]);
-    if dispersive {
+    let paths = PacketPaths::camera(&p, &hits, n);
+    if scene.features.dispersion {
         let mut out = [Rgb::ZERO; LANES];
         for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
-            let c = radiance_packet(scene, &p, &hits, active, &depth, &weight, lambda);
+            let c = radiance_packet(scene, &paths, lambda);
             for l in 0..n {
                 out[l][ch] = c[l][ch];
             }
         }
         out
     } else {
-        radiance_packet(scene, &p, &hits, active, &depth, &weight, WAVELENGTH_D_UM)
+        radiance_packet(scene, &paths, WAVELENGTH_D_UM)
     }
 }
 
@@ -89,15 +80,7 @@ pub fn sample_packet(
 /// one-sample render is the pixel centre, others are stratified jitter
 /// keyed by (seed, pixel, sample)), in packets of eight pixels.
 #[inline]
-pub fn add_row_samples(
-    scene: &Scene,
-    dispersive: bool,
-    y: u32,
-    i: u32,
-    centre: bool,
-    s: &RenderSettings,
-    row: &mut [Rgb],
-) {
+pub fn add_row_samples(scene: &Scene, y: u32, i: u32, centre: bool, s: &RenderSettings, row: &mut [Rgb]) {
     for (c, chunk) in row.chunks_mut(LANES).enumerate() {
         let x0 = (c * LANES) as u32;
         let mut xs = [0.0; LANES];
@@ -112,7 +95,7 @@ pub fn add_row_samples(
             xs[l] = px as f64 + jx;
             ys[l] = y as f64 + jy;
         }
-        let v = sample_packet(scene, dispersive, &xs, &ys, chunk.len(), s.width, s.height);
+        let v = sample_packet(scene, &xs, &ys, chunk.len(), s.width, s.height);
         for (px, v) in chunk.iter_mut().zip(v) {
             *px += v;
         }
@@ -121,16 +104,16 @@ pub fn add_row_samples(
 
 /// The mean of `spp` samples of pixel `(px, py)`: the pixel centre for one
 /// sample, otherwise stratified jitter keyed by (seed, pixel, sample).
-pub fn render_pixel(scene: &Scene, dispersive: bool, px: u32, py: u32, s: &RenderSettings) -> Rgb {
+pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb {
     if s.spp <= 1 {
-        return sample(scene, dispersive, px as f64 + 0.5, py as f64 + 0.5, s.width, s.height);
+        return sample(scene, px as f64 + 0.5, py as f64 + 0.5, s.width, s.height);
     }
     let pixel = py as u64 * s.width as u64 + px as u64;
     let mut sum = Rgb::ZERO;
     for i in 0..s.spp {
         let mut rng = Sampler::new(s.seed, pixel, i as u64);
         let (jx, jy) = rng.next_2d();
-        sum += sample(scene, dispersive, px as f64 + jx, py as f64 + jy, s.width, s.height);
+        sum += sample(scene, px as f64 + jx, py as f64 + jy, s.width, s.height);
     }
     sum / s.spp as f64
 }
@@ -142,7 +125,6 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
     if s.width == 0 || s.height == 0 {
         return img;
     }
-    let dispersive = is_dispersive(scene);
     let done = AtomicUsize::new(0);
     let step = (s.height as usize / 100).max(1);
     img.pixels
@@ -152,7 +134,7 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
             // Sample by sample over the row, in packets; each pixel adds its
             // samples in the order `render_pixel` does.
             for i in 0..s.spp.max(1) {
-                add_row_samples(scene, dispersive, y as u32, i, s.spp <= 1, s, row);
+                add_row_samples(scene, y as u32, i, s.spp <= 1, s, row);
             }
             if s.spp > 1 {
                 for px in row.iter_mut() {
@@ -193,14 +175,9 @@ mod tests {
                     seed: 5,
                 };
                 let img = render(scene, &s, None);
-                let dispersive = is_dispersive(scene);
                 for y in 0..s.height {
                     for x in 0..s.width {
-                        assert_eq!(
-                            img.get(x, y),
-                            render_pixel(scene, dispersive, x, y, &s),
-                            "pixel {x},{y}"
-                        );
+                        assert_eq!(img.get(x, y), render_pixel(scene, x, y, &s), "pixel {x},{y}");
                     }
                 }
             }

@@ -7,7 +7,7 @@
 //! samples is therefore the same whatever the thread count, and the same
 //! whether it got there in one wave or many.
 
-use super::{RenderSettings, add_row_samples, is_dispersive, sample_packet};
+use super::{RenderSettings, add_row_samples, sample_packet};
 use crate::accel::packet::LANES;
 use crate::color::Rgb;
 use crate::scene::Scene;
@@ -126,7 +126,6 @@ impl Progressive {
         if w == 0 || h == 0 {
             return true;
         }
-        let dispersive = is_dispersive(scene);
         match stage {
             Stage::Blocks(n) => {
                 let n = n.max(1) as usize;
@@ -144,7 +143,7 @@ impl Progressive {
                         let k = (blocks - b0).min(LANES);
                         let xs = std::array::from_fn(|l| ((b0 + l) * n + n / 2).min(w - 1) as f64 + 0.5);
                         let ys = [cy as f64 + 0.5; LANES];
-                        let c = sample_packet(scene, dispersive, &xs, &ys, k, self.width, self.height);
+                        let c = sample_packet(scene, &xs, &ys, k, self.width, self.height);
                         for (l, &c) in c.iter().enumerate().take(k) {
                             let x0 = (b0 + l) * n;
                             for r in 0..rows_here {
@@ -182,7 +181,7 @@ impl Progressive {
                     for (r, row) in rows.chunks_mut(w).enumerate() {
                         let y = (band * BAND + r) as u32;
                         for s in from..target {
-                            add_row_samples(scene, dispersive, y, s, s == 0, &settings, row);
+                            add_row_samples(scene, y, s, s == 0, &settings, row);
                         }
                     }
                     true
