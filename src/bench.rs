@@ -3,7 +3,7 @@
 //! scene that uses it and a scene that does not. Every figure is the median
 //! of several timed runs of the real renderer.
 
-use crate::accel::packet::{LANES, Packet, PacketHits, camera_hits};
+use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
 use crate::integrator::{PacketKernel, PacketPaths, closest_hit, radiance_packet_unspecialised};
 use crate::render::{RenderSettings, render};
@@ -83,27 +83,56 @@ pub fn frame_time_with(scene: &Scene, width: u32, height: u32, runs: usize, kern
     })
 }
 
-/// Calls `f(packet, hits, n)` for the camera packets of row `y`: eight
-/// pixel centres at a time (`n` of them in the last), as the renderer casts
-/// them.
-fn centre_packets(scene: &Scene, width: u32, height: u32, y: u32, mut f: impl FnMut(&Packet, &PacketHits, usize)) {
-    let ys = [y as f64 + 0.5; LANES];
+/// Calls `f(packet, hits, n)` for the camera packets of the band of rows
+/// from `TILE · band`: pixel centres cast in tiles of eight pixels by the
+/// band's rows, a packet to each row (`n` pixels in the last column), as
+/// the renderer casts them ([`camera_tile_hits`]). With `tiles` off, each
+/// packet walks the BVH alone ([`camera_hits`]).
+fn centre_packets(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    band: u32,
+    tiles: bool,
+    mut f: impl FnMut(&Packet, &PacketHits, usize),
+) {
+    let y0 = band * TILE as u32;
+    let rows = ((height - y0) as usize).min(TILE);
+    let ys: [[f64; LANES]; TILE] = std::array::from_fn(|r| [(y0 as usize + r) as f64 + 0.5; LANES]);
+    let mut tile = CameraTile::default();
     for x0 in (0..width).step_by(LANES) {
         let n = ((width - x0) as usize).min(LANES);
-        let xs = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
-        let (p, hits) = camera_hits(scene, &xs, &ys, n, width, height);
-        f(&p, &hits, n);
+        let xs = [std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5); TILE];
+        if tiles {
+            camera_tile_hits(
+                scene,
+                &xs[..rows],
+                &ys[..rows],
+                &[n; TILE][..rows],
+                width,
+                height,
+                &mut tile,
+            );
+            for r in 0..rows {
+                f(&tile.packets[r], &tile.hits[r], n);
+            }
+        } else {
+            for r in 0..rows {
+                let (p, hits) = camera_hits(scene, &xs[r], &ys[r], n, width, height);
+                f(&p, &hits, n);
+            }
+        }
     }
 }
 
-/// One frame at pixel centres through `kernel`, in camera packets, in
-/// parallel rows; returns the sum of its pixels.
+/// One frame at pixel centres through `kernel`, in tiles of camera
+/// packets, in parallel bands of rows; returns the sum of its pixels.
 pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel) -> Rgb {
-    (0..height)
+    (0..height.div_ceil(TILE as u32))
         .into_par_iter()
-        .map(|y| {
+        .map(|band| {
             let mut acc = Rgb::ZERO;
-            centre_packets(scene, width, height, y, |p, hits, n| {
+            centre_packets(scene, width, height, band, true, |p, hits, n| {
                 let c = kernel(scene, &PacketPaths::camera(p, hits, n), crate::optics::WAVELENGTH_D_UM);
                 acc += c.iter().sum::<Rgb>();
             });
@@ -113,15 +142,17 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel
 }
 
 /// Closest-hit primary rays per second (pixel centres, no shading), cast
-/// the way the renderer casts them: packets of eight neighbouring pixels
-/// ([`crate::accel::packet`]).
-pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
+/// the way the renderer casts them: tiles of 8 × 8 pixels whose frustum
+/// walks the BVH once, each row of a tile a packet of eight rays
+/// ([`crate::accel::packet`]). With `tiles` off, each packet walks the BVH
+/// on its own.
+pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize, tiles: bool) -> f64 {
     let t = median_time(runs, || {
-        let hits: usize = (0..height)
+        let hits: usize = (0..height.div_ceil(TILE as u32))
             .into_par_iter()
-            .map(|y| {
+            .map(|band| {
                 let mut count = 0;
-                centre_packets(scene, width, height, y, |_, hits, n| {
+                centre_packets(scene, width, height, band, tiles, |_, hits, n| {
                     count += (0..n).filter(|&l| hits.get(l).is_some()).count();
                 });
                 count

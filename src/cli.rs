@@ -276,22 +276,20 @@ fn bench(a: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     if a.primary_only {
-        let rps = primary_rays_per_second(&scene, a.width, a.height, a.runs);
+        let rps = primary_rays_per_second(&scene, a.width, a.height, a.runs, true);
+        let packets = primary_rays_per_second(&scene, a.width, a.height, a.runs, false);
         let scalar = primary_rays_per_second_scalar(&scene, a.width, a.height, a.runs);
         println!("primary_rays_per_s {rps:.0}");
+        println!("primary_rays_per_s_packets_alone {packets:.0}");
         println!("primary_rays_per_s_scalar {scalar:.0}");
         println!(
-            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in packets of {} ({}); \
-             {:.2} M/s one ray at a time ({:.2}×)",
+            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in 8×8 tiles of packets of {} ({}); {:.2} M/s with each packet walking alone; {:.2} M/s one ray at a time (tiles {:.2}× one by one)",
             rps / 1e6,
             a.width,
             a.height,
             lensview::accel::packet::LANES,
-            if lensview::accel::packet::uses_avx2() {
-                "AVX2"
-            } else {
-                "SSE2"
-            },
+            simd_name(),
+            packets / 1e6,
             scalar / 1e6,
             rps / scalar
         );
@@ -407,20 +405,18 @@ fn bench(a: &BenchArgs) -> Result<()> {
 
     // 3. Throughput and frame rate.
     let (tw, th) = if a.quick { (64, 36) } else { (1280, 720) };
-    let rps = primary_rays_per_second(&scene, tw, th, runs);
+    let rps = primary_rays_per_second(&scene, tw, th, runs, true);
+    let rps_packets = primary_rays_per_second(&scene, tw, th, runs, false);
     let rps_scalar = primary_rays_per_second_scalar(&scene, tw, th, runs);
     let frame = frame_time(&scene, tw, th, runs.min(3));
     let small = frame_time(&scene, 400, 400, runs);
     println!(
-        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in packets of {} ({}), \
-         {:.2} M rays/s one by one ({:.2}×)",
+        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in 8×8 tiles of packets of {} \
+         ({}), {:.2} M rays/s in packets walking alone, {:.2} M rays/s one by one (tiles {:.2}× one by one)",
         rps / 1e6,
         lensview::accel::packet::LANES,
-        if lensview::accel::packet::uses_avx2() {
-            "AVX2"
-        } else {
-            "SSE2"
-        },
+        simd_name(),
+        rps_packets / 1e6,
         rps_scalar / 1e6,
         rps / rps_scalar
     );
@@ -445,7 +441,8 @@ fn bench(a: &BenchArgs) -> Result<()> {
     std::fs::write(
         out("bench-throughput.csv"),
         format!(
-            "measure,value\nprimary_rays_per_s_packets,{rps:.0}\nprimary_rays_per_s_one_by_one,{rps_scalar:.0}\n\
+            "measure,value\nprimary_rays_per_s_tiles,{rps:.0}\nprimary_rays_per_s_packets_alone,{rps_packets:.0}\n\
+             primary_rays_per_s_one_by_one,{rps_scalar:.0}\n\
              frame_ms_{tw}x{th},{:.3}\nframe_ms_400x400,{:.3}\nfirst_level_8x8_ms_{tw}x{th},{:.3}\n",
             frame * 1e3,
             small * 1e3,
@@ -580,4 +577,13 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
+}
+
+/// The instruction set the packet code runs in on this CPU.
+fn simd_name() -> &'static str {
+    if lensview::accel::packet::uses_avx2() {
+        "AVX2"
+    } else {
+        "SSE2"
+    }
 }

@@ -202,9 +202,11 @@ struct ObjectHits {
 /// half sides `h` at `position` without rotation, on `(0, t_max[l])`.
 #[inline(always)]
 fn cuboid(position: DVec3, h: DVec3, p: &Packet, t_max: &Lanes<f64>) -> ObjectHits {
-    let mut hit = [false; LANES];
+    // Flags and faces in 64-bit lanes, the width of the distances, so that
+    // the loop is one SIMD loop; narrowed after it.
+    let mut hit_w = [0u64; LANES];
     let mut out_t = [0.0; LANES];
-    let mut out_part = [0u8; LANES];
+    let mut part_w = [0u64; LANES];
     for l in 0..LANES {
         // `Object::to_object` for a translation.
         let rx = p.o[0][l] - position.x;
@@ -226,36 +228,57 @@ fn cuboid(position: DVec3, h: DVec3, p: &Packet, t_max: &Lanes<f64>) -> ObjectHi
         let far = [gmax(ax, bx), gmax(ay, by), gmax(az, bz)];
         let t_in = gmax(near[0], gmax(near[1], near[2]));
         let t_out = gmin(far[0], gmin(far[1], far[2]));
-        // The face arithmetic of `Cuboid::intersect`.
-        let k_in = if near[2] > (if near[1] > near[0] { near[1] } else { near[0] }) {
+        // The face arithmetic of `Cuboid::intersect`, as selects (no
+        // branch, no lookup by index, so that the loop stays in SIMD lanes):
+        // axis 2 where its distance beats the larger (smaller) of the first
+        // two, else axis 1 where it beats axis 0, else axis 0.
+        let in1 = near[1] > near[0];
+        let in2 = near[2] > (if in1 { near[1] } else { near[0] });
+        let out1 = far[1] < far[0];
+        let out2 = far[2] < (if out1 { far[1] } else { far[0] });
+        let d_in = if in2 {
+            dz
+        } else if in1 {
+            dy
+        } else {
+            dx
+        };
+        let d_out = if out2 {
+            dz
+        } else if out1 {
+            dy
+        } else {
+            dx
+        };
+        let k_in: u64 = if in2 {
+            4
+        } else if in1 {
             2
-        } else if near[1] > near[0] {
-            1
         } else {
             0
         };
-        let k_out = if far[2] < (if far[1] < far[0] { far[1] } else { far[0] }) {
+        let k_out: u64 = if out2 {
+            4
+        } else if out1 {
             2
-        } else if far[1] < far[0] {
-            1
         } else {
             0
         };
-        let d = [dx, dy, dz];
-        let f_in = 2 * k_in + u8::from(d[k_in as usize] > 0.0);
-        let f_out = 2 * k_out + u8::from(d[k_out as usize] < 0.0);
+        let f_in = k_in + u64::from(d_in > 0.0);
+        let f_out = k_out + u64::from(d_out < 0.0);
         // `first_crossing` on (0, t_max).
         let (e, x) = (t_in + t0, t_out + t0);
-        let take_e = !(e > x) && e > 0.0 && e < t_max[l];
-        let take_x = !(e > x) && x > 0.0 && x < t_max[l];
-        hit[l] = take_e || take_x;
+        let ordered = !(e > x);
+        let take_e = ordered & (e > 0.0) & (e < t_max[l]);
+        let take_x = ordered & (x > 0.0) & (x < t_max[l]);
+        hit_w[l] = u64::from(take_e | take_x);
         out_t[l] = if take_e { e } else { x };
-        out_part[l] = if take_e { f_in } else { f_out };
+        part_w[l] = if take_e { f_in } else { f_out };
     }
     ObjectHits {
-        hit,
+        hit: hit_w.map(|h| h != 0),
         t: out_t,
-        part: out_part,
+        part: part_w.map(|p| p as u8),
     }
 }
 
@@ -508,6 +531,197 @@ fn camera_hits_impl(
     (p, h)
 }
 
+/// Rows of camera packets in a tile ([`camera_tile_hits`]).
+pub const TILE: usize = 8;
+
+/// Leaves a tile's frustum may reach before the tile falls back to one walk
+/// per packet.
+const TILE_LEAVES: usize = 48;
+
+/// The packets of a tile and their closest hits; the first `len` are used.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraTile {
+    pub packets: [Packet; TILE],
+    pub hits: [PacketHits; TILE],
+    pub len: usize,
+}
+
+/// What every ray of a tile shares: the origin and, per axis, the sign and
+/// the range of the reciprocal direction.
+struct Frustum {
+    o: DVec3,
+    inv_lo: [f64; 3],
+    inv_hi: [f64; 3],
+    neg: [bool; 3],
+}
+
+impl Frustum {
+    /// The frustum of the used lanes of `packets` (all from one origin), or
+    /// `None` when some axis changes sign or meets an infinite reciprocal.
+    #[inline(always)]
+    fn of(packets: &[Packet]) -> Option<Frustum> {
+        let mut inv_lo = [f64::INFINITY; 3];
+        let mut inv_hi = [f64::NEG_INFINITY; 3];
+        for p in packets {
+            for k in 0..3 {
+                for l in 0..p.len {
+                    inv_lo[k] = inv_lo[k].min(p.inv[k][l]);
+                    inv_hi[k] = inv_hi[k].max(p.inv[k][l]);
+                }
+            }
+        }
+        let mut neg = [false; 3];
+        for k in 0..3 {
+            let (lo, hi) = (inv_lo[k], inv_hi[k]);
+            if !(lo.is_finite() && hi.is_finite() && (lo > 0.0 || hi < 0.0)) {
+                return None;
+            }
+            neg[k] = hi < 0.0;
+        }
+        let p = &packets[0];
+        Some(Frustum {
+            o: DVec3::new(p.o[0][0], p.o[1][0], p.o[2][0]),
+            inv_lo,
+            inv_hi,
+            neg,
+        })
+    }
+
+    /// Whether some ray of the tile may pass [`slab`] for the box: the
+    /// box test in interval arithmetic. For one face `b − o` is the same
+    /// number in every lane and a rounded product is monotonic in the
+    /// other factor, so each lane's entry and exit distances lie between
+    /// the products with the two ends of the reciprocal's range: if any
+    /// lane passes, this passes.
+    #[inline(always)]
+    fn reaches(&self, min: DVec3, max: DVec3) -> bool {
+        let mut near = [0.0; 3];
+        let mut far = [0.0; 3];
+        for k in 0..3 {
+            let (b0, b1) = (min[k] - self.o[k], max[k] - self.o[k]);
+            let (a, b, c, d) = (
+                b0 * self.inv_lo[k],
+                b0 * self.inv_hi[k],
+                b1 * self.inv_lo[k],
+                b1 * self.inv_hi[k],
+            );
+            near[k] = gmin(gmin(a, b), gmin(c, d));
+            far[k] = gmax(gmax(a, b), gmax(c, d));
+        }
+        let lo = gmax(near[0], gmax(near[1], near[2])).max(0.0);
+        let hi = gmin(far[0], gmin(far[1], far[2]));
+        lo <= hi * (1.0 + 4.0 * f64::EPSILON)
+    }
+}
+
+/// The leaves (node indices) the frustum reaches, in the order the packet
+/// walk visits them, or `None` past [`TILE_LEAVES`].
+#[inline(always)]
+fn tile_leaves(bvh: &super::Bvh, f: &Frustum, out: &mut [u32; TILE_LEAVES]) -> Option<usize> {
+    let mut n = 0;
+    let mut stack = super::Stack::new();
+    let mut i = 0usize;
+    loop {
+        let node = &bvh.nodes[i];
+        if f.reaches(node.min, node.max) {
+            if node.count > 0 {
+                if n == TILE_LEAVES {
+                    return None;
+                }
+                out[n] = i as u32;
+                n += 1;
+            } else {
+                let (near, far) = node.near_far(i, f.neg);
+                stack.push(far);
+                i = near;
+                continue;
+            }
+        }
+        match stack.pop() {
+            Some(next) => i = next,
+            None => return Some(n),
+        }
+    }
+}
+
+#[inline(always)]
+fn camera_tile_hits_impl(
+    scene: &Scene,
+    xs: &[Lanes<f64>],
+    ys: &[Lanes<f64>],
+    n: &[usize],
+    width: u32,
+    height: u32,
+    tile: &mut CameraTile,
+) {
+    let len = n.len();
+    assert!(
+        (1..=TILE).contains(&len) && xs.len() == len && ys.len() == len,
+        "a tile holds 1 to {TILE} packets"
+    );
+    tile.len = len;
+    for r in 0..len {
+        tile.packets[r] = Packet::camera(&scene.camera, &xs[r], &ys[r], n[r], width, height);
+    }
+    let mut leaves = [0u32; TILE_LEAVES];
+    let list = match (&scene.bvh, Frustum::of(&tile.packets[..len])) {
+        (Some(bvh), Some(f)) if !bvh.nodes.is_empty() => tile_leaves(bvh, &f, &mut leaves),
+        _ => None,
+    };
+    let Some(count) = list else {
+        for r in 0..len {
+            tile.hits[r] = closest_hits_impl::<false>(scene, &tile.packets[r], &[NO_OBJECT; LANES]);
+        }
+        return;
+    };
+    let bvh = scene.bvh.as_ref().expect("a leaf list comes from a BVH"); // ok: `list` is Some only with a BVH
+    for r in 0..len {
+        let p = &tile.packets[r];
+        let mut c = Closest {
+            part: [0; LANES],
+            object: [NO_OBJECT; LANES],
+        };
+        let mut t_max = p.t_max;
+        for &i in &leaves[..count] {
+            let node = &bvh.nodes[i as usize];
+            let m = slab(node.min, node.max, p, &t_max);
+            if m != 0 {
+                for &o in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
+                    c.visit(scene, p, o, m, 0, &mut t_max);
+                }
+            }
+        }
+        let h = &mut tile.hits[r];
+        h.object = c.object;
+        h.t = t_max;
+        h.part = c.part;
+        for l in p.len..LANES {
+            h.object[l] = NO_OBJECT;
+        }
+    }
+}
+
+impl Default for CameraTile {
+    fn default() -> CameraTile {
+        let p = Packet {
+            o: [[0.0; LANES]; 3],
+            d: [[0.0; LANES]; 3],
+            inv: [[0.0; LANES]; 3],
+            t_max: [-1.0; LANES],
+            len: 0,
+        };
+        CameraTile {
+            packets: [p; TILE],
+            hits: [PacketHits {
+                object: [NO_OBJECT; LANES],
+                t: [0.0; LANES],
+                part: [0; LANES],
+            }; TILE],
+            len: 0,
+        }
+    }
+}
+
 /// Compiles each `*_impl` function a second time with AVX2 enabled, and
 /// defines the public function that picks the build at run time.
 macro_rules! with_avx2 {
@@ -559,6 +773,22 @@ with_avx2! {
         width: u32,
         height: u32
     ) -> (Packet, PacketHits)
+}
+
+with_avx2! {
+    /// The primary rays of up to [`TILE`] packets (packet `r` through
+    /// `(xs[r][l], ys[r][l])`, `l < n[r]`), as [`camera_hits`] gives them,
+    /// found with one walk of the tile's frustum: the BVH leaves it reaches
+    /// are listed once, and each packet tests only those. Fills `tile`.
+    pub fn camera_tile_hits / camera_tile_hits_avx2 => camera_tile_hits_impl(
+        scene: &Scene,
+        xs: &[Lanes<f64>],
+        ys: &[Lanes<f64>],
+        n: &[usize],
+        width: u32,
+        height: u32,
+        tile: &mut CameraTile
+    ) -> ()
 }
 
 /// Whether this CPU runs the AVX2 build of the packet code.
@@ -664,6 +894,112 @@ mod tests {
                 }
             }
             assert!(compared > 1000, "{name}: only {compared} hits compared");
+        }
+    }
+
+    /// Tiles give every packet exactly what walking the packet alone gives
+    /// it: whole and partial tiles, jittered rays, cameras that look along
+    /// an axis (a reciprocal changes sign or is infinite inside a tile, so
+    /// the tile falls back), from inside the scene, and a scene whose
+    /// tiles reach more leaves than a tile lists.
+    type TileHits = fn(&Scene, &[Lanes<f64>], &[Lanes<f64>], &[usize], u32, u32, &mut CameraTile);
+
+    fn check_tiles(tile_hits: TileHits) {
+        let mut cases = scenes();
+        let (sf, _) = Scene::default_scene();
+        for (name, pos, rot) in [
+            ("straight down", [0.0, 8.0, 0.0], [-90.0, 0.0, 0.0]),
+            ("along −z", [0.0, 0.5, 9.0], [0.0, 0.0, 0.0]),
+            ("inside, rolled", [0.3, 0.6, 0.2], [-10.0, 33.0, 20.0]),
+        ] {
+            let mut f = sf.clone();
+            f.camera.position = pos;
+            f.camera.rotation = Some(rot);
+            f.camera.look_at = None;
+            cases.push((name, Scene::build(&f).unwrap()));
+        }
+        let (mut tiled, mut fell_back, mut compared) = (0, 0, 0);
+        for (name, scene) in &cases {
+            let (w, h) = (101, 75);
+            let mut s = Sampler::new(11, 2, 0);
+            let mut tile = CameraTile::default();
+            for y0 in (0..h).step_by(TILE) {
+                let rows = (h - y0).min(TILE);
+                for x0 in (0..w).step_by(LANES) {
+                    let n = (w - x0).min(LANES);
+                    let jitter = (x0 / LANES) % 2 == 1;
+                    let mut xs = [[0.0; LANES]; TILE];
+                    let mut ys = [[0.0; LANES]; TILE];
+                    for r in 0..rows {
+                        for l in 0..n {
+                            let (jx, jy) = if jitter { s.next_2d() } else { (0.5, 0.5) };
+                            xs[r][l] = (x0 + l) as f64 + jx;
+                            ys[r][l] = (y0 + r) as f64 + jy;
+                        }
+                    }
+                    let ns = [n; TILE];
+                    tile_hits(
+                        scene,
+                        &xs[..rows],
+                        &ys[..rows],
+                        &ns[..rows],
+                        w as u32,
+                        h as u32,
+                        &mut tile,
+                    );
+                    assert_eq!(tile.len, rows);
+                    let frustum = Frustum::of(&tile.packets[..rows]).is_some();
+                    if frustum && scene.bvh.is_some() {
+                        tiled += 1;
+                    } else {
+                        fell_back += 1;
+                    }
+                    for r in 0..rows {
+                        let (p, want) = camera_hits(scene, &xs[r], &ys[r], n, w as u32, h as u32);
+                        assert_eq!(tile.packets[r].d, p.d, "{name}: tile ({x0}, {y0}) row {r}");
+                        for l in 0..LANES {
+                            assert_eq!(
+                                tile.hits[r].get(l),
+                                want.get(l),
+                                "{name}: tile ({x0}, {y0}) row {r} lane {l}"
+                            );
+                            compared += usize::from(l < n && want.get(l).is_some());
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            tiled > 500 && fell_back > 20 && compared > 40_000,
+            "{tiled} tiled, {fell_back} fell back, {compared} hits"
+        );
+    }
+
+    #[test]
+    fn tiles_give_each_packet_its_own_hits() {
+        check_tiles(camera_tile_hits);
+    }
+
+    #[test]
+    fn portable_tiles_give_each_packet_its_own_hits() {
+        check_tiles(camera_tile_hits_impl);
+    }
+
+    #[test]
+    fn a_tile_that_reaches_more_leaves_than_it_lists_falls_back() {
+        let (sf, _) = Scene::default_scene();
+        let scene = crate::bench::cubes_grid(&sf, 50);
+        let bvh = scene.bvh.as_ref().unwrap();
+        // The right half of the view in one tile: every leaf in sight.
+        let xs = [std::array::from_fn(|l| 205.0 + l as f64 * 27.0); TILE];
+        let ys: [Lanes<f64>; TILE] = std::array::from_fn(|r| [r as f64 * 57.0; LANES]);
+        let mut tile = CameraTile::default();
+        camera_tile_hits(&scene, &xs, &ys, &[LANES; TILE], 400, 400, &mut tile);
+        let f = Frustum::of(&tile.packets).unwrap();
+        assert!(tile_leaves(bvh, &f, &mut [0; TILE_LEAVES]).is_none());
+        for r in 0..TILE {
+            let (_, want) = camera_hits(&scene, &xs[r], &ys[r], LANES, 400, 400);
+            assert_eq!(tile.hits[r], want);
         }
     }
 

@@ -10,7 +10,7 @@ pub mod worker;
 
 pub use image::Image;
 
-use crate::accel::packet::{LANES, camera_hits};
+use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
 use crate::integrator::{PacketPaths, radiance, radiance_packet};
 use crate::optics::WAVELENGTH_D_UM;
@@ -61,7 +61,13 @@ pub fn sample_packet(
     height: u32,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    let paths = PacketPaths::camera(&p, &hits, n);
+    shade_camera_packet(scene, &p, &hits, n)
+}
+
+/// The radiance of each camera ray of `p` (lanes `l < n`) from its hit.
+#[inline]
+fn shade_camera_packet(scene: &Scene, p: &Packet, hits: &PacketHits, n: usize) -> [Rgb; LANES] {
+    let paths = PacketPaths::camera(p, hits, n);
     if scene.features.dispersion {
         let mut out = [Rgb::ZERO; LANES];
         for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
@@ -76,28 +82,58 @@ pub fn sample_packet(
     }
 }
 
-/// Adds sample `i` of every pixel of row `y` to `row` (sample 0 of a
-/// one-sample render is the pixel centre, others are stratified jitter
-/// keyed by (seed, pixel, sample)), in packets of eight pixels.
-#[inline]
-pub fn add_row_samples(scene: &Scene, y: u32, i: u32, centre: bool, s: &RenderSettings, row: &mut [Rgb]) {
-    for (c, chunk) in row.chunks_mut(LANES).enumerate() {
-        let x0 = (c * LANES) as u32;
-        let mut xs = [0.0; LANES];
-        let mut ys = [0.0; LANES];
-        for l in 0..chunk.len() {
-            let px = x0 + l as u32;
-            let (jx, jy) = if centre {
-                (0.5, 0.5)
-            } else {
-                Sampler::new(s.seed, y as u64 * s.width as u64 + px as u64, i as u64).next_2d()
-            };
-            xs[l] = px as f64 + jx;
-            ys[l] = y as f64 + jy;
+/// Adds sample `i` of every pixel of the rows `y0 ..` held in `rows` (up
+/// to [`TILE`] whole rows of the image, one after another) to them. Sample
+/// 0 of a one-sample render is the pixel centre, others are stratified
+/// jitter keyed by (seed, pixel, sample). The camera rays are cast in tiles
+/// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
+/// a tile a packet; every pixel gets exactly what [`sample`] gives it.
+pub fn add_band_samples(
+    scene: &Scene,
+    y0: u32,
+    i: u32,
+    centre: bool,
+    s: &RenderSettings,
+    tile: &mut CameraTile,
+    rows: &mut [Rgb],
+) {
+    let w = s.width as usize;
+    if w == 0 {
+        return;
+    }
+    let count = rows.len() / w;
+    debug_assert!(count <= TILE && count * w == rows.len());
+    let mut xs = [[0.0; LANES]; TILE];
+    let mut ys = [[0.0; LANES]; TILE];
+    for x0 in (0..w).step_by(LANES) {
+        let n = (w - x0).min(LANES);
+        for r in 0..count {
+            let y = y0 + r as u32;
+            for l in 0..n {
+                let px = (x0 + l) as u32;
+                let (jx, jy) = if centre {
+                    (0.5, 0.5)
+                } else {
+                    Sampler::new(s.seed, y as u64 * s.width as u64 + px as u64, i as u64).next_2d()
+                };
+                xs[r][l] = px as f64 + jx;
+                ys[r][l] = y as f64 + jy;
+            }
         }
-        let v = sample_packet(scene, &xs, &ys, chunk.len(), s.width, s.height);
-        for (px, v) in chunk.iter_mut().zip(v) {
-            *px += v;
+        camera_tile_hits(
+            scene,
+            &xs[..count],
+            &ys[..count],
+            &[n; TILE][..count],
+            s.width,
+            s.height,
+            tile,
+        );
+        for r in 0..count {
+            let v = shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n);
+            for (px, v) in rows[r * w + x0..r * w + x0 + n].iter_mut().zip(v) {
+                *px += v;
+            }
         }
     }
 }
@@ -118,7 +154,7 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb 
     sum / s.spp as f64
 }
 
-/// Renders the whole image in parallel rows. `progress` is called with the
+/// Renders the whole image in parallel bands of [`TILE`] rows. `progress` is called with the
 /// fraction of rows done (from worker threads, at most about 100 times).
 pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>) -> Image {
     let mut img = Image::new(s.width, s.height);
@@ -127,23 +163,26 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
     }
     let done = AtomicUsize::new(0);
     let step = (s.height as usize / 100).max(1);
+    let w = s.width as usize;
     img.pixels
-        .par_chunks_mut(s.width as usize)
+        .par_chunks_mut(w * TILE)
         .enumerate()
-        .for_each(|(y, row)| {
-            // Sample by sample over the row, in packets; each pixel adds its
-            // samples in the order `render_pixel` does.
+        .for_each(|(band, rows)| {
+            // Sample by sample over the band, in tiles of packets; each
+            // pixel adds its samples in the order `render_pixel` does.
+            let mut tile = CameraTile::default();
             for i in 0..s.spp.max(1) {
-                add_row_samples(scene, y as u32, i, s.spp <= 1, s, row);
+                add_band_samples(scene, (band * TILE) as u32, i, s.spp <= 1, s, &mut tile, rows);
             }
             if s.spp > 1 {
-                for px in row.iter_mut() {
+                for px in rows.iter_mut() {
                     *px /= s.spp as f64;
                 }
             }
-            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            let before = done.fetch_add(rows.len() / w, Ordering::Relaxed);
+            let n = before + rows.len() / w;
             if let Some(p) = progress
-                && n % step == 0
+                && n / step > before / step
             {
                 p(n as f64 / s.height as f64);
             }

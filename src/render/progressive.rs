@@ -7,8 +7,8 @@
 //! samples is therefore the same whatever the thread count, and the same
 //! whether it got there in one wave or many.
 
-use super::{RenderSettings, add_row_samples, sample_packet};
-use crate::accel::packet::LANES;
+use super::{RenderSettings, add_band_samples, sample_packet};
+use crate::accel::packet::{CameraTile, LANES, TILE};
 use crate::color::Rgb;
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -90,8 +90,9 @@ pub struct Progressive {
     block: usize,
 }
 
-/// Rows per band: the unit of parallel work and of cancellation.
-const BAND: usize = 4;
+/// Rows per band: the unit of parallel work and of cancellation, and the
+/// height of a tile of camera packets.
+const BAND: usize = TILE;
 
 impl Progressive {
     pub fn new(width: u32, height: u32, seed: u64) -> Self {
@@ -178,11 +179,9 @@ impl Progressive {
                         spp: target,
                         seed,
                     };
-                    for (r, row) in rows.chunks_mut(w).enumerate() {
-                        let y = (band * BAND + r) as u32;
-                        for s in from..target {
-                            add_row_samples(scene, y, s, s == 0, &settings, row);
-                        }
+                    let mut tile = CameraTile::default();
+                    for s in from..target {
+                        add_band_samples(scene, (band * BAND) as u32, s, s == 0, &settings, &mut tile, rows);
                     }
                     true
                 });
