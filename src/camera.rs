@@ -39,30 +39,37 @@ impl Camera {
     /// `width × height` image (y down, pixel centres at half-integers).
     #[inline]
     pub fn ray(&self, x: f64, y: f64, width: u32, height: u32) -> Ray {
-        let tan = self.tan_half_fov;
-        let aspect = width as f64 / height as f64;
-        let sx = (2.0 * x / width as f64 - 1.0) * tan * aspect;
-        let sy = (1.0 - 2.0 * y / height as f64) * tan;
+        let (kx, ky, ax, ay) = self.screen(width, height);
+        let sx = (x * kx - 1.0) * ax;
+        let sy = (1.0 - y * ky) * ay;
         let dir = self.basis * DVec3::new(sx, sy, -1.0);
         Ray::new(self.position, dir)
     }
 }
 
 impl Camera {
+    /// The screen mapping of a `width × height` image: pixel position
+    /// `(x, y)` lies at `((x·kx − 1)·ax, (1 − y·ky)·ay, −1)` in camera space
+    /// (a product for each lane, no division).
+    #[inline(always)]
+    fn screen(&self, width: u32, height: u32) -> (f64, f64, f64, f64) {
+        let tan = self.tan_half_fov;
+        let aspect = width as f64 / height as f64;
+        (2.0 / width as f64, 2.0 / height as f64, tan * aspect, tan)
+    }
+
     /// Unit directions of the primary rays through `(xs[l], ys[l])` for each
     /// lane `l` (structure of arrays): exactly the arithmetic of
     /// [`Camera::ray`], lane by lane, so the same directions bit for bit,
     /// in a form that runs in SIMD registers.
     #[inline(always)]
     pub fn directions<const N: usize>(&self, xs: &[f64; N], ys: &[f64; N], width: u32, height: u32) -> [[f64; N]; 3] {
-        let tan = self.tan_half_fov;
-        let aspect = width as f64 / height as f64;
-        let (w, h) = (width as f64, height as f64);
+        let (kx, ky, ax, ay) = self.screen(width, height);
         let b = self.basis;
         let mut d = [[0.0; N]; 3];
         for l in 0..N {
-            let sx = (2.0 * xs[l] / w - 1.0) * tan * aspect;
-            let sy = (1.0 - 2.0 * ys[l] / h) * tan;
+            let sx = (xs[l] * kx - 1.0) * ax;
+            let sy = (1.0 - ys[l] * ky) * ay;
             // `DMat3 * DVec3(sx, sy, −1)`, column by column, then `normalize`.
             let x = b.x_axis.x * sx + b.y_axis.x * sy - b.z_axis.x;
             let y = b.x_axis.y * sx + b.y_axis.y * sy - b.z_axis.y;

@@ -85,24 +85,32 @@ impl Packet {
     /// lanes ([`crate::camera::Camera::directions`]).
     #[inline(always)]
     fn camera(cam: &Camera, xs: &Lanes<f64>, ys: &Lanes<f64>, n: usize, width: u32, height: u32) -> Packet {
-        let d = cam.directions(xs, ys, width, height);
         let mut p = Packet {
             o: [[0.0; LANES]; 3],
-            d,
+            d: [[0.0; LANES]; 3],
             inv: [[0.0; LANES]; 3],
-            t_max: [f64::INFINITY; LANES],
-            len: n,
+            t_max: [0.0; LANES],
+            len: 0,
         };
+        p.set_camera(cam, xs, ys, n, width, height);
+        p
+    }
+
+    /// Makes this packet [`Packet::camera`]'s, in place (a packet is large
+    /// enough that building one and copying it in costs a `memcpy`).
+    #[inline(always)]
+    fn set_camera(&mut self, cam: &Camera, xs: &Lanes<f64>, ys: &Lanes<f64>, n: usize, width: u32, height: u32) {
+        self.d = cam.directions(xs, ys, width, height);
         for k in 0..3 {
-            p.o[k] = [cam.position[k]; LANES];
+            self.o[k] = [cam.position[k]; LANES];
             for l in 0..LANES {
-                p.inv[k][l] = 1.0 / d[k][l];
+                self.inv[k][l] = 1.0 / self.d[k][l];
             }
         }
-        for l in n..LANES {
-            p.t_max[l] = -1.0;
+        for l in 0..LANES {
+            self.t_max[l] = if l < n { f64::INFINITY } else { -1.0 };
         }
-        p
+        self.len = n;
     }
 
     pub fn len(&self) -> usize {
@@ -661,7 +669,7 @@ fn camera_tile_hits_impl(
     );
     tile.len = len;
     for r in 0..len {
-        tile.packets[r] = Packet::camera(&scene.camera, &xs[r], &ys[r], n[r], width, height);
+        tile.packets[r].set_camera(&scene.camera, &xs[r], &ys[r], n[r], width, height);
     }
     let mut leaves = [0u32; TILE_LEAVES];
     let list = match (&scene.bvh, Frustum::of(&tile.packets[..len])) {
