@@ -172,24 +172,36 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         depth,
         weight,
     } = *paths;
-    let rays: [Ray; LANES] = std::array::from_fn(|l| p.ray(l));
-    let surfaces: [Option<Surface>; LANES] = std::array::from_fn(|l| {
-        hits.get(l)
-            .filter(|_| active >> l & 1 != 0)
-            .map(|(i, h)| surface(scene, &rays[l], i, h))
-    });
-    // The shadow rays of the first lights, a packet per light.
+    // Filled in place: building these arrays with `from_fn` went through
+    // a copy of each element.
+    let mut rays = [Ray {
+        origin: DVec3::ZERO,
+        dir: DVec3::ZERO,
+    }; LANES];
+    let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
+    for l in 0..LANES {
+        rays[l] = p.ray(l);
+        if active >> l & 1 != 0
+            && let Some((i, h)) = hits.get(l)
+        {
+            surfaces[l] = Some(surface(scene, &rays[l], i, h));
+        }
+    }
+    // The first lights' samples at every lane's surface and, with shadows,
+    // their shadow rays, a packet per light.
     let mut vis = [[Rgb::ONE; LANES]; PACKET_LIGHTS];
-    if SHADOWS && scene.shadows {
-        for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
+    let mut samples: [[Option<LightSample>; LANES]; PACKET_LIGHTS] = [[None; LANES]; PACKET_LIGHTS];
+    for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
+        for l in 0..LANES {
+            samples[j][l] = surfaces[l].as_ref().and_then(|s| light_at(s, light));
+        }
+        if SHADOWS && scene.shadows {
             let mut shadow = rays;
             let mut t_max = [-1.0; LANES];
             let mut skip = [NO_OBJECT; LANES];
             for l in 0..LANES {
-                if let Some(s) = &surfaces[l]
-                    && let Some(ls) = light_at(s, light)
-                {
-                    (shadow[l], t_max[l]) = shadow_ray(s, &ls);
+                if let (Some(s), Some(ls)) = (&surfaces[l], &samples[j][l]) {
+                    (shadow[l], t_max[l]) = shadow_ray(s, ls);
                     skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
                 }
             }
@@ -213,12 +225,11 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             depth[l],
             lambda_um,
             weight[l],
-            &mut |j, s, ls| {
+            &mut |j, s| {
                 if j < PACKET_LIGHTS {
-                    vis[j][l]
+                    samples[j][l].map(|ls| (ls, vis[j][l]))
                 } else {
-                    let (sr, dist) = shadow_ray(s, ls);
-                    transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
+                    lit_by::<SHADOWS>(scene, j, s)
                 }
             },
             &mut |sec, _| {
@@ -314,10 +325,7 @@ fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPEC
         depth,
         lambda_um,
         weight,
-        &mut |_, s, ls| {
-            let (sr, dist) = shadow_ray(s, ls);
-            transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))
-        },
+        &mut |j, s| lit_by::<SHADOWS>(scene, j, s),
         &mut |sec, color| {
             sec.join(
                 color,
@@ -403,6 +411,30 @@ pub fn light_at(s: &Surface, light: &Light) -> Option<LightSample> {
     (s.nf.dot(ls.to_light) > 0.0).then_some(ls)
 }
 
+/// `rv` to the power `shininess`: by repeated squaring for a whole
+/// exponent (the usual case, within a few ulp of `powf` and several times
+/// cheaper), by `powf` otherwise.
+#[inline]
+fn phong_lobe(rv: f64, shininess: f64) -> f64 {
+    if shininess.fract() == 0.0 && shininess <= 4096.0 {
+        rv.powi(shininess as i32)
+    } else {
+        rv.powf(shininess)
+    }
+}
+
+/// Light `j`'s sample at the surface and, with shadows, the transmittance
+/// of the shadow ray toward it, traced alone (one without shadows).
+#[inline]
+fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
+    let ls = light_at(s, &scene.lights[j])?;
+    if !(SHADOWS && scene.shadows) {
+        return Some((ls, Rgb::ONE));
+    }
+    let (sr, dist) = shadow_ray(s, &ls);
+    Some((ls, transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))))
+}
+
 /// The shadow ray from the surface toward a light, and the distance to the
 /// light along it.
 #[inline]
@@ -416,10 +448,10 @@ pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
     (sr, dist)
 }
 
-/// The radiance along `ray` given its closest hit. `visibility(j, s, ls)`
-/// is the transmittance of the shadow ray toward light `j` (asked only when
-/// shadows are on and the light faces the surface): the scalar kernel walks
-/// the scene for it, a packet has it ready. `trace(secondary, colour)`
+/// The radiance along `ray` given its closest hit. `lit(j, s)` is light
+/// `j`'s sample at the surface ([`light_at`]) with the transmittance of the
+/// shadow ray toward it (one when shadows are off): the scalar kernel
+/// samples the light and walks the scene for it, a packet has both ready. `trace(secondary, colour)`
 /// follows a refracted or reflected ray and adds what it brings (the scalar
 /// kernel at once, a packet after the local shading of all its lanes: the
 /// additions come in the same order either way).
@@ -432,7 +464,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
     depth: u32,
     lambda_um: f64,
     weight: f64,
-    visibility: &mut impl FnMut(usize, &Surface, &LightSample) -> Rgb,
+    lit: &mut impl FnMut(usize, &Surface) -> Option<(LightSample, Rgb)>,
     trace: &mut impl FnMut(Secondary, &mut Rgb),
 ) -> Rgb {
     let Some(s) = hit else {
@@ -448,14 +480,14 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
 
     // Local Phong shading.
     color += m.color * scene.ambient * (m.ambient * opacity);
-    for (j, light) in scene.lights.iter().enumerate() {
-        let Some(ls) = light_at(s, light) else {
+    for j in 0..scene.lights.len() {
+        let Some((ls, visible)) = lit(j, s) else {
             continue;
         };
         let cos = nf.dot(ls.to_light);
         let mut e = ls.irradiance;
         if SHADOWS && scene.shadows {
-            e *= visibility(j, s, &ls);
+            e *= visible;
             if e == Rgb::ZERO {
                 continue;
             }
@@ -465,7 +497,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             let r = optics::reflect(-ls.to_light, nf);
             let rv = r.dot(view);
             if rv > 0.0 {
-                color += e * (m.specular * rv.powf(m.shininess));
+                color += e * (m.specular * phong_lobe(rv, m.shininess));
             }
         }
     }
