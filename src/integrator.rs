@@ -7,7 +7,7 @@
 
 use crate::accel::packet::{LANES, NO_OBJECT, Packet, PacketHits, closest_hits, transmittances};
 use crate::color::Rgb;
-use crate::geometry::{Hit, Lens, LensTraceStatus};
+use crate::geometry::{Hit, Lens, LensSurface, LensTraceStatus};
 use crate::light::{Light, LightSample};
 use crate::math::{Ray, surface_offset};
 use crate::optics::{self, fresnel_dielectric};
@@ -187,6 +187,17 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             surfaces[l] = Some(surface(scene, &rays[l], i, h));
         }
     }
+    if surfaces.iter().all(Option::is_none) {
+        // Every ray escaped (the rays a lens reflects, mostly): what `shade`
+        // gives a lane without a hit, without the packet's setup.
+        return std::array::from_fn(|l| {
+            if active >> l & 1 != 0 {
+                scene.background
+            } else {
+                Rgb::ZERO
+            }
+        });
+    }
     // The first lights' samples at every lane's surface and, with shadows,
     // their shadow rays, a packet per light.
     let mut vis = [[Rgb::ONE; LANES]; PACKET_LIGHTS];
@@ -210,6 +221,12 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             }
         }
     }
+    // The passes through a lens of the lanes that enter one, traced together.
+    let lens_passes = if GLASS {
+        lens_passes(scene, &rays, &surfaces, lambda_um)
+    } else {
+        [None; LANES]
+    };
     // Local shading of every lane; refracted (0) and reflected (1) rays are
     // collected and traced afterwards, a packet of each kind.
     let mut out = [Rgb::ZERO; LANES];
@@ -231,6 +248,10 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
                 } else {
                     lit_by::<SHADOWS>(scene, j, s)
                 }
+            },
+            &mut |s, ior| match lens_passes[l] {
+                Some(pass) => pass,
+                None => transmitted_ray(s.object, s.p, s.nf, s.entering, rays[l].dir, ior),
             },
             &mut |sec, _| {
                 let kind = usize::from(sec.tint.is_none());
@@ -326,6 +347,7 @@ fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPEC
         lambda_um,
         weight,
         &mut |j, s| lit_by::<SHADOWS>(scene, j, s),
+        &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
         &mut |sec, color| {
             sec.join(
                 color,
@@ -454,7 +476,9 @@ pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
 /// samples the light and walks the scene for it, a packet has both ready. `trace(secondary, colour)`
 /// follows a refracted or reflected ray and adds what it brings (the scalar
 /// kernel at once, a packet after the local shading of all its lanes: the
-/// additions come in the same order either way).
+/// additions come in the same order either way). `transmit(s, ior)` is
+/// [`transmitted_ray`] at the surface for this ray: a packet traces the
+/// passes through a lens of all its lanes together beforehand.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)] // the two callbacks are what differ between the scalar and packet kernels
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
@@ -465,6 +489,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
     lambda_um: f64,
     weight: f64,
     lit: &mut impl FnMut(usize, &Surface) -> Option<(LightSample, Rgb)>,
+    transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
     trace: &mut impl FnMut(Secondary, &mut Rgb),
 ) -> Rgb {
     let Some(s) = hit else {
@@ -514,7 +539,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
         kr += m.transparency * f;
         let kt = m.transparency * (1.0 - f);
         if kt * weight > MIN_WEIGHT
-            && let Some(tr) = transmitted_ray(obj, p, nf, entering, ray.dir, ior)
+            && let Some(tr) = transmit(s, ior)
             && depth + tr.bounces <= scene.max_depth
         {
             let w = kt * tr.factor;
@@ -583,6 +608,98 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
             factor: 1.0,
         }),
     }
+}
+
+/// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
+/// (the first such lens; lanes on another take the scalar path): `Some`
+/// for each lane it traced, `None` for the others. The refraction at the
+/// entry is per lane; the pass to the exit, the exit's Fresnel factor and
+/// the outgoing ray run over all lanes at once ([`Lens::exit_lanes`]), with
+/// exactly the scalar arithmetic; a lane that reflects inside is traced by
+/// the scalar [`through_lens`].
+#[inline(always)]
+fn lens_passes(
+    scene: &Scene,
+    rays: &[Ray; LANES],
+    surfaces: &[Option<Surface>; LANES],
+    lambda_um: f64,
+) -> [Option<Option<Transmitted>>; LANES] {
+    let mut out = [None; LANES];
+    let mut which = None;
+    let mut lanes = 0u32;
+    let mut x = [[0.0; LANES]; 3];
+    let mut u = [[0.0; LANES]; 3];
+    for l in 0..LANES {
+        let Some(s) = &surfaces[l] else { continue };
+        if !s.entering
+            || s.object.material.transparency <= 0.0
+            || s.object.lens().is_none()
+            || which.is_some_and(|i| i != s.index)
+        {
+            continue;
+        }
+        which = Some(s.index);
+        let ior = s.object.material.ior.at(lambda_um);
+        match optics::refract(rays[l].dir, s.nf, 1.0, ior) {
+            None => out[l] = Some(None),
+            Some(t) => {
+                lanes |= 1 << l;
+                for k in 0..3 {
+                    x[k][l] = s.p[k];
+                    u[k][l] = t[k];
+                }
+            }
+        }
+    }
+    if lanes == 0 {
+        return out;
+    }
+    let obj = &scene.objects[which.expect("lanes were found on a lens")]; // ok: `lanes` is set only with `which`
+    let lens = obj.lens().expect("the object is a lens"); // ok: `which` names a lens
+    let ior = obj.material.ior.at(lambda_um);
+    let e = lens.exit_lanes(&x, &u, ior);
+    let mut factor = [0.0; LANES];
+    let mut origin = [[0.0; LANES]; 3];
+    for l in 0..LANES {
+        // The rest of `through_lens`, lane by lane in the same form.
+        let y = DVec3::new(e.y[0][l], e.y[1][l], e.y[2][l]);
+        let dir = DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]);
+        let n = lens.surface_normal(
+            y,
+            if e.part[l] == 0 {
+                LensSurface::S1
+            } else {
+                LensSurface::S2
+            },
+        );
+        let cos_out = dir.dot(n).abs();
+        let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+        factor[l] = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
+        let r = spawn_ray(y, n, dir, lens.d);
+        for (k, o) in origin.iter_mut().enumerate() {
+            o[l] = r.origin[k];
+        }
+    }
+    let mut m = lanes;
+    while m != 0 {
+        let l = m.trailing_zeros() as usize;
+        m &= m - 1;
+        out[l] = Some(if e.ok[l] {
+            Some(Transmitted {
+                ray: Ray {
+                    origin: DVec3::new(origin[0][l], origin[1][l], origin[2][l]),
+                    dir: DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]),
+                },
+                bounces: 2,
+                factor: factor[l],
+            })
+        } else {
+            let p = DVec3::new(x[0][l], x[1][l], x[2][l]);
+            let t = DVec3::new(u[0][l], u[1][l], u[2][l]);
+            through_lens(lens, p, t, ior)
+        });
+    }
+    out
 }
 
 /// Follows a ray that has just refracted into `lens` at `p` to its exit.

@@ -129,6 +129,22 @@ pub(crate) struct LaneHits<const N: usize> {
     pub slow: [bool; N],
 }
 
+/// Exits of a packet's lanes from inside the glass
+/// ([`Lens::exit_lanes`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LaneExits<const N: usize> {
+    /// The exit point, world coordinates.
+    pub y: [[f64; N]; 3],
+    /// The refracted direction out of the glass (unit).
+    pub out: [[f64; N]; 3],
+    /// The face left through (0: S1, 1: S2).
+    pub part: [u64; N],
+    /// Lanes that leave by refraction at their first exit; the others (a
+    /// total internal reflection, or a start outside the glass) need the
+    /// scalar [`Lens::propagate_inside`].
+    pub ok: [bool; N],
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LensTraceStatus {
     /// The ray entered (or started inside) and left the glass.
@@ -530,6 +546,74 @@ impl Lens {
         path
     }
 
+    /// [`Lens::propagate_inside`] for `N` rays at once, for rays that leave
+    /// at their first exit: lane `l` starts at the world point `x[l]` inside
+    /// (or on) the glass along the unit `u[l]`. A lane flagged `ok` gets
+    /// exactly the scalar exit (the same operations in the same order,
+    /// without branches, so that the lanes share SIMD registers); the others
+    /// are left to the scalar code.
+    #[inline(always)]
+    pub(crate) fn exit_lanes<const N: usize>(&self, x: &[[f64; N]; 3], u: &[[f64; N]; 3], n: f64) -> LaneExits<N> {
+        let mut out = LaneExits {
+            y: [[0.0; N]; 3],
+            out: [[0.0; N]; 3],
+            part: [0; N],
+            ok: [false; N],
+        };
+        let [c0, c1] = self.caps;
+        for l in 0..N {
+            let x = DVec3::new(x[0][l], x[1][l], x[2][l]) - self.center;
+            let u = DVec3::new(u[0][l], u[1][l], u[2][l]);
+            // `exit_local`: the far roots of both faces (`Cap::roots`,
+            // `solve_half_b_quadratic`).
+            let mut real = true;
+            let mut far = [0.0; 2];
+            for (cap, far) in [c0, c1].iter().zip(far.iter_mut()) {
+                let q = x - cap.vertex;
+                let b = q.dot(u) + cap.r * u.dot(cap.m);
+                let c = q.length_squared() + 2.0 * cap.r * q.dot(cap.m);
+                let disc = b * b - c;
+                real &= disc >= 0.0;
+                let s = disc.sqrt();
+                let q = if b >= 0.0 { -(b + s) } else { -(b - s) };
+                let r2 = c / q;
+                *far = if q == 0.0 {
+                    0.0
+                } else if q <= r2 {
+                    r2
+                } else {
+                    q
+                };
+            }
+            let (t, by_roots) = if far[0] <= far[1] { (far[0], 0) } else { (far[1], 1) };
+            let y = x + t * u;
+            // `face`.
+            let s = if self.one_sphere {
+                if y.dot(self.axis) >= 0.0 { 0 } else { 1 }
+            } else {
+                by_roots
+            };
+            let cap = if s == 0 { c0 } else { c1 };
+            let normal = (cap.m + (y - cap.vertex) / cap.r).normalize();
+            // `optics::refract(u, −normal, n, 1)`.
+            let nn = -normal;
+            let eta = n / 1.0;
+            let cos_i = -u.dot(nn);
+            let sin2_i = u.cross(nn).length_squared();
+            let sin2_t = eta * eta * sin2_i;
+            let cos_t = (1.0 - sin2_t).sqrt();
+            let dir = (eta * u + (eta * cos_i - cos_t) * nn).normalize();
+            let yw = self.center + y;
+            for k in 0..3 {
+                out.y[k][l] = yw[k];
+                out.out[k][l] = dir[k];
+            }
+            out.part[l] = s;
+            out.ok[l] = real & (t >= 0.0) & !(sin2_t > 1.0);
+        }
+        out
+    }
+
     /// [`Lens::propagate_inside`] in local coordinates.
     fn propagate_local(&self, mut x: DVec3, mut u: DVec3, n: f64) -> LensPath {
         let mut reflections = 0;
@@ -679,6 +763,85 @@ mod tests {
         let l = lens(2.0, 5.0, 5.0, 4.0);
         let p = l.trace(DVec3::ZERO, DVec3::new(1.0, 0.0, 0.05), 4.0);
         assert!(p.internal_reflections >= 1, "{p:?}");
+    }
+
+    /// The lane exits are the scalar `propagate_inside` exits to the bit,
+    /// for rays refracted in at real entry points (thick, ball, meniscus-
+    /// like, nearly flat and tiny far-off lenses), and every lane that
+    /// reflects inside is left to the scalar code.
+    #[test]
+    fn lane_exits_are_the_scalar_exits_bit_for_bit() {
+        use crate::sampling::Sampler;
+        let cases = [
+            Lens::new(
+                DVec3::new(0.0, 4.3, 6.9),
+                DVec3::new(0.0, 0.48, 0.88),
+                2.0,
+                5.0,
+                5.0,
+                Index::Constant(1.5),
+            ),
+            Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 1.0, 1.0, Index::Constant(1.5)),
+            Lens::new(DVec3::ONE, DVec3::X, 2.0, 1.0, 3.0, Index::Constant(1.9)),
+            Lens::new(DVec3::ZERO, DVec3::Y, 2.0, 2e6, 2e7, Index::Constant(1.5)),
+            Lens::new(DVec3::splat(1e4), DVec3::ONE, 1e-3, 0.7e-3, 5e-3, Index::Constant(1.5)),
+        ];
+        let mut s = Sampler::new(5, 0, 0);
+        let (mut exact, mut scalar) = (0, 0);
+        for (c, l) in cases.into_iter().enumerate() {
+            let l = l.unwrap();
+            let n = 1.5;
+            for _ in 0..3000 {
+                let mut x = [[0.0; 8]; 3];
+                let mut u = [[0.0; 8]; 3];
+                for lane in 0..8 {
+                    // A ray from outside toward the lens, refracted in where
+                    // it enters.
+                    let org = l.center + (DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) - 0.5) * 6.0 * l.d;
+                    let aim = l.center + (DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) - 0.5) * l.d;
+                    let ray = Ray::new(org, aim - org);
+                    let (p, dir) = match l.intersect(&ray, 0.0, f64::INFINITY) {
+                        Some(h) => {
+                            let p = ray.at(h.t);
+                            let nrm = l.normal(p, h.part);
+                            let nf = if ray.dir.dot(nrm) < 0.0 { nrm } else { -nrm };
+                            (p, optics::refract(ray.dir, nf, 1.0, n).unwrap_or(ray.dir))
+                        }
+                        // A start inside the glass in a random direction.
+                        None => (l.center, ray.dir),
+                    };
+                    for k in 0..3 {
+                        x[k][lane] = p[k];
+                        u[k][lane] = dir[k];
+                    }
+                }
+                let got = l.exit_lanes(&x, &u, n);
+                for lane in 0..8 {
+                    let p = DVec3::new(x[0][lane], x[1][lane], x[2][lane]);
+                    let dir = DVec3::new(u[0][lane], u[1][lane], u[2][lane]);
+                    let want = l.propagate_inside(p, dir, n);
+                    if !got.ok[lane] {
+                        scalar += 1;
+                        assert!(
+                            want.internal_reflections > 0 || want.status != LensTraceStatus::Transmitted,
+                            "case {c}: a plain pass left to the scalar code"
+                        );
+                        continue;
+                    }
+                    exact += 1;
+                    let y = DVec3::new(got.y[0][lane], got.y[1][lane], got.y[2][lane]);
+                    let out = DVec3::new(got.out[0][lane], got.out[1][lane], got.out[2][lane]);
+                    let part = LensSurface::from_part(got.part[lane] as u8);
+                    assert_eq!(want.status, LensTraceStatus::Transmitted, "case {c}");
+                    assert_eq!(want.internal_reflections, 0, "case {c}");
+                    assert_eq!(want.exit, Some((part, y, out)), "case {c}");
+                }
+            }
+        }
+        assert!(
+            exact > 50_000 && scalar > 500,
+            "{exact} exact lanes, {scalar} left to the scalar code"
+        );
     }
 
     #[test]
