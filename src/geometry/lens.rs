@@ -403,6 +403,18 @@ impl Lens {
         };
         let c = self.center;
         let axis = self.axis;
+        // The cheap rejection of `intersect` first: a packet whose rays all
+        // pass clear of the lens (its box is larger than it) stops here.
+        let mut any_near = false;
+        for l in 0..N {
+            let (rx, ry, rz) = (o[0][l] - c.x, o[1][l] - c.y, o[2][l] - c.z);
+            let along = (rx * d[0][l]) + (ry * d[1][l]) + (rz * d[2][l]);
+            let rel2 = (rx * rx) + (ry * ry) + (rz * rz);
+            any_near |= !(rel2 - along * along > self.reject_radius2);
+        }
+        if !any_near {
+            return out;
+        }
         for l in 0..N {
             let (dx, dy, dz) = (d[0][l], d[1][l], d[2][l]);
             let (rx, ry, rz) = (o[0][l] - c.x, o[1][l] - c.y, o[2][l] - c.z);
