@@ -100,15 +100,22 @@ impl Packet {
     /// enough that building one and copying it in costs a `memcpy`).
     #[inline(always)]
     fn set_camera(&mut self, cam: &Camera, xs: &Lanes<f64>, ys: &Lanes<f64>, n: usize, width: u32, height: u32) {
-        self.d = cam.directions(xs, ys, width, height);
+        // Unused lanes repeat lane 0's pixel (their interval is empty), so
+        // that a tile's frustum can be taken over every lane.
+        let (mut xs, mut ys) = (*xs, *ys);
+        for l in n..LANES {
+            (xs[l], ys[l]) = (xs[0], ys[0]);
+        }
+        self.d = cam.directions(&xs, &ys, width, height);
         for k in 0..3 {
             self.o[k] = [cam.position[k]; LANES];
             for l in 0..LANES {
                 self.inv[k][l] = 1.0 / self.d[k][l];
             }
         }
-        for l in 0..LANES {
-            self.t_max[l] = if l < n { f64::INFINITY } else { -1.0 };
+        self.t_max = [f64::INFINITY; LANES];
+        for l in n..LANES {
+            self.t_max[l] = -1.0;
         }
         self.len = n;
     }
@@ -179,8 +186,11 @@ fn slab(min: DVec3, max: DVec3, p: &Packet, t_max: &Lanes<f64>) -> u32 {
         let t1x = (max.x - p.o[0][l]) * p.inv[0][l];
         let t1y = (max.y - p.o[1][l]) * p.inv[1][l];
         let t1z = (max.z - p.o[2][l]) * p.inv[2][l];
-        let lo = gmax(gmin(t0x, t1x), gmax(gmin(t0y, t1y), gmin(t0z, t1z))).max(0.0);
-        let hi = gmin(gmax(t0x, t1x), gmin(gmax(t0y, t1y), gmax(t0z, t1z))).min(t_max[l]);
+        // `gmax(x, 0)` and `gmin(x, t)` are `f64::max`/`min` for every `x`,
+        // NaN included (a NaN gives the other operand), up to the sign of a
+        // zero, which no comparison sees; they compile to one instruction.
+        let lo = gmax(gmax(gmin(t0x, t1x), gmax(gmin(t0y, t1y), gmin(t0z, t1z))), 0.0);
+        let hi = gmin(gmin(gmax(t0x, t1x), gmin(gmax(t0y, t1y), gmax(t0z, t1z))), t_max[l]);
         hit[l] = lo <= hi * (1.0 + 4.0 * f64::EPSILON);
     }
     mask(&hit)
@@ -201,9 +211,12 @@ fn mask(b: &Lanes<bool>) -> u32 {
 #[derive(Clone, Copy, Debug)]
 struct ObjectHits {
     /// Lanes that hit within `(0, t_max)`.
-    hit: Lanes<bool>,
+    /// 1 where hit, else 0.
+    hit: Lanes<u64>,
     t: Lanes<f64>,
-    part: Lanes<u8>,
+    /// In 64-bit lanes, the width of the distances, so that the loops that
+    /// pick among them stay in SIMD registers.
+    part: Lanes<u64>,
 }
 
 /// [`crate::geometry::Cuboid::intersect`] in every lane, for a cuboid of
@@ -284,9 +297,9 @@ fn cuboid(position: DVec3, h: DVec3, p: &Packet, t_max: &Lanes<f64>) -> ObjectHi
         part_w[l] = if take_e { f_in } else { f_out };
     }
     ObjectHits {
-        hit: hit_w.map(|h| h != 0),
+        hit: hit_w,
         t: out_t,
-        part: part_w.map(|p| p as u8),
+        part: part_w,
     }
 }
 
@@ -301,7 +314,7 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
     let drop_skipped = |mut h: ObjectHits| {
         if skip != 0 {
             for l in 0..LANES {
-                h.hit[l] &= skip >> l & 1 == 0;
+                h.hit[l] &= u64::from(skip >> l & 1 == 0);
             }
         }
         h
@@ -311,9 +324,9 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
         Shape::Lens(lens) if o.identity => {
             let h = lens.intersect_lanes(&p.o, &p.d, t_max);
             let mut out = ObjectHits {
-                hit: h.hit,
+                hit: h.hit.map(u64::from),
                 t: h.t,
-                part: h.part,
+                part: h.part.map(u64::from),
             };
             // Origins far from the lens need the scalar test's exact start.
             let mut slow = lanes & mask(&h.slow);
@@ -321,16 +334,16 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
                 let l = slow.trailing_zeros() as usize;
                 slow &= slow - 1;
                 if let Some(h) = lens.intersect(&p.ray(l), 0.0, t_max[l]) {
-                    out.hit[l] = true;
+                    out.hit[l] = 1;
                     out.t[l] = h.t;
-                    out.part[l] = h.part;
+                    out.part[l] = u64::from(h.part);
                 }
             }
             drop_skipped(out)
         }
         shape => {
             let mut out = ObjectHits {
-                hit: [false; LANES],
+                hit: [0; LANES],
                 t: [0.0; LANES],
                 part: [0; LANES],
             };
@@ -339,9 +352,9 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
                 let l = m.trailing_zeros() as usize;
                 m &= m - 1;
                 if let Some(h) = shape.intersect(&o.to_object(&p.ray(l)), 0.0, t_max[l]) {
-                    out.hit[l] = true;
+                    out.hit[l] = 1;
                     out.t[l] = h.t;
-                    out.part[l] = h.part;
+                    out.part[l] = u64::from(h.part);
                 }
             }
             out
@@ -446,8 +459,28 @@ trait Visitor {
 
 /// Closest hits: every hit shortens its lane.
 struct Closest {
-    part: Lanes<u8>,
-    object: Lanes<u32>,
+    part: Lanes<u64>,
+    object: Lanes<u64>,
+}
+
+impl Closest {
+    #[inline(always)]
+    fn new() -> Closest {
+        Closest {
+            part: [0; LANES],
+            object: [u64::from(NO_OBJECT); LANES],
+        }
+    }
+
+    /// The hits found, narrowed to [`PacketHits`].
+    #[inline(always)]
+    fn hits(&self, t_max: &Lanes<f64>) -> PacketHits {
+        PacketHits {
+            object: self.object.map(|o| o as u32),
+            t: *t_max,
+            part: self.part.map(|p| p as u8),
+        }
+    }
 }
 
 impl Visitor for Closest {
@@ -455,10 +488,10 @@ impl Visitor for Closest {
     fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>) {
         let h = test_object(scene, i, lanes, skipped, p, t_max);
         for l in 0..LANES {
-            let hit = h.hit[l];
+            let hit = h.hit[l] != 0;
             t_max[l] = if hit { h.t[l] } else { t_max[l] };
             self.part[l] = if hit { h.part[l] } else { self.part[l] };
-            self.object[l] = if hit { i } else { self.object[l] };
+            self.object[l] = if hit { u64::from(i) } else { self.object[l] };
         }
     }
 }
@@ -472,10 +505,10 @@ impl Visitor for Shadow {
     #[inline(always)]
     fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>) {
         let h = test_object(scene, i, lanes, skipped, p, t_max);
-        if h.hit.contains(&true) {
+        if h.hit.contains(&1) {
             let filter = scene.objects[i as usize].material.shadow_transmittance();
             for l in 0..LANES {
-                if h.hit[l] {
+                if h.hit[l] != 0 {
                     self.light[l] *= filter;
                     if self.light[l] == Rgb::ZERO {
                         t_max[l] = -1.0;
@@ -488,17 +521,10 @@ impl Visitor for Shadow {
 
 #[inline(always)]
 fn closest_hits_impl<const SKIP: bool>(scene: &Scene, p: &Packet, skip: &Lanes<u32>) -> PacketHits {
-    let mut c = Closest {
-        part: [0; LANES],
-        object: [NO_OBJECT; LANES],
-    };
+    let mut c = Closest::new();
     let mut t_max = p.t_max;
     walk::<SKIP, false>(scene, p, skip, &mut t_max, &mut c);
-    let mut best = PacketHits {
-        object: c.object,
-        t: t_max,
-        part: c.part,
-    };
+    let mut best = c.hits(&t_max);
     // Unused lanes report no hit.
     for l in p.len..LANES {
         best.object[l] = NO_OBJECT;
@@ -564,26 +590,42 @@ struct Frustum {
 }
 
 impl Frustum {
-    /// The frustum of the used lanes of `packets` (all from one origin), or
-    /// `None` when some axis changes sign or meets an infinite reciprocal.
+    /// The frustum of camera packets (all from one origin, unused lanes
+    /// repeating lane 0), or `None` when some axis changes sign or meets an
+    /// infinite or NaN reciprocal.
     #[inline(always)]
     fn of(packets: &[Packet]) -> Option<Frustum> {
-        let mut inv_lo = [f64::INFINITY; 3];
-        let mut inv_hi = [f64::NEG_INFINITY; 3];
+        // Over all lanes (a camera packet's unused lanes repeat lane 0), as
+        // plain lane loops. The sum is not finite if any reciprocal is
+        // infinite or NaN (NaN would slip through the comparisons).
+        let mut lo = [[f64::INFINITY; LANES]; 3];
+        let mut hi = [[f64::NEG_INFINITY; LANES]; 3];
+        let mut sum = [[0.0; LANES]; 3];
         for p in packets {
             for k in 0..3 {
-                for l in 0..p.len {
-                    inv_lo[k] = inv_lo[k].min(p.inv[k][l]);
-                    inv_hi[k] = inv_hi[k].max(p.inv[k][l]);
+                for l in 0..LANES {
+                    let v = p.inv[k][l];
+                    lo[k][l] = gmin(lo[k][l], v);
+                    hi[k][l] = gmax(hi[k][l], v);
+                    sum[k][l] += v;
                 }
             }
         }
+        if !sum.iter().flatten().sum::<f64>().is_finite() {
+            return None;
+        }
+        let mut inv_lo = [0.0; 3];
+        let mut inv_hi = [0.0; 3];
         let mut neg = [false; 3];
         for k in 0..3 {
-            let (lo, hi) = (inv_lo[k], inv_hi[k]);
+            let (lo, hi) = (
+                lo[k].into_iter().fold(f64::INFINITY, gmin),
+                hi[k].into_iter().fold(f64::NEG_INFINITY, gmax),
+            );
             if !(lo.is_finite() && hi.is_finite() && (lo > 0.0 || hi < 0.0)) {
                 return None;
             }
+            (inv_lo[k], inv_hi[k]) = (lo, hi);
             neg[k] = hi < 0.0;
         }
         let p = &packets[0];
@@ -616,7 +658,7 @@ impl Frustum {
             near[k] = gmin(gmin(a, b), gmin(c, d));
             far[k] = gmax(gmax(a, b), gmax(c, d));
         }
-        let lo = gmax(near[0], gmax(near[1], near[2])).max(0.0);
+        let lo = gmax(gmax(near[0], gmax(near[1], near[2])), 0.0);
         let hi = gmin(far[0], gmin(far[1], far[2]));
         lo <= hi * (1.0 + 4.0 * f64::EPSILON)
     }
@@ -685,10 +727,7 @@ fn camera_tile_hits_impl(
     let bvh = scene.bvh.as_ref().expect("a leaf list comes from a BVH"); // ok: `list` is Some only with a BVH
     for r in 0..len {
         let p = &tile.packets[r];
-        let mut c = Closest {
-            part: [0; LANES],
-            object: [NO_OBJECT; LANES],
-        };
+        let mut c = Closest::new();
         let mut t_max = p.t_max;
         for &i in &leaves[..count] {
             let node = &bvh.nodes[i as usize];
@@ -700,9 +739,7 @@ fn camera_tile_hits_impl(
             }
         }
         let h = &mut tile.hits[r];
-        h.object = c.object;
-        h.t = t_max;
-        h.part = c.part;
+        *h = c.hits(&t_max);
         for l in p.len..LANES {
             h.object[l] = NO_OBJECT;
         }
