@@ -163,7 +163,7 @@ def main():
     for t, r in sorted(best.items()):
         print(f"Embree (embreex), {t} thread(s): {r / 1e6:8.2f} M rays/s")
     print(f"Embree best ({embree_threads} thread(s)):  {embree / 1e6:8.2f} M rays/s")
-    print(f"lensview ({cores} threads), 8×8 tiles:   {ours / 1e6:8.2f} M rays/s")
+    print(f"lensview ({cores} threads), tiles:         {ours / 1e6:8.2f} M rays/s")
     print(f"lensview ({cores} threads), one by one:   {scalar / 1e6:8.2f} M rays/s")
     print(f"ratio lensview / Embree:          {ours / embree:8.2f}× (one by one {scalar / embree:.2f}×)")
 

@@ -115,7 +115,7 @@ fn frames(c: &mut Criterion) {
             p.run(black_box(&scene), Stage::Blocks(8), &|| false)
         })
     });
-    // Camera rays in 8×8 tiles of packets (what the renderer casts), in
+    // Camera rays in tiles of packets (what the renderer casts), in
     // packets of eight walking alone, and one by one.
     g.bench_function("1280x720-primary-rays-closest-hit-tiles", |b| {
         b.iter(|| lensview::bench::primary_rays_per_second(black_box(&scene), 1280, 720, 1, true))

@@ -85,7 +85,7 @@ pub fn frame_time_with(scene: &Scene, width: u32, height: u32, runs: usize, kern
 
 /// Calls `f(packet, hits, n)` for the camera packets of the band of rows
 /// from `TILE · band`: pixel centres cast in tiles of eight pixels by the
-/// band's rows, a packet to each row (`n` pixels in the last column), as
+/// band's rows ([`TILE`] of them), a packet to each row (`n` pixels in the last column), as
 /// the renderer casts them ([`camera_tile_hits`]). With `tiles` off, each
 /// packet walks the BVH alone ([`camera_hits`]).
 fn centre_packets(
@@ -142,7 +142,7 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel
 }
 
 /// Closest-hit primary rays per second (pixel centres, no shading), cast
-/// the way the renderer casts them: tiles of 8 × 8 pixels whose frustum
+/// the way the renderer casts them: tiles of 8 × [`TILE`] pixels whose frustum
 /// walks the BVH once, each row of a tile a packet of eight rays
 /// ([`crate::accel::packet`]). With `tiles` off, each packet walks the BVH
 /// on its own.

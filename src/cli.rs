@@ -283,10 +283,12 @@ fn bench(a: &BenchArgs) -> Result<()> {
         println!("primary_rays_per_s_packets_alone {packets:.0}");
         println!("primary_rays_per_s_scalar {scalar:.0}");
         println!(
-            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in 8×8 tiles of packets of {} ({}); {:.2} M/s with each packet walking alone; {:.2} M/s one ray at a time (tiles {:.2}× one by one)",
+            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in tiles of {} packets of {} \
+             ({}); {:.2} M/s with each packet walking alone; {:.2} M/s one ray at a time (tiles {:.2}× one by one)",
             rps / 1e6,
             a.width,
             a.height,
+            lensview::accel::packet::TILE,
             lensview::accel::packet::LANES,
             simd_name(),
             packets / 1e6,
@@ -411,9 +413,10 @@ fn bench(a: &BenchArgs) -> Result<()> {
     let frame = frame_time(&scene, tw, th, runs.min(3));
     let small = frame_time(&scene, 400, 400, runs);
     println!(
-        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in 8×8 tiles of packets of {} \
+        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in tiles of {} packets of {} \
          ({}), {:.2} M rays/s in packets walking alone, {:.2} M rays/s one by one (tiles {:.2}× one by one)",
         rps / 1e6,
+        lensview::accel::packet::TILE,
         lensview::accel::packet::LANES,
         simd_name(),
         rps_packets / 1e6,
