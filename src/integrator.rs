@@ -211,7 +211,9 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             let mut t_max = [-1.0; LANES];
             let mut skip = [NO_OBJECT; LANES];
             for l in 0..LANES {
-                if let (Some(s), Some(ls)) = (&surfaces[l], &samples[j][l]) {
+                if let (Some(s), Some(ls)) = (&surfaces[l], &samples[j][l])
+                    && visibility_matters::<GLASS, SPECULAR>(s, ls, rays[l].dir)
+                {
                     (shadow[l], t_max[l]) = shadow_ray(s, ls);
                     skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
                 }
@@ -443,6 +445,24 @@ fn phong_lobe(rv: f64, shininess: f64) -> f64 {
     } else {
         rv.powf(shininess)
     }
+}
+
+/// Whether the light of sample `ls` can change what [`shade`] adds at the
+/// surface for a ray along `dir`: a diffuse term (zero for clear glass, whose
+/// opacity is zero) or a specular one (zero where the mirrored light
+/// direction points away from the eye). Where neither is, the shadow ray
+/// would not change a bit of the pixel, and a packet does not trace it (the
+/// scalar kernel still does: the tests compare the two paths bit for bit).
+/// The expressions are `shade`'s own.
+#[inline(always)]
+fn visibility_matters<const GLASS: bool, const SPECULAR: bool>(s: &Surface, ls: &LightSample, dir: DVec3) -> bool {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let cos = s.nf.dot(ls.to_light);
+    if m.diffuse * opacity * cos != 0.0 || !ls.irradiance.is_finite() {
+        return true;
+    }
+    SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > 0.0
 }
 
 /// Light `j`'s sample at the surface and, with shadows, the transmittance
