@@ -283,17 +283,10 @@ fn bench(a: &BenchArgs) -> Result<()> {
         println!("primary_rays_per_s_packets_alone {packets:.0}");
         println!("primary_rays_per_s_scalar {scalar:.0}");
         println!(
-            "lensview: {:.2} M closest-hit primary rays/s at {}×{} ({threads} threads) in tiles of {} packets of {} \
-             ({}); {:.2} M/s with each packet walking alone; {:.2} M/s one ray at a time (tiles {:.2}× one by one)",
-            rps / 1e6,
+            "lensview: closest-hit primary rays at {}×{} ({threads} threads): {}",
             a.width,
             a.height,
-            lensview::accel::packet::TILE,
-            lensview::accel::packet::LANES,
-            simd_name(),
-            packets / 1e6,
-            scalar / 1e6,
-            rps / scalar
+            primary_summary(rps, packets, scalar)
         );
         return Ok(());
     }
@@ -413,15 +406,8 @@ fn bench(a: &BenchArgs) -> Result<()> {
     let frame = frame_time(&scene, tw, th, runs.min(3));
     let small = frame_time(&scene, 400, 400, runs);
     println!(
-        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {:.2} M rays/s in tiles of {} packets of {} \
-         ({}), {:.2} M rays/s in packets walking alone, {:.2} M rays/s one by one (tiles {:.2}× one by one)",
-        rps / 1e6,
-        lensview::accel::packet::TILE,
-        lensview::accel::packet::LANES,
-        simd_name(),
-        rps_packets / 1e6,
-        rps_scalar / 1e6,
-        rps / rps_scalar
+        "\nprimary rays (closest hit, no shading) at {tw}×{th}: {}",
+        primary_summary(rps, rps_packets, rps_scalar)
     );
     println!(
         "full Whitted frame at {tw}×{th}: {:.1} ms ({:.1} fps); at 400×400: {:.1} ms",
@@ -582,11 +568,17 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// The instruction set the packet code runs in on this CPU.
-fn simd_name() -> &'static str {
-    if lensview::accel::packet::uses_avx2() {
-        "AVX2"
-    } else {
-        "SSE2"
-    }
+/// The three primary-ray rates (rays/s) in words: in tiles (what the
+/// renderer casts), in packets walking alone, one by one.
+fn primary_summary(tiles: f64, packets: f64, one_by_one: f64) -> String {
+    use lensview::accel::packet::{LANES, TILE, uses_avx2};
+    format!(
+        "{:.2} M rays/s in tiles of {TILE} packets of {LANES} ({}), {:.2} M rays/s in packets walking alone, \
+         {:.2} M rays/s one by one (tiles {:.2}× one by one)",
+        tiles / 1e6,
+        if uses_avx2() { "AVX2" } else { "SSE2" },
+        packets / 1e6,
+        one_by_one / 1e6,
+        tiles / one_by_one
+    )
 }

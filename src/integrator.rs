@@ -225,7 +225,7 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
     }
     // The passes through a lens of the lanes that enter one, traced together.
     let lens_passes = if GLASS {
-        lens_passes(scene, &rays, &surfaces, lambda_um)
+        lens_passes(&rays, &surfaces, lambda_um)
     } else {
         [None; LANES]
     };
@@ -633,33 +633,29 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
 /// (the first such lens; lanes on another take the scalar path): `Some`
 /// for each lane it traced, `None` for the others. The refraction at the
-/// entry is per lane; the pass to the exit, the exit's Fresnel factor and
-/// the outgoing ray run over all lanes at once ([`Lens::exit_lanes`]), with
-/// exactly the scalar arithmetic; a lane that reflects inside is traced by
-/// the scalar [`through_lens`].
+/// entry is per lane; the pass to the exit runs over all lanes at once
+/// ([`Lens::exit_lanes`], exactly the scalar arithmetic), and the ray out
+/// and its Fresnel factor are [`through_lens`]'s own ([`leaving_lens`]); a
+/// lane that reflects inside is traced by the scalar [`through_lens`].
 #[inline(always)]
 fn lens_passes(
-    scene: &Scene,
     rays: &[Ray; LANES],
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
 ) -> [Option<Option<Transmitted>>; LANES] {
     let mut out = [None; LANES];
-    let mut which = None;
+    // The lens (its object index, shape and index of refraction there).
+    let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
     let mut x = [[0.0; LANES]; 3];
     let mut u = [[0.0; LANES]; 3];
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
-        if !s.entering
-            || s.object.material.transparency <= 0.0
-            || s.object.lens().is_none()
-            || which.is_some_and(|i| i != s.index)
-        {
+        let Some(lens) = s.object.lens() else { continue };
+        if !s.entering || s.object.material.transparency <= 0.0 || which.is_some_and(|(i, ..)| i != s.index) {
             continue;
         }
-        which = Some(s.index);
-        let ior = s.object.material.ior.at(lambda_um);
+        let (_, _, ior) = *which.get_or_insert((s.index, lens, s.object.material.ior.at(lambda_um)));
         match optics::refract(rays[l].dir, s.nf, 1.0, ior) {
             None => out[l] = Some(None),
             Some(t) => {
@@ -671,48 +667,28 @@ fn lens_passes(
             }
         }
     }
+    let Some((_, lens, ior)) = which else {
+        return out;
+    };
     if lanes == 0 {
         return out;
     }
-    let obj = &scene.objects[which.expect("lanes were found on a lens")]; // ok: `lanes` is set only with `which`
-    let lens = obj.lens().expect("the object is a lens"); // ok: `which` names a lens
-    let ior = obj.material.ior.at(lambda_um);
     let e = lens.exit_lanes(&x, &u, ior);
-    let mut factor = [0.0; LANES];
-    let mut origin = [[0.0; LANES]; 3];
-    for l in 0..LANES {
-        // The rest of `through_lens`, lane by lane in the same form.
-        let y = DVec3::new(e.y[0][l], e.y[1][l], e.y[2][l]);
-        let dir = DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]);
-        let n = lens.surface_normal(
-            y,
-            if e.part[l] == 0 {
-                LensSurface::S1
-            } else {
-                LensSurface::S2
-            },
-        );
-        let cos_out = dir.dot(n).abs();
-        let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
-        factor[l] = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
-        let r = spawn_ray(y, n, dir, lens.d);
-        for (k, o) in origin.iter_mut().enumerate() {
-            o[l] = r.origin[k];
-        }
-    }
     let mut m = lanes;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
         out[l] = Some(if e.ok[l] {
-            Some(Transmitted {
-                ray: Ray {
-                    origin: DVec3::new(origin[0][l], origin[1][l], origin[2][l]),
-                    dir: DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]),
-                },
-                bounces: 2,
-                factor: factor[l],
-            })
+            let y = DVec3::new(e.y[0][l], e.y[1][l], e.y[2][l]);
+            let dir = DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]);
+            Some(leaving_lens(
+                lens,
+                LensSurface::from_part(e.part[l] as u8),
+                y,
+                dir,
+                ior,
+                0,
+            ))
         } else {
             let p = DVec3::new(x[0][l], x[1][l], x[2][l]);
             let t = DVec3::new(u[0][l], u[1][l], u[2][l]);
@@ -727,17 +703,24 @@ fn through_lens(lens: &Lens, p: DVec3, inside: DVec3, ior: f64) -> Option<Transm
     let path = lens.propagate_inside(p, inside, ior);
     match (path.status, path.exit) {
         (LensTraceStatus::Transmitted, Some((s, y, out))) => {
-            let n = lens.surface_normal(y, s);
-            // Fresnel loss at the exit face, at the inside angle of incidence.
-            let cos_out = out.dot(n).abs();
-            let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
-            Some(Transmitted {
-                ray: spawn_ray(y, n, out, lens.d),
-                bounces: 2 + path.internal_reflections,
-                factor: 1.0 - fresnel_dielectric(cos_in, ior, 1.0),
-            })
+            Some(leaving_lens(lens, s, y, out, ior, path.internal_reflections))
         }
         _ => None,
+    }
+}
+
+/// The ray that leaves `lens` through face `s` at `y` along `out`, after
+/// `reflections` internal reflections, with the Fresnel loss at the exit.
+#[inline]
+fn leaving_lens(lens: &Lens, s: LensSurface, y: DVec3, out: DVec3, ior: f64, reflections: u32) -> Transmitted {
+    let n = lens.surface_normal(y, s);
+    // Fresnel loss at the exit face, at the inside angle of incidence.
+    let cos_out = out.dot(n).abs();
+    let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+    Transmitted {
+        ray: spawn_ray(y, n, out, lens.d),
+        bounces: 2 + reflections,
+        factor: 1.0 - fresnel_dielectric(cos_in, ior, 1.0),
     }
 }
 

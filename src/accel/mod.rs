@@ -159,24 +159,62 @@ impl Bvh {
     /// new, smaller `t_max` if it hit; returning `Err(())` stops the walk
     /// (an any-hit query found what it wanted).
     #[inline]
-    pub fn traverse(&self, ray: &Ray, mut t_max: f64, mut visit: impl FnMut(u32, f64) -> Result<Option<f64>, ()>) {
+    pub fn traverse(&self, ray: &Ray, t_max: f64, visit: impl FnMut(u32, f64) -> Result<Option<f64>, ()>) {
+        let inv = ray.dir.recip();
+        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
+        struct OneRay<'a, F> {
+            prims: &'a [u32],
+            origin: DVec3,
+            inv: DVec3,
+            t_max: f64,
+            visit: F,
+        }
+        impl<F: FnMut(u32, f64) -> Result<Option<f64>, ()>> Walker for OneRay<'_, F> {
+            #[inline(always)]
+            fn enters(&mut self, node: &Node) -> bool {
+                slab(node, self.origin, self.inv, self.t_max)
+            }
+            #[inline(always)]
+            fn leaf(&mut self, _: usize, node: &Node) -> bool {
+                for &p in node.prims(self.prims) {
+                    match (self.visit)(p, self.t_max) {
+                        Ok(Some(t)) => self.t_max = t,
+                        Ok(None) => {}
+                        Err(()) => return false,
+                    }
+                }
+                true
+            }
+        }
+        self.walk(
+            neg,
+            &mut OneRay {
+                prims: &self.prims,
+                origin: ray.origin,
+                inv,
+                t_max,
+                visit,
+            },
+        );
+    }
+
+    /// The depth-first walk every query shares (one ray, a packet, a tile's
+    /// frustum): from the root, into each node `walker` enters, the nearer
+    /// child first for directions of signs `neg`, handing it each leaf it
+    /// enters, until the tree is done or `leaf` returns `false`.
+    #[inline(always)]
+    pub(crate) fn walk(&self, neg: [bool; 3], walker: &mut impl Walker) {
         if self.nodes.is_empty() {
             return;
         }
-        let inv = ray.dir.recip();
-        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
         let mut stack = Stack::new();
         let mut i = 0usize;
         loop {
             let node = &self.nodes[i];
-            if slab(node, ray.origin, inv, t_max) {
+            if walker.enters(node) {
                 if node.count > 0 {
-                    for &p in &self.prims[node.first as usize..(node.first + node.count) as usize] {
-                        match visit(p, t_max) {
-                            Ok(Some(t)) => t_max = t,
-                            Ok(None) => {}
-                            Err(()) => return,
-                        }
+                    if !walker.leaf(i, node) {
+                        return;
                     }
                 } else {
                     let (near, far) = node.near_far(i, neg);
@@ -193,7 +231,24 @@ impl Bvh {
     }
 }
 
+/// What a walk of the tree ([`Bvh::walk`]) does at the nodes it reaches (a
+/// trait rather than closures, so that the packet code's uses compile
+/// inside its AVX2 build).
+pub(crate) trait Walker {
+    /// Whether the walk goes into `node` (its box may matter).
+    fn enters(&mut self, node: &Node) -> bool;
+    /// Handles the leaf `node` (at `index`) the walk went into; `false`
+    /// ends the walk.
+    fn leaf(&mut self, index: usize, node: &Node) -> bool;
+}
+
 impl Node {
+    /// A leaf's objects, out of [`Bvh::prims`].
+    #[inline(always)]
+    pub(crate) fn prims<'a>(&self, prims: &'a [u32]) -> &'a [u32] {
+        &prims[self.first as usize..(self.first + self.count) as usize]
+    }
+
     /// An inner node's children, nearer first along its split axis for a
     /// ray whose direction has the signs `neg` (`i` is this node's index).
     #[inline(always)]
@@ -297,7 +352,7 @@ mod tests {
             let mut seen = vec![0; n];
             for node in &bvh.nodes {
                 if node.count > 0 {
-                    for &p in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
+                    for &p in node.prims(&bvh.prims) {
                         seen[p as usize] += 1;
                         assert!(node.min.cmple(b[p as usize].min).all() && node.max.cmpge(b[p as usize].max).all());
                     }

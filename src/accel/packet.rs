@@ -411,41 +411,51 @@ fn walk<const SKIP: bool, const ANY: bool>(
             }
         }
         Some(bvh) => {
-            if bvh.nodes.is_empty() {
-                return;
+            struct Lanes8<'a, V, S, A> {
+                scene: &'a Scene,
+                prims: &'a [u32],
+                p: &'a Packet,
+                t_max: &'a mut Lanes<f64>,
+                visitor: &'a mut V,
+                skipped: S,
+                alive: A,
+                /// The lanes that reach the node just entered.
+                m: u32,
+            }
+            impl<V: Visitor, S: Fn(u32) -> u32, A: Fn(&Lanes<f64>) -> bool> super::Walker for Lanes8<'_, V, S, A> {
+                #[inline(always)]
+                fn enters(&mut self, node: &super::Node) -> bool {
+                    self.m = slab(node.min, node.max, self.p, self.t_max);
+                    self.m != 0
+                }
+                #[inline(always)]
+                fn leaf(&mut self, _: usize, node: &super::Node) -> bool {
+                    for &o in node.prims(self.prims) {
+                        let sk = (self.skipped)(o);
+                        let lanes = self.m & !sk;
+                        if lanes != 0 {
+                            self.visitor.visit(self.scene, self.p, o, lanes, sk, self.t_max);
+                        }
+                    }
+                    (self.alive)(self.t_max)
+                }
             }
             // Children in the order of the first lane's direction: the rays
             // of a packet travel nearly alike.
             let neg = [p.inv[0][0] < 0.0, p.inv[1][0] < 0.0, p.inv[2][0] < 0.0];
-            let mut stack = super::Stack::new();
-            let mut i = 0usize;
-            loop {
-                let node = &bvh.nodes[i];
-                let m = slab(node.min, node.max, p, t_max);
-                if m != 0 {
-                    if node.count > 0 {
-                        for &o in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
-                            let sk = skipped(o);
-                            let lanes = m & !sk;
-                            if lanes != 0 {
-                                visitor.visit(scene, p, o, lanes, sk, t_max);
-                            }
-                        }
-                        if !alive(t_max) {
-                            return;
-                        }
-                    } else {
-                        let (near, far) = node.near_far(i, neg);
-                        stack.push(far);
-                        i = near;
-                        continue;
-                    }
-                }
-                match stack.pop() {
-                    Some(next) => i = next,
-                    None => return,
-                }
-            }
+            bvh.walk(
+                neg,
+                &mut Lanes8 {
+                    scene,
+                    prims: &bvh.prims,
+                    p,
+                    t_max,
+                    visitor,
+                    skipped,
+                    alive,
+                    m: 0,
+                },
+            );
         }
     }
 }
@@ -472,14 +482,19 @@ impl Closest {
         }
     }
 
-    /// The hits found, narrowed to [`PacketHits`].
+    /// The hits found in packet `p`, narrowed to [`PacketHits`]; lanes
+    /// past its length report none.
     #[inline(always)]
-    fn hits(&self, t_max: &Lanes<f64>) -> PacketHits {
-        PacketHits {
+    fn hits(&self, p: &Packet, t_max: &Lanes<f64>) -> PacketHits {
+        let mut h = PacketHits {
             object: self.object.map(|o| o as u32),
             t: *t_max,
             part: self.part.map(|p| p as u8),
+        };
+        for l in p.len..LANES {
+            h.object[l] = NO_OBJECT;
         }
+        h
     }
 }
 
@@ -524,12 +539,7 @@ fn closest_hits_impl<const SKIP: bool>(scene: &Scene, p: &Packet, skip: &Lanes<u
     let mut c = Closest::new();
     let mut t_max = p.t_max;
     walk::<SKIP, false>(scene, p, skip, &mut t_max, &mut c);
-    let mut best = c.hits(&t_max);
-    // Unused lanes report no hit.
-    for l in p.len..LANES {
-        best.object[l] = NO_OBJECT;
-    }
-    best
+    c.hits(p, &t_max)
 }
 
 #[inline(always)]
@@ -670,30 +680,36 @@ impl Frustum {
 /// walk visits them, or `None` past [`TILE_LEAVES`].
 #[inline(always)]
 fn tile_leaves(bvh: &super::Bvh, f: &Frustum, out: &mut [u32; TILE_LEAVES]) -> Option<usize> {
-    let mut n = 0;
-    let mut stack = super::Stack::new();
-    let mut i = 0usize;
-    loop {
-        let node = &bvh.nodes[i];
-        if f.reaches(node.min, node.max) {
-            if node.count > 0 {
-                if n == TILE_LEAVES {
-                    return None;
-                }
-                out[n] = i as u32;
-                n += 1;
-            } else {
-                let (near, far) = node.near_far(i, f.neg);
-                stack.push(far);
-                i = near;
-                continue;
-            }
+    struct List<'a> {
+        f: &'a Frustum,
+        out: &'a mut [u32; TILE_LEAVES],
+        n: usize,
+        full: bool,
+    }
+    impl super::Walker for List<'_> {
+        #[inline(always)]
+        fn enters(&mut self, node: &super::Node) -> bool {
+            self.f.reaches(node.min, node.max)
         }
-        match stack.pop() {
-            Some(next) => i = next,
-            None => return Some(n),
+        #[inline(always)]
+        fn leaf(&mut self, index: usize, _: &super::Node) -> bool {
+            if self.n == TILE_LEAVES {
+                self.full = true;
+                return false;
+            }
+            self.out[self.n] = index as u32;
+            self.n += 1;
+            true
         }
     }
+    let mut list = List {
+        f,
+        out,
+        n: 0,
+        full: false,
+    };
+    bvh.walk(f.neg, &mut list);
+    (!list.full).then_some(list.n)
 }
 
 #[inline(always)]
@@ -717,16 +733,15 @@ fn camera_tile_hits_impl(
     }
     let mut leaves = [0u32; TILE_LEAVES];
     let list = match (&scene.bvh, Frustum::of(&tile.packets[..len])) {
-        (Some(bvh), Some(f)) if !bvh.nodes.is_empty() => tile_leaves(bvh, &f, &mut leaves),
+        (Some(bvh), Some(f)) if !bvh.nodes.is_empty() => tile_leaves(bvh, &f, &mut leaves).map(|n| (bvh, n)),
         _ => None,
     };
-    let Some(count) = list else {
+    let Some((bvh, count)) = list else {
         for r in 0..len {
             tile.hits[r] = closest_hits_impl::<false>(scene, &tile.packets[r], &[NO_OBJECT; LANES]);
         }
         return;
     };
-    let bvh = scene.bvh.as_ref().expect("a leaf list comes from a BVH"); // ok: `list` is Some only with a BVH
     for r in 0..len {
         let p = &tile.packets[r];
         let mut c = Closest::new();
@@ -735,16 +750,12 @@ fn camera_tile_hits_impl(
             let node = &bvh.nodes[i as usize];
             let m = slab(node.min, node.max, p, &t_max);
             if m != 0 {
-                for &o in &bvh.prims[node.first as usize..(node.first + node.count) as usize] {
+                for &o in node.prims(&bvh.prims) {
                     c.visit(scene, p, o, m, 0, &mut t_max);
                 }
             }
         }
-        let h = &mut tile.hits[r];
-        *h = c.hits(&t_max);
-        for l in p.len..LANES {
-            h.object[l] = NO_OBJECT;
-        }
+        tile.hits[r] = c.hits(p, &t_max);
     }
 }
 

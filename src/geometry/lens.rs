@@ -114,7 +114,7 @@ impl LensSurface {
             LensSurface::S2 => "S2",
         }
     }
-    fn from_part(part: u8) -> Self {
+    pub(crate) fn from_part(part: u8) -> Self {
         if part == 0 { LensSurface::S1 } else { LensSurface::S2 }
     }
 }
