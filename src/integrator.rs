@@ -153,13 +153,110 @@ pub fn radiance_packet_unspecialised(scene: &Scene, paths: &PacketPaths, lambda_
 /// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
 pub type PacketKernel = fn(&Scene, &PacketPaths, f64) -> [Rgb; LANES];
 
-/// Lights whose shadow rays a packet casts as packets (the shadow rays of
-/// any further light are cast one by one).
-const PACKET_LIGHTS: usize = 4;
-
 /// Below this many rays, secondary rays are traced one by one.
 const MIN_PACKET: u32 = 3;
 
+/// The refracted (kind 0) or reflected (kind 1) rays a packet's lanes send
+/// on, gathered as a packet, with what [`Secondary`] holds for each lane.
+struct Onward {
+    rays: Packet,
+    live: u32,
+    skip: [u32; LANES],
+    depth: [u32; LANES],
+    weight: [f64; LANES],
+    tint: [Option<Rgb>; LANES],
+    factor: [f64; LANES],
+}
+
+impl Onward {
+    const EMPTY: Onward = Onward {
+        rays: Packet::EMPTY,
+        live: 0,
+        skip: [NO_OBJECT; LANES],
+        depth: [0; LANES],
+        weight: [0.0; LANES],
+        tint: [None; LANES],
+        factor: [0.0; LANES],
+    };
+
+    #[inline(always)]
+    fn push(&mut self, l: usize, sec: &Secondary) {
+        self.rays.set(l, &sec.ray, f64::INFINITY);
+        self.live |= 1 << l;
+        self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
+        self.depth[l] = sec.depth;
+        self.weight[l] = sec.weight;
+        self.tint[l] = sec.tint;
+        self.factor[l] = sec.factor;
+    }
+
+    /// Lane `l`'s ray as shading sent it.
+    #[inline(always)]
+    fn secondary(&self, l: usize) -> Secondary {
+        Secondary {
+            ray: self.rays.ray(l),
+            skip: if self.skip[l] == NO_OBJECT {
+                usize::MAX
+            } else {
+                self.skip[l] as usize
+            },
+            depth: self.depth[l],
+            weight: self.weight[l],
+            tint: self.tint[l],
+            factor: self.factor[l],
+        }
+    }
+
+    /// The radiance each live lane's ray brings back: a packet, or one ray
+    /// at a time below [`MIN_PACKET`] rays.
+    #[inline(always)]
+    fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+        &mut self,
+        scene: &Scene,
+        lambda_um: f64,
+    ) -> [Rgb; LANES] {
+        let mut back = [Rgb::ZERO; LANES];
+        if self.live.count_ones() < MIN_PACKET {
+            let mut m = self.live;
+            while m != 0 {
+                let l = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let sec = self.secondary(l);
+                back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                    scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                );
+            }
+            return back;
+        }
+        self.rays.fill_unused(self.live);
+        let hits = closest_hits(scene, &self.rays, &self.skip);
+        let paths = PacketPaths {
+            rays: &self.rays,
+            hits: &hits,
+            active: self.live,
+            depth: self.depth,
+            weight: self.weight,
+        };
+        packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &paths, lambda_um)
+    }
+
+    /// Adds what lane `l`'s ray brought back (`back`) to `color`, as
+    /// [`Secondary::join`] does.
+    #[inline(always)]
+    fn join(&self, l: usize, color: &mut Rgb, back: Rgb) {
+        *color += match self.tint[l] {
+            Some(t) => t * back * self.factor[l],
+            None => back * self.factor[l],
+        };
+    }
+}
+
+/// The packet form of the scalar [`kernel`]: every step of [`shade`] over
+/// the lanes, in the same order and with the same arithmetic per lane
+/// ([`ambient`], [`add_light`], [`shade_onward`]), so that each lane gets
+/// the scalar radiance bit for bit. Each light's shadow rays are one
+/// packet; the refracted and the reflected rays of the lanes are a packet
+/// each, traced after the local shading of every lane.
 fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     paths: &PacketPaths,
@@ -172,142 +269,99 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         depth,
         weight,
     } = *paths;
-    // Filled in place: building these arrays with `from_fn` went through
-    // a copy of each element.
-    let mut rays = [Ray {
-        origin: DVec3::ZERO,
-        dir: DVec3::ZERO,
-    }; LANES];
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
-    for l in 0..LANES {
-        rays[l] = p.ray(l);
-        if active >> l & 1 != 0
-            && let Some((i, h)) = hits.get(l)
-        {
-            surfaces[l] = Some(surface(scene, &rays[l], i, h));
-        }
-    }
-    if surfaces.iter().all(Option::is_none) {
-        // Every ray escaped (the rays a lens reflects, mostly): what `shade`
-        // gives a lane without a hit, without the packet's setup.
-        return std::array::from_fn(|l| {
-            if active >> l & 1 != 0 {
-                scene.background
-            } else {
-                Rgb::ZERO
-            }
-        });
-    }
-    // The first lights' samples at every lane's surface and, with shadows,
-    // their shadow rays, a packet per light.
-    let mut vis = [[Rgb::ONE; LANES]; PACKET_LIGHTS];
-    let mut samples: [[Option<LightSample>; LANES]; PACKET_LIGHTS] = [[None; LANES]; PACKET_LIGHTS];
-    for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
-        for l in 0..LANES {
-            samples[j][l] = surfaces[l].as_ref().and_then(|s| light_at(s, light));
-        }
-        if SHADOWS && scene.shadows {
-            let mut shadow = rays;
-            let mut t_max = [-1.0; LANES];
-            let mut skip = [NO_OBJECT; LANES];
-            for l in 0..LANES {
-                if let (Some(s), Some(ls)) = (&surfaces[l], &samples[j][l])
-                    && visibility_matters::<GLASS, SPECULAR>(s, ls, rays[l].dir)
-                {
-                    (shadow[l], t_max[l]) = shadow_ray(s, ls);
-                    skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
-                }
-            }
-            if t_max.iter().any(|&t| t >= 0.0) {
-                vis[j] = transmittances(scene, &Packet::with_limits(&shadow, &t_max), &skip);
-            }
-        }
-    }
-    // The passes through a lens of the lanes that enter one, traced together.
-    let lens_passes = if GLASS {
-        lens_passes(&rays, &surfaces, lambda_um)
-    } else {
-        [None; LANES]
-    };
-    // Local shading of every lane; refracted (0) and reflected (1) rays are
-    // collected and traced afterwards, a packet of each kind.
     let mut out = [Rgb::ZERO; LANES];
-    let mut sent: [[Option<Secondary>; 2]; LANES] = [[None; 2]; LANES];
+    let mut any = false;
     for l in 0..LANES {
         if active >> l & 1 == 0 {
             continue;
         }
-        out[l] = shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+        match hits.get(l) {
+            Some((i, h)) => {
+                let s = surface(scene, &p.ray(l), i, h);
+                out[l] = ambient::<GLASS>(scene, &s);
+                surfaces[l] = Some(s);
+                any = true;
+            }
+            None => out[l] = scene.background,
+        }
+    }
+    if !any {
+        // Every ray escaped (the rays a lens reflects, mostly).
+        return out;
+    }
+    // Each light at every lane's surface, its shadow rays a packet.
+    for light in &scene.lights {
+        let mut samples: [Option<LightSample>; LANES] = [None; LANES];
+        for l in 0..LANES {
+            samples[l] = surfaces[l].as_ref().and_then(|s| light_at(s, light));
+        }
+        let mut vis = [Rgb::ONE; LANES];
+        if SHADOWS && scene.shadows {
+            let mut shadow = Packet::EMPTY;
+            let mut live = 0u32;
+            let mut skip = [NO_OBJECT; LANES];
+            for l in 0..LANES {
+                if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l])
+                    && visibility_matters::<GLASS, SPECULAR>(s, ls, p.dir(l))
+                {
+                    let (r, t_max) = shadow_ray(s, ls);
+                    shadow.set(l, &r, t_max);
+                    live |= 1 << l;
+                    skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
+                }
+            }
+            if live != 0 {
+                shadow.fill_unused(live);
+                vis = transmittances(scene, &shadow, &skip);
+            }
+        }
+        for l in 0..LANES {
+            if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l]) {
+                add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, p.dir(l), ls, vis[l], &mut out[l]);
+            }
+        }
+    }
+    if !(GLASS || MIRROR) {
+        return out;
+    }
+    // The passes through a lens of the lanes that enter one, traced together.
+    let lens_passes = if GLASS {
+        lens_passes(p, &surfaces, lambda_um)
+    } else {
+        [None; LANES]
+    };
+    // Refracted (0) and reflected (1) rays, gathered and traced afterwards.
+    let mut onward = [Onward::EMPTY, Onward::EMPTY];
+    for l in 0..LANES {
+        let Some(s) = &surfaces[l] else { continue };
+        let dir = p.dir(l);
+        shade_onward::<GLASS, MIRROR>(
             scene,
-            &rays[l],
-            surfaces[l].as_ref(),
+            dir,
+            s,
             depth[l],
             lambda_um,
             weight[l],
-            &mut |j, s| {
-                if j < PACKET_LIGHTS {
-                    samples[j][l].map(|ls| (ls, vis[j][l]))
-                } else {
-                    lit_by::<SHADOWS>(scene, j, s)
-                }
-            },
             &mut |s, ior| match lens_passes[l] {
                 Some(pass) => pass,
-                None => transmitted_ray(s.object, s.p, s.nf, s.entering, rays[l].dir, ior),
+                None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
             },
-            &mut |sec, _| {
-                let kind = usize::from(sec.tint.is_none());
-                sent[l][kind] = Some(sec);
-            },
+            &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
+            &mut out[l],
         );
     }
     let mut back = [[Rgb::ZERO; LANES]; 2];
-    for (kind, back) in back.iter_mut().enumerate() {
-        let mut rays = rays;
-        let mut t_max = [-1.0; LANES];
-        let mut skip = [NO_OBJECT; LANES];
-        let mut depth = [0; LANES];
-        let mut weight = [0.0; LANES];
-        let mut active = 0u32;
-        for l in 0..LANES {
-            if let Some(sec) = &sent[l][kind] {
-                rays[l] = sec.ray;
-                t_max[l] = f64::INFINITY;
-                skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
-                depth[l] = sec.depth;
-                weight[l] = sec.weight;
-                active |= 1 << l;
-            }
+    for (o, back) in onward.iter_mut().zip(&mut back) {
+        if o.live != 0 {
+            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um);
         }
-        if active == 0 {
-            continue;
-        }
-        if active.count_ones() < MIN_PACKET {
-            for l in 0..LANES {
-                if let Some(sec) = &sent[l][kind] {
-                    back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
-                    );
-                }
-            }
-            continue;
-        }
-        let child = Packet::with_limits(&rays, &t_max);
-        let child_hits = closest_hits(scene, &child, &skip);
-        let child_paths = PacketPaths {
-            rays: &child,
-            hits: &child_hits,
-            active,
-            depth,
-            weight,
-        };
-        *back = packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &child_paths, lambda_um);
     }
-    // In the order `shade` asked for them: refracted, then reflected.
+    // In the order `shade` adds them: refracted, then reflected.
     for l in 0..LANES {
-        for kind in 0..2 {
-            if let Some(sec) = &sent[l][kind] {
-                sec.join(&mut out[l], back[kind][l]);
+        for (o, back) in onward.iter().zip(&back) {
+            if o.live >> l & 1 != 0 {
+                o.join(l, &mut out[l], back[l]);
             }
         }
     }
@@ -341,22 +395,7 @@ fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPEC
 ) -> Rgb {
     let hit = closest_hit_skip(scene, ray, f64::INFINITY, skip);
     let hit = hit.map(|(i, h)| surface(scene, ray, i, h));
-    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-        scene,
-        ray,
-        hit.as_ref(),
-        depth,
-        lambda_um,
-        weight,
-        &mut |j, s| lit_by::<SHADOWS>(scene, j, s),
-        &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
-        &mut |sec, color| {
-            sec.join(
-                color,
-                kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
-            )
-        },
-    )
+    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, ray, hit.as_ref(), depth, lambda_um, weight)
 }
 
 /// A ray that shading sends on (refracted or reflected), and how its
@@ -490,17 +529,11 @@ pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
     (sr, dist)
 }
 
-/// The radiance along `ray` given its closest hit. `lit(j, s)` is light
-/// `j`'s sample at the surface ([`light_at`]) with the transmittance of the
-/// shadow ray toward it (one when shadows are off): the scalar kernel
-/// samples the light and walks the scene for it, a packet has both ready. `trace(secondary, colour)`
-/// follows a refracted or reflected ray and adds what it brings (the scalar
-/// kernel at once, a packet after the local shading of all its lanes: the
-/// additions come in the same order either way). `transmit(s, ior)` is
-/// [`transmitted_ray`] at the surface for this ray: a packet traces the
-/// passes through a lens of all its lanes together beforehand.
+/// The radiance along `ray` given its closest hit, one ray alone: light
+/// by light with a shadow ray each, then the refracted and reflected rays
+/// traced at once. [`packet_kernel`] runs the same three steps over a
+/// packet.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // the two callbacks are what differ between the scalar and packet kernels
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     ray: &Ray,
@@ -508,54 +541,111 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
     depth: u32,
     lambda_um: f64,
     weight: f64,
-    lit: &mut impl FnMut(usize, &Surface) -> Option<(LightSample, Rgb)>,
-    transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
-    trace: &mut impl FnMut(Secondary, &mut Rgb),
 ) -> Rgb {
     let Some(s) = hit else {
         return scene.background;
     };
+    let mut color = ambient::<GLASS>(scene, s);
+    for j in 0..scene.lights.len() {
+        if let Some((ls, visible)) = lit_by::<SHADOWS>(scene, j, s) {
+            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, ray.dir, &ls, visible, &mut color);
+        }
+    }
+    if GLASS || MIRROR {
+        shade_onward::<GLASS, MIRROR>(
+            scene,
+            ray.dir,
+            s,
+            depth,
+            lambda_um,
+            weight,
+            &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
+            &mut |sec, color| {
+                sec.join(
+                    color,
+                    kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                    ),
+                )
+            },
+            &mut color,
+        );
+    }
+    color
+}
+
+/// The ambient term at the surface: where local shading starts.
+#[inline(always)]
+fn ambient<const GLASS: bool>(scene: &Scene, s: &Surface) -> Rgb {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let mut color = Rgb::ZERO;
+    color += m.color * scene.ambient * (m.ambient * opacity);
+    color
+}
+
+/// Adds the Lambert and Phong terms of one light's sample `ls` at the
+/// surface, for a ray along `dir`, dimmed by the transmittance `visible` of
+/// its shadow ray (ignored without shadows).
+#[inline(always)]
+fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    s: &Surface,
+    dir: DVec3,
+    ls: &LightSample,
+    visible: Rgb,
+    color: &mut Rgb,
+) {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let cos = s.nf.dot(ls.to_light);
+    let mut e = ls.irradiance;
+    if SHADOWS && scene.shadows {
+        e *= visible;
+        if e == Rgb::ZERO {
+            return;
+        }
+    }
+    *color += m.color * e * (m.diffuse * opacity * cos);
+    if SPECULAR && m.specular > 0.0 {
+        let r = optics::reflect(-ls.to_light, s.nf);
+        let rv = r.dot(-dir);
+        if rv > 0.0 {
+            *color += e * (m.specular * phong_lobe(rv, m.shininess));
+        }
+    }
+}
+
+/// The refracted and reflected rays at the surface for a ray along `dir`,
+/// `depth` bounces deep with path weight `weight`: `trace(secondary,
+/// colour)` follows each and adds what it brings (the scalar kernel at
+/// once, a packet after the local shading of all its lanes: the additions
+/// come in the same order either way). `transmit(s, ior)` is
+/// [`transmitted_ray`] at the surface for this ray: a packet traces the
+/// passes through a lens of all its lanes together beforehand.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the two callbacks are what differ between the scalar and packet kernels
+fn shade_onward<const GLASS: bool, const MIRROR: bool>(
+    scene: &Scene,
+    dir: DVec3,
+    s: &Surface,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+    transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
+    trace: &mut impl FnMut(Secondary, &mut Rgb),
+    color: &mut Rgb,
+) {
+    if depth >= scene.max_depth {
+        return;
+    }
     let (obj, p, nf, entering) = (s.object, s.p, s.nf, s.entering);
     let m = &obj.material;
-    let scale = obj.scale;
-    let view = -ray.dir;
-
-    let mut color = Rgb::ZERO;
-    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
-
-    // Local Phong shading.
-    color += m.color * scene.ambient * (m.ambient * opacity);
-    for j in 0..scene.lights.len() {
-        let Some((ls, visible)) = lit(j, s) else {
-            continue;
-        };
-        let cos = nf.dot(ls.to_light);
-        let mut e = ls.irradiance;
-        if SHADOWS && scene.shadows {
-            e *= visible;
-            if e == Rgb::ZERO {
-                continue;
-            }
-        }
-        color += m.color * e * (m.diffuse * opacity * cos);
-        if SPECULAR && m.specular > 0.0 {
-            let r = optics::reflect(-ls.to_light, nf);
-            let rv = r.dot(view);
-            if rv > 0.0 {
-                color += e * (m.specular * phong_lobe(rv, m.shininess));
-            }
-        }
-    }
-
-    if !(GLASS || MIRROR) || depth >= scene.max_depth {
-        return color;
-    }
-
     let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
     if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
         let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
-        let f = fresnel_dielectric(nf.dot(view), n1, n2);
+        let f = fresnel_dielectric(nf.dot(-dir), n1, n2);
         kr += m.transparency * f;
         let kt = m.transparency * (1.0 - f);
         if kt * weight > MIN_WEIGHT
@@ -578,25 +668,24 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
                     tint: Some(m.color),
                     factor: w,
                 },
-                &mut color,
+                color,
             );
         }
     }
     if kr * weight > MIN_WEIGHT {
-        let r = optics::reflect(ray.dir, nf);
+        let r = optics::reflect(dir, nf);
         trace(
             Secondary {
-                ray: spawn_ray(p, nf, r, scale),
+                ray: spawn_ray(p, nf, r, obj.scale),
                 skip: s.leaving(r),
                 depth: depth + 1,
                 weight: weight * kr,
                 tint: None,
                 factor: kr,
             },
-            &mut color,
+            color,
         );
     }
-    color
 }
 
 /// The ray that carries on after refraction at a hit.
@@ -639,7 +728,7 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 /// lane that reflects inside is traced by the scalar [`through_lens`].
 #[inline(always)]
 fn lens_passes(
-    rays: &[Ray; LANES],
+    rays: &Packet,
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
 ) -> [Option<Option<Transmitted>>; LANES] {
@@ -656,7 +745,7 @@ fn lens_passes(
             continue;
         }
         let (_, _, ior) = *which.get_or_insert((s.index, lens, s.object.material.ior.at(lambda_um)));
-        match optics::refract(rays[l].dir, s.nf, 1.0, ior) {
+        match optics::refract(rays.dir(l), s.nf, 1.0, ior) {
             None => out[l] = Some(None),
             Some(t) => {
                 lanes |= 1 << l;

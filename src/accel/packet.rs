@@ -35,7 +35,7 @@ type Lanes<T> = [T; LANES];
 pub const NO_OBJECT: u32 = u32::MAX;
 
 /// Up to [`LANES`] rays in structure-of-arrays form. Unused lanes are
-/// copies of lane 0 with an empty interval, so they never hit anything.
+/// copies of a used lane with an empty interval, so they never hit anything.
 #[derive(Clone, Copy, Debug)]
 pub struct Packet {
     o: [Lanes<f64>; 3],
@@ -50,6 +50,48 @@ impl Packet {
     /// searched on `(0, t_max)`.
     pub fn new(rays: &[Ray], t_max: f64) -> Packet {
         Self::with_limits(rays, &[t_max; LANES])
+    }
+
+    /// A packet to fill lane by lane in place ([`Packet::set`], then
+    /// [`Packet::fill_unused`]): no array of rays to build and copy first.
+    pub const EMPTY: Packet = Packet {
+        o: [[0.0; LANES]; 3],
+        d: [[0.0; LANES]; 3],
+        inv: [[0.0; LANES]; 3],
+        t_max: [-1.0; LANES],
+        len: LANES,
+    };
+
+    /// Sets lane `l` to `ray` (unit direction), searched on `(0, t_max)`:
+    /// what [`Packet::with_limits`] makes of it.
+    #[inline(always)]
+    pub fn set(&mut self, l: usize, ray: &Ray, t_max: f64) {
+        let inv = ray.dir.recip();
+        for k in 0..3 {
+            self.o[k][l] = ray.origin[k];
+            self.d[k][l] = ray.dir[k];
+            self.inv[k][l] = inv[k];
+        }
+        self.t_max[l] = t_max;
+    }
+
+    /// Makes every lane outside the bit mask `live` (not empty) a copy of
+    /// its first lane with an empty interval, so that it never hits.
+    #[inline(always)]
+    pub fn fill_unused(&mut self, live: u32) {
+        debug_assert!(live != 0 && live < 1 << LANES);
+        let first = live.trailing_zeros() as usize;
+        for l in 0..LANES {
+            if live >> l & 1 == 0 {
+                for k in 0..3 {
+                    self.o[k][l] = self.o[k][first];
+                    self.d[k][l] = self.d[k][first];
+                    self.inv[k][l] = self.inv[k][first];
+                }
+                self.t_max[l] = -1.0;
+            }
+        }
+        self.len = LANES;
     }
 
     /// A packet of `rays`, ray `l` searched on `(0, t_max[l])`.
@@ -126,6 +168,12 @@ impl Packet {
 
     pub fn is_empty(&self) -> bool {
         self.len == 0
+    }
+
+    /// Lane `l`'s direction.
+    #[inline]
+    pub fn dir(&self, l: usize) -> DVec3 {
+        DVec3::new(self.d[0][l], self.d[1][l], self.d[2][l])
     }
 
     /// Lane `l`'s ray.

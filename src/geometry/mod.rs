@@ -88,6 +88,16 @@ impl Shape {
         }
     }
 
+    /// The number of faces of a shape bounded by planes only (its normal
+    /// depends on the face, not the point), `None` for curved shapes.
+    pub fn flat_faces(&self) -> Option<usize> {
+        match self {
+            Shape::Cuboid(_) => Some(6),
+            Shape::Prism(_) | Shape::Pyramid(_) => Some(5),
+            Shape::Sphere(_) | Shape::Lens(_) => None,
+        }
+    }
+
     /// Bounds in the shape's own space.
     pub fn bounds(&self) -> Aabb {
         match self {

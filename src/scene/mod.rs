@@ -47,6 +47,11 @@ pub struct Object {
     pub world_bounds: Aabb,
     /// Characteristic size of the shape (for ray offsets), cached.
     pub scale: f64,
+    /// For a shape of flat faces (cuboid, prism, pyramid), the world normal
+    /// of each face, exactly what [`Object::world_normal`] would compute at
+    /// any point of it: a hit looks its normal up instead of transforming
+    /// the point and the normal and normalising.
+    face_normals: Option<[DVec3; 6]>,
 }
 
 impl Object {
@@ -56,7 +61,7 @@ impl Object {
         let rot = rotation_from_degrees(rotation_deg);
         let world_bounds = shape.bounds().transformed(rot, position);
         let scale = shape.scale();
-        Object {
+        let mut o = Object {
             name,
             shape,
             material,
@@ -67,7 +72,18 @@ impl Object {
             object_from_world: rot.transpose(),
             world_bounds,
             scale,
+            face_normals: None,
+        };
+        if let Some(faces) = o.shape.flat_faces() {
+            // A flat face's normal does not depend on the point: any point
+            // (the centre) gives the same bits as the hit point would.
+            let mut n = [DVec3::ZERO; 6];
+            for (part, n) in n.iter_mut().enumerate().take(faces) {
+                *n = o.transformed_normal(o.position, part as u8);
+            }
+            o.face_normals = Some(n);
         }
+        o
     }
 
     /// A ray in object space (the same `t` as in world space: rigid motion).
@@ -89,7 +105,16 @@ impl Object {
     }
 
     /// World-space outward normal at the world point `p` of part `part`.
+    #[inline]
     pub fn world_normal(&self, p: DVec3, part: u8) -> DVec3 {
+        match &self.face_normals {
+            Some(n) => n[part as usize],
+            None => self.transformed_normal(p, part),
+        }
+    }
+
+    /// The shape's normal at the object-space image of `p`, in world space.
+    fn transformed_normal(&self, p: DVec3, part: u8) -> DVec3 {
         if self.identity {
             self.shape.normal(p, part)
         } else if self.translation_only {
@@ -542,5 +567,49 @@ impl Validator {
             ))),
         };
         if self.problems.len() > before { None } else { shape }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The face normals looked up for flat shapes are, bit for bit, the
+    /// normal transformed from object space at points on each face, for
+    /// rotated and shifted cuboids, prisms and pyramids.
+    #[test]
+    fn face_normals_are_the_transformed_normals() {
+        let shapes = [
+            Shape::Cuboid(Cuboid::new(DVec3::new(1.0, 2.5, 0.7))),
+            Shape::Prism(Prism::new(1.3, 2.0)),
+            Shape::Pyramid(Pyramid::new(1.7, 0.9)),
+        ];
+        let placements = [
+            (DVec3::ZERO, DVec3::ZERO),
+            (DVec3::new(3.0, -1.0, 2.0), DVec3::ZERO),
+            (DVec3::new(-4.0, 0.5, 7.0), DVec3::new(17.0, -33.0, 71.5)),
+        ];
+        for shape in &shapes {
+            let faces = shape.flat_faces().expect("flat shape");
+            for &(pos, rot) in &placements {
+                let glass = Material::glass(Rgb::ONE, Index::Constant(1.5));
+                let o = Object::new("o".into(), shape.clone(), glass, pos, rot);
+                assert!(o.face_normals.is_some());
+                for part in 0..faces as u8 {
+                    for p in [pos, pos + DVec3::new(0.3, -0.2, 0.1), DVec3::new(100.0, 3.0, -50.0)] {
+                        assert_eq!(o.world_normal(p, part), o.transformed_normal(p, part), "part {part}");
+                    }
+                    assert!((o.world_normal(pos, part).length() - 1.0).abs() < 1e-15);
+                }
+            }
+        }
+        let sphere = Object::new(
+            "s".into(),
+            Shape::Sphere(Sphere::new(2.0)),
+            Material::glass(Rgb::ONE, Index::Constant(1.5)),
+            DVec3::X,
+            DVec3::ZERO,
+        );
+        assert!(sphere.face_normals.is_none());
     }
 }
