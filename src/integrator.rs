@@ -164,7 +164,8 @@ struct Onward {
     skip: [u32; LANES],
     depth: [u32; LANES],
     weight: [f64; LANES],
-    tint: [Option<Rgb>; LANES],
+    /// The tint of refracted rays (reflected rays have none).
+    tint: [Rgb; LANES],
     factor: [f64; LANES],
 }
 
@@ -175,7 +176,7 @@ impl Onward {
         skip: [NO_OBJECT; LANES],
         depth: [0; LANES],
         weight: [0.0; LANES],
-        tint: [None; LANES],
+        tint: [Rgb::ZERO; LANES],
         factor: [0.0; LANES],
     };
 
@@ -186,13 +187,15 @@ impl Onward {
         self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
         self.depth[l] = sec.depth;
         self.weight[l] = sec.weight;
-        self.tint[l] = sec.tint;
+        if let Some(t) = sec.tint {
+            self.tint[l] = t;
+        }
         self.factor[l] = sec.factor;
     }
 
-    /// Lane `l`'s ray as shading sent it.
+    /// Lane `l`'s ray as shading sent it, of kind `kind`.
     #[inline(always)]
-    fn secondary(&self, l: usize) -> Secondary {
+    fn secondary(&self, l: usize, kind: usize) -> Secondary {
         Secondary {
             ray: self.rays.ray(l),
             skip: if self.skip[l] == NO_OBJECT {
@@ -202,7 +205,7 @@ impl Onward {
             },
             depth: self.depth[l],
             weight: self.weight[l],
-            tint: self.tint[l],
+            tint: (kind == 0).then_some(self.tint[l]),
             factor: self.factor[l],
         }
     }
@@ -212,6 +215,7 @@ impl Onward {
     #[inline(always)]
     fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
         &mut self,
+        kind: usize,
         scene: &Scene,
         lambda_um: f64,
     ) -> [Rgb; LANES] {
@@ -221,7 +225,7 @@ impl Onward {
             while m != 0 {
                 let l = m.trailing_zeros() as usize;
                 m &= m - 1;
-                let sec = self.secondary(l);
+                let sec = self.secondary(l, kind);
                 back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
                     scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
                 );
@@ -243,10 +247,11 @@ impl Onward {
     /// Adds what lane `l`'s ray brought back (`back`) to `color`, as
     /// [`Secondary::join`] does.
     #[inline(always)]
-    fn join(&self, l: usize, color: &mut Rgb, back: Rgb) {
-        *color += match self.tint[l] {
-            Some(t) => t * back * self.factor[l],
-            None => back * self.factor[l],
+    fn join(&self, l: usize, kind: usize, color: &mut Rgb, back: Rgb) {
+        *color += if kind == 0 {
+            self.tint[l] * back * self.factor[l]
+        } else {
+            back * self.factor[l]
         };
     }
 }
@@ -331,8 +336,9 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
     } else {
         [None; LANES]
     };
-    // Refracted (0) and reflected (1) rays, gathered and traced afterwards.
-    let mut onward = [Onward::EMPTY, Onward::EMPTY];
+    // Refracted (0) and reflected (1) rays, gathered and traced afterwards;
+    // made when the first ray of the kind is sent (most packets send none).
+    let mut onward: [Option<Onward>; 2] = [None, None];
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         let dir = p.dir(l);
@@ -347,21 +353,30 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
                 Some(pass) => pass,
                 None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
             },
-            &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
+            &mut |sec, _| {
+                onward[usize::from(sec.tint.is_none())]
+                    .get_or_insert(Onward::EMPTY)
+                    .push(l, &sec)
+            },
             &mut out[l],
         );
     }
+    if onward.iter().all(Option::is_none) {
+        return out;
+    }
     let mut back = [[Rgb::ZERO; LANES]; 2];
-    for (o, back) in onward.iter_mut().zip(&mut back) {
-        if o.live != 0 {
-            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um);
+    for (kind, (o, back)) in onward.iter_mut().zip(&mut back).enumerate() {
+        if let Some(o) = o {
+            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(kind, scene, lambda_um);
         }
     }
     // In the order `shade` adds them: refracted, then reflected.
     for l in 0..LANES {
-        for (o, back) in onward.iter().zip(&back) {
-            if o.live >> l & 1 != 0 {
-                o.join(l, &mut out[l], back[l]);
+        for (kind, (o, back)) in onward.iter().zip(&back).enumerate() {
+            if let Some(o) = o
+                && o.live >> l & 1 != 0
+            {
+                o.join(l, kind, &mut out[l], back[l]);
             }
         }
     }
