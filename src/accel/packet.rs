@@ -64,8 +64,8 @@ impl Packet {
         len: LANES,
     };
 
-    /// Sets lane `l` to `ray` (unit direction), searched on `(0, t_max)`:
-    /// what [`Packet::with_limits`] makes of it.
+    /// Sets lane `l` to `ray` (unit direction), searched on `(0, t_max)`
+    /// (an empty interval when `t_max` is negative).
     #[inline(always)]
     pub fn set(&mut self, l: usize, ray: &Ray, t_max: f64) {
         let inv = ray.dir.recip();
@@ -102,26 +102,14 @@ impl Packet {
             !rays.is_empty() && rays.len() <= LANES,
             "a packet holds 1 to {LANES} rays"
         );
-        let mut p = Packet {
-            o: [[0.0; LANES]; 3],
-            d: [[0.0; LANES]; 3],
-            inv: [[0.0; LANES]; 3],
-            t_max: [-1.0; LANES],
-            len: rays.len(),
-        };
+        let mut p = Packet::EMPTY;
         for l in 0..LANES {
-            let (r, tm) = match rays.get(l) {
-                Some(r) => (r, t_max[l]),
-                None => (&rays[0], -1.0),
-            };
-            let inv = r.dir.recip();
-            for k in 0..3 {
-                p.o[k][l] = r.origin[k];
-                p.d[k][l] = r.dir[k];
-                p.inv[k][l] = inv[k];
+            match rays.get(l) {
+                Some(r) => p.set(l, r, t_max[l]),
+                None => p.set(l, &rays[0], -1.0),
             }
-            p.t_max[l] = tm;
         }
+        p.len = rays.len();
         p
     }
 
