@@ -164,8 +164,7 @@ struct Onward {
     skip: [u32; LANES],
     depth: [u32; LANES],
     weight: [f64; LANES],
-    /// The tint of refracted rays (reflected rays have none).
-    tint: [Rgb; LANES],
+    tint: [Option<Rgb>; LANES],
     factor: [f64; LANES],
 }
 
@@ -176,7 +175,7 @@ impl Onward {
         skip: [NO_OBJECT; LANES],
         depth: [0; LANES],
         weight: [0.0; LANES],
-        tint: [Rgb::ZERO; LANES],
+        tint: [None; LANES],
         factor: [0.0; LANES],
     };
 
@@ -187,15 +186,13 @@ impl Onward {
         self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
         self.depth[l] = sec.depth;
         self.weight[l] = sec.weight;
-        if let Some(t) = sec.tint {
-            self.tint[l] = t;
-        }
+        self.tint[l] = sec.tint;
         self.factor[l] = sec.factor;
     }
 
-    /// Lane `l`'s ray as shading sent it, of kind `kind`.
+    /// Lane `l`'s ray as shading sent it.
     #[inline(always)]
-    fn secondary(&self, l: usize, kind: usize) -> Secondary {
+    fn secondary(&self, l: usize) -> Secondary {
         Secondary {
             ray: self.rays.ray(l),
             skip: if self.skip[l] == NO_OBJECT {
@@ -205,7 +202,7 @@ impl Onward {
             },
             depth: self.depth[l],
             weight: self.weight[l],
-            tint: (kind == 0).then_some(self.tint[l]),
+            tint: self.tint[l],
             factor: self.factor[l],
         }
     }
@@ -215,7 +212,6 @@ impl Onward {
     #[inline(always)]
     fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
         &mut self,
-        kind: usize,
         scene: &Scene,
         lambda_um: f64,
     ) -> [Rgb; LANES] {
@@ -225,7 +221,7 @@ impl Onward {
             while m != 0 {
                 let l = m.trailing_zeros() as usize;
                 m &= m - 1;
-                let sec = self.secondary(l, kind);
+                let sec = self.secondary(l);
                 back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
                     scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
                 );
@@ -247,12 +243,8 @@ impl Onward {
     /// Adds what lane `l`'s ray brought back (`back`) to `color`, as
     /// [`Secondary::join`] does.
     #[inline(always)]
-    fn join(&self, l: usize, kind: usize, color: &mut Rgb, back: Rgb) {
-        *color += if kind == 0 {
-            self.tint[l] * back * self.factor[l]
-        } else {
-            back * self.factor[l]
-        };
+    fn join(&self, l: usize, color: &mut Rgb, back: Rgb) {
+        join(color, self.tint[l], self.factor[l], back);
     }
 }
 
@@ -365,18 +357,18 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         return out;
     }
     let mut back = [[Rgb::ZERO; LANES]; 2];
-    for (kind, (o, back)) in onward.iter_mut().zip(&mut back).enumerate() {
+    for (o, back) in onward.iter_mut().zip(&mut back) {
         if let Some(o) = o {
-            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(kind, scene, lambda_um);
+            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um);
         }
     }
     // In the order `shade` adds them: refracted, then reflected.
     for l in 0..LANES {
-        for (kind, (o, back)) in onward.iter().zip(&back).enumerate() {
+        for (o, back) in onward.iter().zip(&back) {
             if let Some(o) = o
                 && o.live >> l & 1 != 0
             {
-                o.join(l, kind, &mut out[l], back[l]);
+                o.join(l, &mut out[l], back[l]);
             }
         }
     }
@@ -431,11 +423,18 @@ impl Secondary {
     /// Adds the radiance `l` that came back along the ray.
     #[inline]
     pub fn join(&self, color: &mut Rgb, l: Rgb) {
-        *color += match self.tint {
-            Some(t) => t * l * self.factor,
-            None => l * self.factor,
-        };
+        join(color, self.tint, self.factor, l);
     }
+}
+
+/// How the radiance `l` a secondary ray brought back joins the colour:
+/// `colour += tint · l · factor` (without a tint, `l · factor`).
+#[inline(always)]
+fn join(color: &mut Rgb, tint: Option<Rgb>, factor: f64, l: Rgb) {
+    *color += match tint {
+        Some(t) => t * l * factor,
+        None => l * factor,
+    };
 }
 
 /// A hit with what shading needs of it.

@@ -54,8 +54,7 @@ impl Packet {
 
     /// A packet to fill lane by lane in place ([`Packet::set`], then
     /// [`Packet::fill_unused`], which sets every lane not set): no array of
-    /// rays to build and copy first. All zeros, so that it costs a few
-    /// vector stores rather than a copy.
+    /// rays to build and copy first. Its lanes mean nothing until then.
     pub const EMPTY: Packet = Packet {
         o: [[0.0; LANES]; 3],
         d: [[0.0; LANES]; 3],
