@@ -5,7 +5,7 @@
 //! Light through a lens follows the lens's own exact tracer
 //! ([`Lens::propagate_inside`]): the same code `lensview lens trace` reports.
 
-use crate::accel::packet::{LANES, NO_OBJECT, Packet, PacketHits, closest_hits, transmittances};
+use crate::accel::packet::{LANES, Lanes, NO_OBJECT, Packet, PacketHits, closest_hits, transmittances, with_avx2};
 use crate::color::Rgb;
 use crate::geometry::{Hit, Lens, LensSurface, LensTraceStatus};
 use crate::light::{Light, LightSample};
@@ -91,9 +91,15 @@ pub fn transmittance_skip(scene: &Scene, ray: &Ray, dist: f64, skip: usize) -> R
 /// point's coordinates, on the side it travels to.
 #[inline]
 pub fn spawn_ray(p: DVec3, normal: DVec3, dir: DVec3, scale: f64) -> Ray {
+    spawn_ray_by(p, normal, dir, surface_offset(p, scale))
+}
+
+/// [`spawn_ray`] with the offset given.
+#[inline(always)]
+fn spawn_ray_by(p: DVec3, normal: DVec3, dir: DVec3, offset: f64) -> Ray {
     let side = if dir.dot(normal) >= 0.0 { normal } else { -normal };
     Ray {
-        origin: p + side * surface_offset(p, scale),
+        origin: p + side * offset,
         dir,
     }
 }
@@ -502,8 +508,9 @@ fn phong_lobe(rv: f64, shininess: f64) -> f64 {
 
 /// Whether the light of sample `ls` can change what [`shade`] adds at the
 /// surface for a ray along `dir`: a diffuse term (zero for clear glass, whose
-/// opacity is zero) or a specular one (zero where the mirrored light
-/// direction points away from the eye). Where neither is, the shadow ray
+/// opacity is zero) or a specular one (left out where `r·v` is at most the
+/// object's [`Object::lobe_cos_min`], below which the lobe is under
+/// [`crate::material::LOBE_FLOOR`] of its peak). Where neither is, the shadow ray
 /// would not change a bit of the pixel, and a packet does not trace it (the
 /// scalar kernel still does: the tests compare the two paths bit for bit).
 /// The expressions are `shade`'s own.
@@ -515,7 +522,7 @@ fn visibility_matters<const GLASS: bool, const SPECULAR: bool>(s: &Surface, ls: 
     if m.diffuse * opacity * cos != 0.0 || !ls.irradiance.is_finite() {
         return true;
     }
-    SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > 0.0
+    SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > s.object.lobe_cos_min
 }
 
 /// Light `j`'s sample at the surface and, with shadows, the transmittance
@@ -534,9 +541,11 @@ fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(
 /// light along it.
 #[inline]
 pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
-    let sr = spawn_ray(s.p, s.nf, ls.to_light, s.object.scale);
+    let offset = surface_offset(s.p, s.object.scale);
+    let sr = spawn_ray_by(s.p, s.nf, ls.to_light, offset);
+    // The origin is `offset` from the surface along a unit normal.
     let dist = if ls.distance.is_finite() {
-        (ls.distance - (sr.origin - s.p).length()).max(0.0)
+        (ls.distance - offset).max(0.0)
     } else {
         f64::INFINITY
     };
@@ -624,7 +633,7 @@ fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
     if SPECULAR && m.specular > 0.0 {
         let r = optics::reflect(-ls.to_light, s.nf);
         let rv = r.dot(-dir);
-        if rv > 0.0 {
+        if rv > s.object.lobe_cos_min {
             *color += e * (m.specular * phong_lobe(rv, m.shininess));
         }
     }
@@ -735,11 +744,9 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
 /// (the first such lens; lanes on another take the scalar path): `Some`
-/// for each lane it traced, `None` for the others. The refraction at the
-/// entry is per lane; the pass to the exit runs over all lanes at once
-/// ([`Lens::exit_lanes`], exactly the scalar arithmetic), and the ray out
-/// and its Fresnel factor are [`through_lens`]'s own ([`leaving_lens`]); a
-/// lane that reflects inside is traced by the scalar [`through_lens`].
+/// for each lane it traced, `None` for the others. The whole pass runs
+/// over the lanes at once ([`lens_lanes`]); a lane that reflects inside is
+/// traced by the scalar [`through_lens`].
 #[inline(always)]
 fn lens_passes(
     rays: &Packet,
@@ -751,54 +758,148 @@ fn lens_passes(
     let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
     let mut x = [[0.0; LANES]; 3];
-    let mut u = [[0.0; LANES]; 3];
+    let mut nf = [[0.0; LANES]; 3];
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         let Some(lens) = s.object.lens() else { continue };
         if !s.entering || s.object.material.transparency <= 0.0 || which.is_some_and(|(i, ..)| i != s.index) {
             continue;
         }
-        let (_, _, ior) = *which.get_or_insert((s.index, lens, s.object.material.ior.at(lambda_um)));
-        match optics::refract(rays.dir(l), s.nf, 1.0, ior) {
-            None => out[l] = Some(None),
-            Some(t) => {
-                lanes |= 1 << l;
-                for k in 0..3 {
-                    x[k][l] = s.p[k];
-                    u[k][l] = t[k];
-                }
-            }
+        which.get_or_insert((s.index, lens, s.object.material.ior.at(lambda_um)));
+        lanes |= 1 << l;
+        for k in 0..3 {
+            x[k][l] = s.p[k];
+            nf[k][l] = s.nf[k];
         }
     }
     let Some((_, lens, ior)) = which else {
         return out;
     };
-    if lanes == 0 {
-        return out;
+    // Lanes outside `lanes` repeat a traced lane, so that every lane holds
+    // numbers (their results are not read).
+    let first = lanes.trailing_zeros() as usize;
+    let mut dir = *rays.dirs();
+    for l in 0..LANES {
+        if lanes >> l & 1 == 0 {
+            for k in 0..3 {
+                x[k][l] = x[k][first];
+                nf[k][l] = nf[k][first];
+                dir[k][l] = dir[k][first];
+            }
+        }
     }
-    let e = lens.exit_lanes(&x, &u, ior);
+    let pass = lens_lanes(lens, ior, &x, &dir, &nf);
     let mut m = lanes;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
-        out[l] = Some(if e.ok[l] {
-            let y = DVec3::new(e.y[0][l], e.y[1][l], e.y[2][l]);
-            let dir = DVec3::new(e.out[0][l], e.out[1][l], e.out[2][l]);
-            Some(leaving_lens(
-                lens,
-                LensSurface::from_part(e.part[l] as u8),
-                y,
-                dir,
-                ior,
-                0,
-            ))
+        out[l] = Some(if pass.reflected[l] {
+            // Total reflection at the entry (never from air into glass).
+            None
+        } else if pass.ok[l] {
+            Some(Transmitted {
+                ray: Ray {
+                    origin: DVec3::new(pass.origin[0][l], pass.origin[1][l], pass.origin[2][l]),
+                    dir: DVec3::new(pass.dir[0][l], pass.dir[1][l], pass.dir[2][l]),
+                },
+                bounces: 2,
+                factor: pass.factor[l],
+            })
         } else {
             let p = DVec3::new(x[0][l], x[1][l], x[2][l]);
-            let t = DVec3::new(u[0][l], u[1][l], u[2][l]);
+            let t = DVec3::new(pass.inside[0][l], pass.inside[1][l], pass.inside[2][l]);
             through_lens(lens, p, t, ior)
         });
     }
     out
+}
+
+/// Passes through a lens of a packet's lanes ([`lens_lanes`]).
+struct LensLanes {
+    /// Totally reflected at the entry.
+    reflected: Lanes<bool>,
+    /// Refracted in, and out at the first exit: `origin`, `dir` and
+    /// `factor` are [`through_lens`]'s ray and Fresnel factor.
+    ok: Lanes<bool>,
+    /// The direction inside after the entry refraction.
+    inside: [Lanes<f64>; 3],
+    origin: [Lanes<f64>; 3],
+    dir: [Lanes<f64>; 3],
+    factor: Lanes<f64>,
+}
+
+/// [`transmitted_ray`] into `lens` (index `ior`) at the entry points `x`
+/// (normals `nf`, facing the rays of directions `dir`) for every lane at
+/// once, step by step over all lanes so that they run side by side in SIMD
+/// registers: the entry refraction ([`optics::refract`]), the pass to the
+/// exit ([`Lens::exit_lanes`]) and the ray out with its Fresnel factor
+/// ([`leaving_lens`]), each lane with exactly the scalar arithmetic, so
+/// that it gets the scalar ray bit for bit.
+#[inline(always)]
+fn lens_lanes_impl(
+    lens: &Lens,
+    ior: f64,
+    x: &[Lanes<f64>; 3],
+    dir: &[Lanes<f64>; 3],
+    nf: &[Lanes<f64>; 3],
+) -> LensLanes {
+    let lane = |v: &[Lanes<f64>; 3], l: usize| DVec3::new(v[0][l], v[1][l], v[2][l]);
+    let mut reflected = [false; LANES];
+    let mut inside = [[0.0; LANES]; 3];
+    // `optics::refract(dir, nf, 1.0, ior)`.
+    let eta = 1.0 / ior;
+    for l in 0..LANES {
+        let (i, n) = (lane(dir, l), lane(nf, l));
+        let cos_i = -i.dot(n);
+        let sin2_i = i.cross(n).length_squared();
+        let sin2_t = eta * eta * sin2_i;
+        reflected[l] = sin2_t > 1.0;
+        let cos_t = (1.0 - sin2_t).sqrt();
+        let t = (eta * i + (eta * cos_i - cos_t) * n).normalize();
+        for k in 0..3 {
+            inside[k][l] = t[k];
+        }
+    }
+    let e = lens.exit_lanes(x, &inside, ior);
+    let mut origin = [[0.0; LANES]; 3];
+    let mut out_dir = [[0.0; LANES]; 3];
+    let mut factor = [0.0; LANES];
+    // `leaving_lens(lens, part, y, out, ior, 0)`.
+    for l in 0..LANES {
+        let (y, out) = (lane(&e.y, l), lane(&e.out, l));
+        let n = lens.normal_lane(y, e.part[l]);
+        let cos_out = out.dot(n).abs();
+        let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+        let ray = spawn_ray(y, n, out, lens.d);
+        factor[l] = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
+        for k in 0..3 {
+            origin[k][l] = ray.origin[k];
+            out_dir[k][l] = ray.dir[k];
+        }
+    }
+    let mut ok = e.ok;
+    for l in 0..LANES {
+        ok[l] &= !reflected[l];
+    }
+    LensLanes {
+        reflected,
+        ok,
+        inside,
+        origin,
+        dir: out_dir,
+        factor,
+    }
+}
+
+with_avx2! {
+    /// [`lens_lanes_impl`], built for AVX2 where the CPU has it.
+    fn lens_lanes / lens_lanes_avx2 => lens_lanes_impl(
+        lens: &Lens,
+        ior: f64,
+        x: &[Lanes<f64>; 3],
+        dir: &[Lanes<f64>; 3],
+        nf: &[Lanes<f64>; 3]
+    ) -> LensLanes
 }
 
 /// Follows a ray that has just refracted into `lens` at `p` to its exit.
@@ -833,4 +934,94 @@ pub fn hit_point<'a>(scene: &'a Scene, ray: &Ray) -> Option<(&'a Object, DVec3, 
     let o = &scene.objects[i];
     let p = ray.at(h.t);
     Some((o, p, o.world_normal(p, h.part)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    /// Eight vectors, structure of arrays.
+    type V = [Lanes<f64>; 3];
+
+    /// Lanes of rays that enter the default scene's lens at random points
+    /// from random directions: entry points, facing normals, directions.
+    fn entries(scene: &Scene, seed: u64) -> Vec<(V, V, V)> {
+        let (index, lens) = scene
+            .objects
+            .iter()
+            .enumerate()
+            .find_map(|(i, o)| o.lens().map(|l| (i, l)))
+            .expect("the default scene has a lens");
+        let mut s = Sampler::new(seed, 0, 0);
+        let mut out = Vec::new();
+        let mut lanes = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+        let mut l = 0;
+        while out.len() < 2000 {
+            let mut v = || DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) - 0.5;
+            let org = lens.center + v() * 8.0 * lens.d;
+            let aim = lens.center + v() * 1.2 * lens.d;
+            let ray = Ray::new(org, aim - org);
+            let Some(h) = lens.intersect(&ray, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            let srf = surface(scene, &ray, index, h);
+            if !srf.entering {
+                continue;
+            }
+            for k in 0..3 {
+                lanes.0[k][l] = srf.p[k];
+                lanes.1[k][l] = srf.nf[k];
+                lanes.2[k][l] = ray.dir[k];
+            }
+            l += 1;
+            if l == LANES {
+                out.push(lanes);
+                l = 0;
+            }
+        }
+        out
+    }
+
+    /// Both builds of the lane pass (AVX2 where the CPU has it, and the
+    /// portable one) give every lane the scalar `transmitted_ray`, bit for
+    /// bit, and leave to the scalar code only the lanes that reflect inside.
+    #[test]
+    fn lens_lanes_give_the_scalar_pass() {
+        let scene = Scene::default_scene().1;
+        let obj = scene.objects.iter().find(|o| o.lens().is_some()).expect("a lens");
+        let lens = obj.lens().expect("a lens");
+        let ior = obj.material.ior.at(crate::optics::WAVELENGTH_D_UM);
+        let (mut exact, mut scalar) = (0, 0);
+        for (x, nf, dir) in entries(&scene, 3) {
+            for pass in [
+                lens_lanes(lens, ior, &x, &dir, &nf),
+                lens_lanes_impl(lens, ior, &x, &dir, &nf),
+            ] {
+                for l in 0..LANES {
+                    let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
+                    let want = transmitted_ray(obj, at(&x), at(&nf), true, at(&dir), ior);
+                    assert!(!pass.reflected[l], "air to glass never reflects totally");
+                    if !pass.ok[l] {
+                        scalar += 1;
+                        let t = optics::refract(at(&dir), at(&nf), 1.0, ior).expect("refracts");
+                        assert_eq!(t, at(&pass.inside));
+                        let path = lens.propagate_inside(at(&x), t, ior);
+                        assert!(path.internal_reflections > 0 || path.status != LensTraceStatus::Transmitted);
+                        continue;
+                    }
+                    exact += 1;
+                    let want = want.expect("a plain pass leaves the lens");
+                    assert_eq!(want.ray.origin, at(&pass.origin));
+                    assert_eq!(want.ray.dir, at(&pass.dir));
+                    assert_eq!(want.factor, pass.factor[l]);
+                    assert_eq!(want.bounces, 2);
+                }
+            }
+        }
+        assert!(
+            exact > 20_000 && scalar > 50,
+            "{exact} exact lanes, {scalar} left to the scalar code"
+        );
+    }
 }

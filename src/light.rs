@@ -47,7 +47,7 @@ impl Light {
                 let r2 = v.length_squared();
                 let r = r2.sqrt();
                 LightSample {
-                    to_light: v / r,
+                    to_light: v * (1.0 / r),
                     distance: r,
                     irradiance: color * (intensity / (4.0 * std::f64::consts::PI * r2)),
                 }

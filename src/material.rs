@@ -4,6 +4,15 @@
 use crate::color::Rgb;
 use crate::optics::Index;
 
+/// The smallest part of its peak a Phong lobe keeps: a highlight's tail
+/// below a millionth of its peak is left out (at most 1e-6 of the light's
+/// specular peak per light, far under one 8-bit step of the image unless
+/// the highlight is already saturated about a thousandfold). For the lens's
+/// glass (shininess 300) this drops the lobe where `r·v < 0.955`, and with
+/// it most of the shadow rays from the lens's surface, which only the
+/// highlight needs.
+pub const LOBE_FLOOR: f64 = 1e-6;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Base colour (linear RGB); for transparent materials also the tint of
@@ -38,6 +47,19 @@ impl Material {
             reflectivity: 0.0,
             transparency: 1.0,
             ior,
+        }
+    }
+
+    /// The cosine `r·v` (mirrored light direction against the view
+    /// direction) below which the Phong lobe `(r·v)^shininess` is under
+    /// [`LOBE_FLOOR`] of its peak: shading leaves such a lobe out, and does
+    /// not trace the shadow ray it alone would need. 0 for a shininess of 0
+    /// (a lobe of 1 wherever `r·v > 0`).
+    pub fn lobe_cos_min(&self) -> f64 {
+        if self.shininess > 0.0 {
+            LOBE_FLOOR.powf(1.0 / self.shininess).clamp(0.0, 1.0)
+        } else {
+            0.0
         }
     }
 

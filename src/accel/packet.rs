@@ -29,7 +29,8 @@ use glam::DVec3;
 /// Rays in a packet.
 pub const LANES: usize = 8;
 
-type Lanes<T> = [T; LANES];
+/// One value per lane.
+pub type Lanes<T> = [T; LANES];
 
 /// No object (a lane's ray escapes, or the lane is unused).
 pub const NO_OBJECT: u32 = u32::MAX;
@@ -157,6 +158,12 @@ impl Packet {
 
     pub fn is_empty(&self) -> bool {
         self.len == 0
+    }
+
+    /// Every lane's direction, structure of arrays.
+    #[inline]
+    pub fn dirs(&self) -> &[Lanes<f64>; 3] {
+        &self.d
     }
 
     /// Lane `l`'s direction.
@@ -820,7 +827,7 @@ impl Default for CameraTile {
 /// Compiles each `*_impl` function a second time with AVX2 enabled, and
 /// defines the public function that picks the build at run time.
 macro_rules! with_avx2 {
-    ($(#[$doc:meta])* pub fn $name:ident / $avx2:ident => $imp:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+    ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident => $imp:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2")]
         fn $avx2($($arg: $ty),*) -> $ret {
@@ -828,7 +835,7 @@ macro_rules! with_avx2 {
         }
 
         $(#[$doc])*
-        pub fn $name($($arg: $ty),*) -> $ret {
+        $vis fn $name($($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: the AVX2 build differs from the portable one only
@@ -842,6 +849,8 @@ macro_rules! with_avx2 {
         }
     };
 }
+
+pub(crate) use with_avx2;
 
 with_avx2! {
     /// The closest hit of every ray of the packet (lanes past its length

@@ -487,6 +487,14 @@ impl Lens {
         self.caps[s as usize].normal(p - self.center)
     }
 
+    /// [`Lens::normal`] of face `part` (0 or 1) with the face chosen by a
+    /// select rather than an index, for code that runs lanes side by side.
+    #[inline(always)]
+    pub(crate) fn normal_lane(&self, p: DVec3, part: u64) -> DVec3 {
+        let cap = if part == 0 { self.caps[0] } else { self.caps[1] };
+        cap.normal(p - self.center)
+    }
+
     pub fn contains(&self, p: DVec3) -> bool {
         let x = p - self.center;
         self.caps[0].f(x) <= 0.0 && self.caps[1].f(x) <= 0.0

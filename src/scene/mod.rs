@@ -47,6 +47,9 @@ pub struct Object {
     pub world_bounds: Aabb,
     /// Characteristic size of the shape (for ray offsets), cached.
     pub scale: f64,
+    /// The smallest `r·v` whose Phong lobe `(r·v)^shininess` shading adds:
+    /// [`Material::lobe_cos_min`], cached.
+    pub lobe_cos_min: f64,
     /// For a shape of flat faces (cuboid, prism, pyramid), the world normal
     /// of each face, exactly what [`Object::world_normal`] would compute at
     /// any point of it: a hit looks its normal up instead of transforming
@@ -61,6 +64,7 @@ impl Object {
         let rot = rotation_from_degrees(rotation_deg);
         let world_bounds = shape.bounds().transformed(rot, position);
         let scale = shape.scale();
+        let lobe_cos_min = material.lobe_cos_min();
         let mut o = Object {
             name,
             shape,
@@ -73,6 +77,7 @@ impl Object {
             world_bounds,
             scale,
             face_normals: None,
+            lobe_cos_min,
         };
         if let Some(faces) = o.shape.flat_faces() {
             // A flat face's normal does not depend on the point: any point
