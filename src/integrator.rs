@@ -329,10 +329,10 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         return out;
     }
     // The passes through a lens of the lanes that enter one, traced together.
-    let lens_passes = if GLASS {
+    let (lens_passes, entry_fresnel) = if GLASS {
         lens_passes(p, &surfaces, lambda_um)
     } else {
-        [None; LANES]
+        ([None; LANES], [0.0; LANES])
     };
     // Refracted (0) and reflected (1) rays, gathered and traced afterwards;
     // made when the first ray of the kind is sent (most packets send none).
@@ -347,6 +347,10 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             depth[l],
             lambda_um,
             weight[l],
+            &mut |cos_i, n1, n2| match lens_passes[l] {
+                Some(_) => entry_fresnel[l],
+                None => fresnel_dielectric(cos_i, n1, n2),
+            },
             &mut |s, ior| match lens_passes[l] {
                 Some(pass) => pass,
                 None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
@@ -582,6 +586,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             depth,
             lambda_um,
             weight,
+            &mut fresnel_dielectric,
             &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
             &mut |sec, color| {
                 sec.join(
@@ -655,6 +660,7 @@ fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     depth: u32,
     lambda_um: f64,
     weight: f64,
+    fresnel: &mut impl FnMut(f64, f64, f64) -> f64,
     transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
     trace: &mut impl FnMut(Secondary, &mut Rgb),
     color: &mut Rgb,
@@ -668,7 +674,7 @@ fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
         let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
-        let f = fresnel_dielectric(nf.dot(-dir), n1, n2);
+        let f = fresnel(nf.dot(-dir), n1, n2);
         kr += m.transparency * f;
         let kt = m.transparency * (1.0 - f);
         if kt * weight > MIN_WEIGHT
@@ -744,15 +750,17 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
 /// (the first such lens; lanes on another take the scalar path): `Some`
-/// for each lane it traced, `None` for the others. The whole pass runs
-/// over the lanes at once ([`lens_lanes`]); a lane that reflects inside is
-/// traced by the scalar [`through_lens`].
+/// for each lane it traced, `None` for the others, with the Fresnel
+/// reflectance at each traced lane's entry (what [`shade_onward`] weighs
+/// the pass with). The whole pass runs over the lanes at once
+/// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
+/// [`through_lens`].
 #[inline(always)]
 fn lens_passes(
     rays: &Packet,
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
-) -> [Option<Option<Transmitted>>; LANES] {
+) -> ([Option<Option<Transmitted>>; LANES], Lanes<f64>) {
     let mut out = [None; LANES];
     // The lens (its object index, shape and index of refraction there).
     let mut which: Option<(usize, &Lens, f64)> = None;
@@ -773,7 +781,7 @@ fn lens_passes(
         }
     }
     let Some((_, lens, ior)) = which else {
-        return out;
+        return (out, [0.0; LANES]);
     };
     // Lanes outside `lanes` repeat a traced lane, so that every lane holds
     // numbers (their results are not read).
@@ -811,13 +819,15 @@ fn lens_passes(
             through_lens(lens, p, t, ior)
         });
     }
-    out
+    (out, pass.entry_fresnel)
 }
 
 /// Passes through a lens of a packet's lanes ([`lens_lanes`]).
 struct LensLanes {
     /// Totally reflected at the entry.
     reflected: Lanes<bool>,
+    /// The Fresnel reflectance at the entry.
+    entry_fresnel: Lanes<f64>,
     /// Refracted in, and out at the first exit: `origin`, `dir` and
     /// `factor` are [`through_lens`]'s ray and Fresnel factor.
     ok: Lanes<bool>,
@@ -846,10 +856,13 @@ fn lens_lanes_impl(
     let lane = |v: &[Lanes<f64>; 3], l: usize| DVec3::new(v[0][l], v[1][l], v[2][l]);
     let mut reflected = [false; LANES];
     let mut inside = [[0.0; LANES]; 3];
-    // `optics::refract(dir, nf, 1.0, ior)`.
+    let mut entry_fresnel = [0.0; LANES];
+    // `optics::refract(dir, nf, 1.0, ior)`, and `shade_onward`'s Fresnel
+    // reflectance.
     let eta = 1.0 / ior;
     for l in 0..LANES {
         let (i, n) = (lane(dir, l), lane(nf, l));
+        entry_fresnel[l] = fresnel_dielectric(n.dot(-i), 1.0, ior);
         let cos_i = -i.dot(n);
         let sin2_i = i.cross(n).length_squared();
         let sin2_t = eta * eta * sin2_i;
@@ -883,6 +896,7 @@ fn lens_lanes_impl(
     }
     LensLanes {
         reflected,
+        entry_fresnel,
         ok,
         inside,
         origin,
@@ -1002,6 +1016,8 @@ mod tests {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
                     let want = transmitted_ray(obj, at(&x), at(&nf), true, at(&dir), ior);
                     assert!(!pass.reflected[l], "air to glass never reflects totally");
+                    let f = fresnel_dielectric(at(&nf).dot(-at(&dir)), 1.0, ior);
+                    assert_eq!(pass.entry_fresnel[l], f, "shade_onward's reflectance");
                     if !pass.ok[l] {
                         scalar += 1;
                         let t = optics::refract(at(&dir), at(&nf), 1.0, ior).expect("refracts");
