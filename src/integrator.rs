@@ -648,11 +648,12 @@ fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
 /// `depth` bounces deep with path weight `weight`: `trace(secondary,
 /// colour)` follows each and adds what it brings (the scalar kernel at
 /// once, a packet after the local shading of all its lanes: the additions
-/// come in the same order either way). `transmit(s, ior)` is
-/// [`transmitted_ray`] at the surface for this ray: a packet traces the
-/// passes through a lens of all its lanes together beforehand.
+/// come in the same order either way). `fresnel(cos_i, n1, n2)` is
+/// [`fresnel_dielectric`] and `transmit(s, ior)` is [`transmitted_ray`] at
+/// the surface for this ray: a packet traces the passes through a lens of
+/// all its lanes together beforehand, the entry's reflectance with them.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // the two callbacks are what differ between the scalar and packet kernels
+#[allow(clippy::too_many_arguments)] // the three callbacks are what differ between the scalar and packet kernels
 fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     scene: &Scene,
     dir: DVec3,
