@@ -5,7 +5,7 @@
 
 use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
-use crate::integrator::{PacketKernel, PacketPaths, closest_hit, radiance_packet_unspecialised};
+use crate::integrator::{PacketKernel, PacketPaths, PacketScratch, closest_hit, radiance_packet_unspecialised};
 use crate::render::{RenderSettings, render};
 use crate::scene::file::{ObjectFile, SceneFile, ShapeKind};
 use crate::scene::{Features, Scene};
@@ -132,8 +132,14 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel
         .into_par_iter()
         .map(|band| {
             let mut acc = Rgb::ZERO;
+            let mut scratch = PacketScratch::default();
             centre_packets(scene, width, height, band, true, |p, hits, n| {
-                let c = kernel(scene, &PacketPaths::camera(p, hits, n), crate::optics::WAVELENGTH_D_UM);
+                let c = kernel(
+                    scene,
+                    &PacketPaths::camera(p, hits, n),
+                    crate::optics::WAVELENGTH_D_UM,
+                    &mut scratch,
+                );
                 acc += c.iter().sum::<Rgb>();
             });
             acc
@@ -441,8 +447,9 @@ mod tests {
         for (xs, y, n) in packets {
             let (p, hits) = camera_hits(&s, &xs, &[y; LANES], n, 400, 400);
             let paths = PacketPaths::camera(&p, &hits, n);
-            let a = crate::integrator::radiance_packet(&s, &paths, wavelength);
-            let b = radiance_packet_unspecialised(&s, &paths, wavelength);
+            let mut scratch = PacketScratch::default();
+            let a = crate::integrator::radiance_packet(&s, &paths, wavelength, &mut scratch);
+            let b = radiance_packet_unspecialised(&s, &paths, wavelength, &mut scratch);
             assert_eq!(a, b);
             for l in 0..n {
                 let ray = s.camera.ray(xs[l], y, 400, 400);

@@ -145,19 +145,58 @@ impl<'a> PacketPaths<'a> {
 /// [`radiance`] of every live ray of a packet whose closest hits are known:
 /// the same values, lane by lane, with the shadow rays and the refracted and
 /// reflected rays of the lanes traced as packets too.
-pub fn radiance_packet(scene: &Scene, paths: &PacketPaths, lambda_um: f64) -> [Rgb; LANES] {
+/// `scratch` is working memory kept from packet to packet (one per thread
+/// of work): it holds no result between calls.
+pub fn radiance_packet(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+) -> [Rgb; LANES] {
     let f = scene.features;
-    with_features!(f, packet_kernel, (scene, paths, lambda_um))
+    let mut out = [Rgb::ZERO; LANES];
+    with_features!(f, packet_kernel, (scene, paths, lambda_um, scratch, &mut out));
+    out
 }
 
 /// [`radiance_packet`] with every feature compiled in: what a renderer that
 /// does not specialise would run. For benchmarks of the savings.
-pub fn radiance_packet_unspecialised(scene: &Scene, paths: &PacketPaths, lambda_um: f64) -> [Rgb; LANES] {
-    packet_kernel::<true, true, true, true>(scene, paths, lambda_um)
+pub fn radiance_packet_unspecialised(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+) -> [Rgb; LANES] {
+    let mut out = [Rgb::ZERO; LANES];
+    packet_kernel::<true, true, true, true>(scene, paths, lambda_um, scratch, &mut out);
+    out
 }
 
 /// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
-pub type PacketKernel = fn(&Scene, &PacketPaths, f64) -> [Rgb; LANES];
+pub type PacketKernel = fn(&Scene, &PacketPaths, f64, &mut PacketScratch) -> [Rgb; LANES];
+
+/// The packet kernel's working memory for one depth of its recursion, and
+/// (made when first needed) for the depths below: the shadow packet, the
+/// gathered refracted and reflected rays and what they bring back. Kept
+/// from packet to packet, so that these arrays (about 3 KB a depth) are
+/// neither built nor copied per packet; every lane read is written first.
+pub struct PacketScratch {
+    shadow: Packet,
+    onward: [Onward; 2],
+    back: [Lanes<Rgb>; 2],
+    deeper: Option<Box<PacketScratch>>,
+}
+
+impl Default for PacketScratch {
+    fn default() -> Self {
+        PacketScratch {
+            shadow: Packet::EMPTY,
+            onward: [Onward::EMPTY, Onward::EMPTY],
+            back: [[Rgb::ZERO; LANES]; 2],
+            deeper: None,
+        }
+    }
+}
 
 /// Below this many rays, secondary rays are traced one by one.
 const MIN_PACKET: u32 = 3;
@@ -213,15 +252,17 @@ impl Onward {
         }
     }
 
-    /// The radiance each live lane's ray brings back: a packet, or one ray
-    /// at a time below [`MIN_PACKET`] rays.
+    /// The radiance each live lane's ray brings back, written to `back`: a
+    /// packet (with `scratch` for the next depth), or one ray at a time
+    /// below [`MIN_PACKET`] rays.
     #[inline(always)]
     fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
         &mut self,
         scene: &Scene,
         lambda_um: f64,
-    ) -> [Rgb; LANES] {
-        let mut back = [Rgb::ZERO; LANES];
+        scratch: &mut PacketScratch,
+        back: &mut Lanes<Rgb>,
+    ) {
         if self.live.count_ones() < MIN_PACKET {
             let mut m = self.live;
             while m != 0 {
@@ -232,9 +273,16 @@ impl Onward {
                     scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
                 );
             }
-            return back;
+            return;
         }
         self.rays.fill_unused(self.live);
+        // Lanes that sent nothing hold what an earlier packet left; they
+        // never hit (`fill_unused`), and skip nothing.
+        for l in 0..LANES {
+            if self.live >> l & 1 == 0 {
+                self.skip[l] = NO_OBJECT;
+            }
+        }
         let hits = closest_hits(scene, &self.rays, &self.skip);
         let paths = PacketPaths {
             rays: &self.rays,
@@ -243,7 +291,7 @@ impl Onward {
             depth: self.depth,
             weight: self.weight,
         };
-        packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &paths, lambda_um)
+        packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &paths, lambda_um, scratch, back);
     }
 
     /// Adds what lane `l`'s ray brought back (`back`) to `color`, as
@@ -259,21 +307,24 @@ impl Onward {
 /// ([`ambient`], [`add_light`], [`shade_onward`]), so that each lane gets
 /// the scalar radiance bit for bit. Each light's shadow rays are one
 /// packet; the refracted and the reflected rays of the lanes are a packet
-/// each, traced after the local shading of every lane.
+/// each, traced after the local shading of every lane. The radiance of
+/// each live lane is written to `out` (the others are zero).
 fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     paths: &PacketPaths,
     lambda_um: f64,
-) -> [Rgb; LANES] {
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
     let PacketPaths {
         rays: p,
         hits,
         active,
-        depth,
-        weight,
+        ref depth,
+        ref weight,
     } = *paths;
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
-    let mut out = [Rgb::ZERO; LANES];
+    *out = [Rgb::ZERO; LANES];
     let mut any = false;
     for l in 0..LANES {
         if active >> l & 1 == 0 {
@@ -291,7 +342,7 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
     }
     if !any {
         // Every ray escaped (the rays a lens reflects, mostly).
-        return out;
+        return;
     }
     // Each light at every lane's surface, its shadow rays a packet.
     for light in &scene.lights {
@@ -301,7 +352,7 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         }
         let mut vis = [Rgb::ONE; LANES];
         if SHADOWS && scene.shadows {
-            let mut shadow = Packet::EMPTY;
+            let shadow = &mut scratch.shadow;
             let mut live = 0u32;
             let mut skip = [NO_OBJECT; LANES];
             for l in 0..LANES {
@@ -316,7 +367,7 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             }
             if live != 0 {
                 shadow.fill_unused(live);
-                vis = transmittances(scene, &shadow, &skip);
+                vis = transmittances(scene, shadow, &skip);
             }
         }
         for l in 0..LANES {
@@ -326,17 +377,22 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         }
     }
     if !(GLASS || MIRROR) {
-        return out;
+        return;
     }
     // The passes through a lens of the lanes that enter one, traced together.
-    let (lens_passes, entry_fresnel) = if GLASS {
-        lens_passes(p, &surfaces, lambda_um)
-    } else {
-        ([None; LANES], [0.0; LANES])
-    };
-    // Refracted (0) and reflected (1) rays, gathered and traced afterwards;
-    // made when the first ray of the kind is sent (most packets send none).
-    let mut onward: [Option<Onward>; 2] = [None, None];
+    let mut passes = [None; LANES];
+    let mut entry_fresnel = [0.0; LANES];
+    if GLASS {
+        lens_passes(p, &surfaces, lambda_um, &mut passes, &mut entry_fresnel);
+    }
+    // Refracted (0) and reflected (1) rays, gathered and traced afterwards
+    // (most packets send none).
+    let PacketScratch {
+        onward, back, deeper, ..
+    } = scratch;
+    for o in onward.iter_mut() {
+        o.live = 0;
+    }
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         let dir = p.dir(l);
@@ -347,42 +403,35 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             depth[l],
             lambda_um,
             weight[l],
-            &mut |cos_i, n1, n2| match lens_passes[l] {
+            &mut |cos_i, n1, n2| match passes[l] {
                 Some(_) => entry_fresnel[l],
                 None => fresnel_dielectric(cos_i, n1, n2),
             },
-            &mut |s, ior| match lens_passes[l] {
+            &mut |s, ior| match passes[l] {
                 Some(pass) => pass,
                 None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
             },
-            &mut |sec, _| {
-                onward[usize::from(sec.tint.is_none())]
-                    .get_or_insert(Onward::EMPTY)
-                    .push(l, &sec)
-            },
+            &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
             &mut out[l],
         );
     }
-    if onward.iter().all(Option::is_none) {
-        return out;
+    if onward.iter().all(|o| o.live == 0) {
+        return;
     }
-    let mut back = [[Rgb::ZERO; LANES]; 2];
-    for (o, back) in onward.iter_mut().zip(&mut back) {
-        if let Some(o) = o {
-            *back = o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um);
+    let deeper = deeper.get_or_insert_with(Box::default);
+    for (o, back) in onward.iter_mut().zip(back.iter_mut()) {
+        if o.live != 0 {
+            o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um, deeper, back);
         }
     }
     // In the order `shade` adds them: refracted, then reflected.
     for l in 0..LANES {
-        for (o, back) in onward.iter().zip(&back) {
-            if let Some(o) = o
-                && o.live >> l & 1 != 0
-            {
+        for (o, back) in onward.iter().zip(back.iter()) {
+            if o.live >> l & 1 != 0 {
                 o.join(l, &mut out[l], back[l]);
             }
         }
     }
-    out
 }
 
 /// Calls `$f::<SHADOWS, GLASS, MIRROR, SPECULAR>$args` with the const
@@ -750,10 +799,10 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 }
 
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
-/// (the first such lens; lanes on another take the scalar path): `Some`
-/// for each lane it traced, `None` for the others, with the Fresnel
-/// reflectance at each traced lane's entry (what [`shade_onward`] weighs
-/// the pass with). The whole pass runs over the lanes at once
+/// (the first such lens; lanes on another take the scalar path): sets
+/// `out` to `Some` for each lane it traced (leaving the others), and
+/// `entry_fresnel` to the Fresnel reflectance at each traced lane's entry
+/// (what [`shade_onward`] weighs the pass with). The whole pass runs over the lanes at once
 /// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
 /// [`through_lens`].
 #[inline(always)]
@@ -761,8 +810,9 @@ fn lens_passes(
     rays: &Packet,
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
-) -> ([Option<Option<Transmitted>>; LANES], Lanes<f64>) {
-    let mut out = [None; LANES];
+    out: &mut [Option<Option<Transmitted>>; LANES],
+    entry_fresnel: &mut Lanes<f64>,
+) {
     // The lens (its object index, shape and index of refraction there).
     let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
@@ -782,7 +832,7 @@ fn lens_passes(
         }
     }
     let Some((_, lens, ior)) = which else {
-        return (out, [0.0; LANES]);
+        return;
     };
     // Lanes outside `lanes` repeat a traced lane, so that every lane holds
     // numbers (their results are not read).
@@ -820,7 +870,7 @@ fn lens_passes(
             through_lens(lens, p, t, ior)
         });
     }
-    (out, pass.entry_fresnel)
+    *entry_fresnel = pass.entry_fresnel;
 }
 
 /// Passes through a lens of a packet's lanes ([`lens_lanes`]).

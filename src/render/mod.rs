@@ -12,7 +12,7 @@ pub use image::Image;
 
 use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
-use crate::integrator::{PacketPaths, radiance, radiance_packet};
+use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -61,24 +61,30 @@ pub fn sample_packet(
     height: u32,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    shade_camera_packet(scene, &p, &hits, n)
+    shade_camera_packet(scene, &p, &hits, n, &mut PacketScratch::default())
 }
 
 /// The radiance of each camera ray of `p` (lanes `l < n`) from its hit.
 #[inline]
-fn shade_camera_packet(scene: &Scene, p: &Packet, hits: &PacketHits, n: usize) -> [Rgb; LANES] {
+fn shade_camera_packet(
+    scene: &Scene,
+    p: &Packet,
+    hits: &PacketHits,
+    n: usize,
+    scratch: &mut PacketScratch,
+) -> [Rgb; LANES] {
     let paths = PacketPaths::camera(p, hits, n);
     if scene.features.dispersion {
         let mut out = [Rgb::ZERO; LANES];
         for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
-            let c = radiance_packet(scene, &paths, lambda);
+            let c = radiance_packet(scene, &paths, lambda, scratch);
             for l in 0..n {
                 out[l][ch] = c[l][ch];
             }
         }
         out
     } else {
-        radiance_packet(scene, &paths, WAVELENGTH_D_UM)
+        radiance_packet(scene, &paths, WAVELENGTH_D_UM, scratch)
     }
 }
 
@@ -88,6 +94,8 @@ fn shade_camera_packet(scene: &Scene, p: &Packet, hits: &PacketHits, n: usize) -
 /// jitter keyed by (seed, pixel, sample). The camera rays are cast in tiles
 /// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
 /// a tile a packet; every pixel gets exactly what [`sample`] gives it.
+/// `tile` and `scratch` are working memory, kept from call to call.
+#[allow(clippy::too_many_arguments)] // the working memory is what the callers keep
 pub fn add_band_samples(
     scene: &Scene,
     y0: u32,
@@ -95,6 +103,7 @@ pub fn add_band_samples(
     centre: bool,
     s: &RenderSettings,
     tile: &mut CameraTile,
+    scratch: &mut PacketScratch,
     rows: &mut [Rgb],
 ) {
     let w = s.width as usize;
@@ -130,7 +139,7 @@ pub fn add_band_samples(
             tile,
         );
         for r in 0..count {
-            let v = shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n);
+            let v = shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n, scratch);
             for (px, v) in rows[r * w + x0..r * w + x0 + n].iter_mut().zip(v) {
                 *px += v;
             }
@@ -171,8 +180,18 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
             // Sample by sample over the band, in tiles of packets; each
             // pixel adds its samples in the order `render_pixel` does.
             let mut tile = CameraTile::default();
+            let mut scratch = PacketScratch::default();
             for i in 0..s.spp.max(1) {
-                add_band_samples(scene, (band * TILE) as u32, i, s.spp <= 1, s, &mut tile, rows);
+                add_band_samples(
+                    scene,
+                    (band * TILE) as u32,
+                    i,
+                    s.spp <= 1,
+                    s,
+                    &mut tile,
+                    &mut scratch,
+                    rows,
+                );
             }
             if s.spp > 1 {
                 for px in rows.iter_mut() {

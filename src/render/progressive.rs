@@ -10,6 +10,7 @@
 use super::{RenderSettings, add_band_samples, sample_packet};
 use crate::accel::packet::{CameraTile, LANES, TILE};
 use crate::color::Rgb;
+use crate::integrator::PacketScratch;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -180,8 +181,18 @@ impl Progressive {
                         seed,
                     };
                     let mut tile = CameraTile::default();
+                    let mut scratch = PacketScratch::default();
                     for s in from..target {
-                        add_band_samples(scene, (band * BAND) as u32, s, s == 0, &settings, &mut tile, rows);
+                        add_band_samples(
+                            scene,
+                            (band * BAND) as u32,
+                            s,
+                            s == 0,
+                            &settings,
+                            &mut tile,
+                            &mut scratch,
+                            rows,
+                        );
                     }
                     true
                 });
