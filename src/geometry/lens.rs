@@ -479,6 +479,7 @@ impl Lens {
     }
 
     /// Outward unit normal of face `part` at the world point `p`.
+    #[inline]
     pub fn normal(&self, p: DVec3, part: u8) -> DVec3 {
         self.caps[part as usize & 1].normal(p - self.center)
     }
