@@ -31,6 +31,15 @@ pub fn median_time(runs: usize, mut f: impl FnMut()) -> f64 {
 /// (after one warm-up each), so that a slow spell of a shared machine falls
 /// on all the points of a sweep alike instead of bending one of them.
 pub fn interleaved_frame_times(items: &[(&Scene, u32, u32)], runs: usize) -> Vec<f64> {
+    interleaved_frame_samples(items, runs)
+        .into_iter()
+        .map(|v| v[v.len() / 2])
+        .collect()
+}
+
+/// Every frame time (seconds, sorted, `runs` of them) of each item, timed
+/// round-robin as [`interleaved_frame_times`] times them.
+pub fn interleaved_frame_samples(items: &[(&Scene, u32, u32)], runs: usize) -> Vec<Vec<f64>> {
     let frame = |&(scene, width, height): &(&Scene, u32, u32)| {
         let s = RenderSettings {
             width,
@@ -51,13 +60,10 @@ pub fn interleaved_frame_times(items: &[(&Scene, u32, u32)], runs: usize) -> Vec
             times[i].push(frame(item));
         }
     }
+    for v in &mut times {
+        v.sort_by(f64::total_cmp);
+    }
     times
-        .into_iter()
-        .map(|mut v| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        })
-        .collect()
 }
 
 /// One full Whitted frame at 1 sample per pixel.

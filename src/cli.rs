@@ -74,6 +74,10 @@ pub struct BenchArgs {
     /// Only measure closest-hit primary rays per second at WIDTH×HEIGHT and print it.
     #[arg(long)]
     pub primary_only: bool,
+    /// Only time full Whitted frames (1 sample per pixel) at 400×400 and at
+    /// WIDTH×HEIGHT, round-robin, and print the fastest and the median.
+    #[arg(long, conflicts_with = "primary_only")]
+    pub frame_only: bool,
     #[arg(long, default_value_t = 1280)]
     pub width: u32,
     #[arg(long, default_value_t = 720)]
@@ -288,6 +292,20 @@ fn bench(a: &BenchArgs) -> Result<()> {
             a.height,
             primary_summary(rps, packets, scalar)
         );
+        return Ok(());
+    }
+    if a.frame_only {
+        let sizes = [(400, 400), (a.width, a.height)];
+        let items: Vec<_> = sizes.iter().map(|&(w, h)| (&scene, w, h)).collect();
+        let times = interleaved_frame_samples(&items, a.runs);
+        for ((w, h), v) in sizes.iter().zip(&times) {
+            println!(
+                "frame {w}x{h} ({threads} threads, {} runs): fastest {:.2} ms, median {:.2} ms",
+                v.len(),
+                v[0] * 1e3,
+                v[v.len() / 2] * 1e3
+            );
+        }
         return Ok(());
     }
     std::fs::create_dir_all(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;

@@ -275,6 +275,34 @@ fn bench_writes_its_tables_and_plots() {
     let o = bin()
         .args([
             "bench",
+            "--frame-only",
+            "--runs",
+            "3",
+            "--width",
+            "64",
+            "--height",
+            "36",
+        ])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for size in ["400x400", "64x36"] {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&format!("frame {size} ")))
+            .unwrap_or_else(|| panic!("no {size} line: {out}"));
+        // "fastest A ms, median B ms" with 0 < A <= B.
+        let (_, times) = line.split_once("fastest").unwrap_or_else(|| panic!("{line}"));
+        let ms: Vec<f64> = times
+            .split_whitespace()
+            .filter_map(|w| w.trim_end_matches(',').parse().ok())
+            .collect();
+        assert!(ms.len() == 2 && 0.0 < ms[0] && ms[0] <= ms[1], "{line}");
+    }
+    let o = bin()
+        .args([
+            "bench",
             "--unused-feature",
             "glass",
             "--unspecialised",
