@@ -253,38 +253,21 @@ fn bench_writes_its_tables_and_plots() {
             assert!(last.parse::<f64>().is_ok_and(|v| v > 0.0), "{f}: {r}");
         }
     }
-    let o = bin()
-        .args([
-            "bench",
-            "--primary-only",
-            "--runs",
-            "1",
-            "--width",
-            "64",
-            "--height",
-            "36",
-        ])
-        .output()
-        .unwrap();
+    // `lensview bench FLAG --runs RUNS` at 64×36.
+    let bench_small = |flag: &str, runs: &str| {
+        bin()
+            .args(["bench", flag, "--runs", runs, "--width", "64", "--height", "36"])
+            .output()
+            .unwrap()
+    };
+    let o = bench_small("--primary-only", "1");
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.lines().any(|l| l.starts_with("primary_rays_per_s ")), "{out}");
     assert!(
         out.lines().any(|l| l.starts_with("primary_rays_per_s_scalar ")),
         "{out}"
     );
-    let o = bin()
-        .args([
-            "bench",
-            "--frame-only",
-            "--runs",
-            "3",
-            "--width",
-            "64",
-            "--height",
-            "36",
-        ])
-        .output()
-        .unwrap();
+    let o = bench_small("--frame-only", "3");
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for size in ["400x400", "64x36"] {
