@@ -802,9 +802,9 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
 /// (the first such lens; lanes on another take the scalar path): sets
 /// `out` to `Some` for each lane it traced (leaving the others), and
 /// `entry_fresnel` to the Fresnel reflectance at each traced lane's entry
-/// (what [`shade_onward`] weighs the pass with). The whole pass runs over the lanes at once
-/// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
-/// [`through_lens`].
+/// (what [`shade_onward`] weighs the pass with). The whole pass runs over
+/// the lanes at once ([`lens_lanes`]); a lane that reflects inside is
+/// traced by the scalar [`through_lens`].
 #[inline(always)]
 fn lens_passes(
     rays: &Packet,

@@ -50,7 +50,8 @@ pub fn sample(scene: &Scene, x: f64, y: f64, width: u32, height: u32) -> Rgb {
 
 /// Camera samples at the continuous pixel positions `(xs[l], ys[l])` for
 /// `l < n` (1 ..= [`LANES`]), traced as one packet: lane `l` is exactly
-/// [`sample`] at its position.
+/// [`sample`] at its position. `scratch` is working memory, kept from
+/// call to call.
 #[inline]
 pub fn sample_packet(
     scene: &Scene,
@@ -59,9 +60,10 @@ pub fn sample_packet(
     n: usize,
     width: u32,
     height: u32,
+    scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    shade_camera_packet(scene, &p, &hits, n, &mut PacketScratch::default())
+    shade_camera_packet(scene, &p, &hits, n, scratch)
 }
 
 /// The radiance of each camera ray of `p` (lanes `l < n`) from its hit.
@@ -94,18 +96,16 @@ fn shade_camera_packet(
 /// jitter keyed by (seed, pixel, sample). The camera rays are cast in tiles
 /// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
 /// a tile a packet; every pixel gets exactly what [`sample`] gives it.
-/// `tile` and `scratch` are working memory, kept from call to call.
-#[allow(clippy::too_many_arguments)] // the working memory is what the callers keep
 pub fn add_band_samples(
     scene: &Scene,
     y0: u32,
     i: u32,
     centre: bool,
     s: &RenderSettings,
-    tile: &mut CameraTile,
-    scratch: &mut PacketScratch,
+    memory: &mut BandMemory,
     rows: &mut [Rgb],
 ) {
+    let BandMemory { tile, scratch } = memory;
     let w = s.width as usize;
     if w == 0 {
         return;
@@ -147,6 +147,14 @@ pub fn add_band_samples(
     }
 }
 
+/// The working memory of [`add_band_samples`], kept from call to call by
+/// whoever samples a band: the camera tile and the packet kernel's memory.
+#[derive(Default)]
+pub struct BandMemory {
+    tile: CameraTile,
+    scratch: PacketScratch,
+}
+
 /// The mean of `spp` samples of pixel `(px, py)`: the pixel centre for one
 /// sample, otherwise stratified jitter keyed by (seed, pixel, sample).
 pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb {
@@ -179,19 +187,9 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
         .for_each(|(band, rows)| {
             // Sample by sample over the band, in tiles of packets; each
             // pixel adds its samples in the order `render_pixel` does.
-            let mut tile = CameraTile::default();
-            let mut scratch = PacketScratch::default();
+            let mut memory = BandMemory::default();
             for i in 0..s.spp.max(1) {
-                add_band_samples(
-                    scene,
-                    (band * TILE) as u32,
-                    i,
-                    s.spp <= 1,
-                    s,
-                    &mut tile,
-                    &mut scratch,
-                    rows,
-                );
+                add_band_samples(scene, (band * TILE) as u32, i, s.spp <= 1, s, &mut memory, rows);
             }
             if s.spp > 1 {
                 for px in rows.iter_mut() {

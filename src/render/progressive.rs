@@ -7,8 +7,8 @@
 //! samples is therefore the same whatever the thread count, and the same
 //! whether it got there in one wave or many.
 
-use super::{RenderSettings, add_band_samples, sample_packet};
-use crate::accel::packet::{CameraTile, LANES, TILE};
+use super::{BandMemory, RenderSettings, add_band_samples, sample_packet};
+use crate::accel::packet::{LANES, TILE};
 use crate::color::Rgb;
 use crate::integrator::PacketScratch;
 use crate::scene::Scene;
@@ -140,12 +140,13 @@ impl Progressive {
                     let rows_here = rows.len() / w;
                     let cy = (y0 + n / 2).min(h - 1);
                     let blocks = w.div_ceil(n);
+                    let mut scratch = PacketScratch::default();
                     // Block centres, eight to a packet.
                     for b0 in (0..blocks).step_by(LANES) {
                         let k = (blocks - b0).min(LANES);
                         let xs = std::array::from_fn(|l| ((b0 + l) * n + n / 2).min(w - 1) as f64 + 0.5);
                         let ys = [cy as f64 + 0.5; LANES];
-                        let c = sample_packet(scene, &xs, &ys, k, self.width, self.height);
+                        let c = sample_packet(scene, &xs, &ys, k, self.width, self.height, &mut scratch);
                         for (l, &c) in c.iter().enumerate().take(k) {
                             let x0 = (b0 + l) * n;
                             for r in 0..rows_here {
@@ -180,19 +181,9 @@ impl Progressive {
                         spp: target,
                         seed,
                     };
-                    let mut tile = CameraTile::default();
-                    let mut scratch = PacketScratch::default();
+                    let mut memory = BandMemory::default();
                     for s in from..target {
-                        add_band_samples(
-                            scene,
-                            (band * BAND) as u32,
-                            s,
-                            s == 0,
-                            &settings,
-                            &mut tile,
-                            &mut scratch,
-                            rows,
-                        );
+                        add_band_samples(scene, (band * BAND) as u32, s, s == 0, &settings, &mut memory, rows);
                     }
                     true
                 });
