@@ -7,7 +7,7 @@ use lensview::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
 use lensview::math::Ray;
 use lensview::optics::Index;
 use lensview::render::progressive::{Progressive, Stage};
-use lensview::render::{RenderSettings, render};
+use lensview::render::{Image, RenderSettings, render_into};
 use lensview::sampling::Sampler;
 use lensview::scene::Scene;
 use std::hint::black_box;
@@ -103,8 +103,10 @@ fn frames(c: &mut Criterion) {
             spp: 1,
             seed: 0,
         };
+        // Into a frame kept from iteration to iteration, as the viewer keeps one.
+        let mut img = Image::new(w, h);
         g.bench_function(format!("{w}x{h}-1spp"), |b| {
-            b.iter(|| render(black_box(&scene), &s, None))
+            b.iter(|| render_into(black_box(&scene), &s, None, &mut img))
         });
     }
     // The first progressive level the viewer draws after a change.

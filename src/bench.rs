@@ -6,7 +6,7 @@
 use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
 use crate::integrator::{PacketKernel, PacketPaths, PacketScratch, closest_hit, radiance_packet_unspecialised};
-use crate::render::{RenderSettings, render};
+use crate::render::{Image, RenderSettings, render, render_into};
 use crate::scene::file::{ObjectFile, SceneFile, ShapeKind};
 use crate::scene::{Features, Scene};
 use rayon::prelude::*;
@@ -38,9 +38,10 @@ pub fn interleaved_frame_times(items: &[(&Scene, u32, u32)], runs: usize) -> Vec
 }
 
 /// Every frame time (seconds, sorted, `runs` of them) of each item, timed
-/// round-robin as [`interleaved_frame_times`] times them.
+/// round-robin as [`interleaved_frame_times`] times them. Each item renders
+/// into an image kept from frame to frame, as the viewer does.
 pub fn interleaved_frame_samples(items: &[(&Scene, u32, u32)], runs: usize) -> Vec<Vec<f64>> {
-    let frame = |&(scene, width, height): &(&Scene, u32, u32)| {
+    let frame = |&(scene, width, height): &(&Scene, u32, u32), img: &mut Image| {
         let s = RenderSettings {
             width,
             height,
@@ -48,16 +49,18 @@ pub fn interleaved_frame_samples(items: &[(&Scene, u32, u32)], runs: usize) -> V
             seed: 0,
         };
         let t = Instant::now();
-        std::hint::black_box(render(scene, &s, None));
+        render_into(scene, &s, None, img);
+        std::hint::black_box(&img.pixels);
         t.elapsed().as_secs_f64()
     };
-    items.iter().for_each(|i| {
-        frame(i);
-    });
+    let mut images: Vec<Image> = items.iter().map(|&(_, w, h)| Image::new(w, h)).collect();
+    for (item, img) in items.iter().zip(&mut images) {
+        frame(item, img);
+    }
     let mut times = vec![Vec::new(); items.len()];
     for _ in 0..runs.max(1) {
         for (i, item) in items.iter().enumerate() {
-            times[i].push(frame(item));
+            times[i].push(frame(item, &mut images[i]));
         }
     }
     for v in &mut times {
@@ -66,7 +69,8 @@ pub fn interleaved_frame_samples(items: &[(&Scene, u32, u32)], runs: usize) -> V
     times
 }
 
-/// One full Whitted frame at 1 sample per pixel.
+/// One full Whitted frame at 1 sample per pixel, into an image kept from
+/// frame to frame (as the viewer keeps its frame).
 pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
     let s = RenderSettings {
         width,
@@ -74,8 +78,10 @@ pub fn frame_time(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
         spp: 1,
         seed: 0,
     };
+    let mut img = Image::new(width, height);
     median_time(runs, || {
-        std::hint::black_box(render(scene, &s, None));
+        render_into(scene, &s, None, &mut img);
+        std::hint::black_box(&img.pixels);
     })
 }
 

@@ -91,7 +91,9 @@ fn shade_camera_packet(
 }
 
 /// Adds sample `i` of every pixel of the rows `y0 ..` held in `rows` (up
-/// to [`TILE`] whole rows of the image, one after another) to them. Sample
+/// to [`TILE`] whole rows of the image, one after another) to them; sample
+/// 0 is the first of a sum, so it is written over whatever `rows` held
+/// (no clearing pass, and no read of the old value). Sample
 /// 0 of a one-sample render is the pixel centre, others are stratified
 /// jitter keyed by (seed, pixel, sample). The camera rays are cast in tiles
 /// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
@@ -140,8 +142,13 @@ pub fn add_band_samples(
         );
         for r in 0..count {
             let v = shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n, scratch);
-            for (px, v) in rows[r * w + x0..r * w + x0 + n].iter_mut().zip(v) {
-                *px += v;
+            let row = &mut rows[r * w + x0..r * w + x0 + n];
+            if i == 0 {
+                row.copy_from_slice(&v[..n]);
+            } else {
+                for (px, v) in row.iter_mut().zip(v) {
+                    *px += v;
+                }
             }
         }
     }
@@ -174,9 +181,23 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb 
 /// Renders the whole image in parallel bands of [`TILE`] rows. `progress` is called with the
 /// fraction of rows done (from worker threads, at most about 100 times).
 pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>) -> Image {
-    let mut img = Image::new(s.width, s.height);
+    let mut img = Image {
+        width: 0,
+        height: 0,
+        pixels: Vec::new(),
+    };
+    render_into(scene, s, progress, &mut img);
+    img
+}
+
+/// [`render`] into `img`, whose buffer is kept when it is large enough (as
+/// a viewer keeps its frame from frame to frame): every pixel is written,
+/// so nothing is cleared first.
+pub fn render_into(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>, img: &mut Image) {
+    (img.width, img.height) = (s.width, s.height);
+    img.pixels.resize(s.width as usize * s.height as usize, Rgb::ZERO);
     if s.width == 0 || s.height == 0 {
-        return img;
+        return;
     }
     let done = AtomicUsize::new(0);
     let step = (s.height as usize / 100).max(1);
@@ -204,12 +225,33 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
                 p(n as f64 / s.height as f64);
             }
         });
-    img
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A kept buffer's old contents (here NaN, from a larger frame) never
+    /// reach the image: `render_into` writes every pixel.
+    #[test]
+    fn render_into_a_used_buffer_gives_a_fresh_render() {
+        let scene = Scene::default_scene().1;
+        for spp in [1, 2] {
+            let s = RenderSettings {
+                width: 29,
+                height: 19,
+                spp,
+                seed: 1,
+            };
+            let mut img = Image {
+                width: 40,
+                height: 40,
+                pixels: vec![Rgb::splat(f64::NAN); 1600],
+            };
+            render_into(&scene, &s, None, &mut img);
+            assert_eq!(img, render(&scene, &s, None));
+        }
+    }
 
     /// The packet path of `render` gives, pixel for pixel and bit for bit,
     /// what tracing each camera sample alone (`render_pixel`) gives, on the

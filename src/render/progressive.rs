@@ -86,6 +86,9 @@ pub struct Progressive {
     /// Samples per pixel in `sum` (0 while only block levels were drawn).
     pub spp: u32,
     sum: Vec<Rgb>,
+    /// The buffer a sample stage writes before it replaces `sum` (the
+    /// previous sums, kept so that no frame allocates or clears one).
+    next: Vec<Rgb>,
     preview: Vec<Rgb>,
     /// Block size of the last block stage drawn into `preview`.
     block: usize,
@@ -104,6 +107,7 @@ impl Progressive {
             seed,
             spp: 0,
             sum: vec![Rgb::ZERO; n],
+            next: vec![Rgb::ZERO; n],
             preview: vec![Rgb::ZERO; n],
             block: 1,
         }
@@ -166,14 +170,17 @@ impl Progressive {
                 let (width, height, seed) = (self.width, self.height, self.seed);
                 // The sums are written in place only when the whole stage
                 // completes; a cancelled stage must leave them untouched.
-                let mut next = if from == 0 {
-                    vec![Rgb::ZERO; self.sum.len()]
-                } else {
-                    self.sum.clone()
-                };
+                // Sample 0 overwrites what the spare buffer held; a later
+                // wave starts each band from a copy of its sums.
+                let mut next = std::mem::take(&mut self.next);
+                let sum = &self.sum;
                 let ok = next.par_chunks_mut(w * BAND).enumerate().all(|(band, rows)| {
                     if cancelled() {
                         return false;
+                    }
+                    if from > 0 {
+                        let start = band * BAND * w;
+                        rows.copy_from_slice(&sum[start..start + rows.len()]);
                     }
                     let settings = RenderSettings {
                         width,
@@ -188,8 +195,10 @@ impl Progressive {
                     true
                 });
                 if ok {
-                    self.sum = next;
+                    self.next = std::mem::replace(&mut self.sum, next);
                     self.spp = target;
+                } else {
+                    self.next = next;
                 }
                 ok
             }
@@ -329,6 +338,11 @@ mod tests {
         let mut one = Progressive::new(40, 30, 3);
         one.run(&s, Stage::Samples(1), &|| false);
         // Sample 0 is the pixel centre, as in a 1-spp render.
+        assert_eq!(one.image(), direct);
+        // After a reset the kept buffers hold old sums; they never leak in.
+        one.run(&s, Stage::Samples(3), &|| false);
+        one.reset(40, 30, 3);
+        one.run(&s, Stage::Samples(1), &|| false);
         assert_eq!(one.image(), direct);
         // Four samples in waves equal four samples at once.
         let mut once = Progressive::new(40, 30, 3);
