@@ -380,11 +380,12 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
         return;
     }
     // The passes through a lens of the lanes that enter one, traced together.
-    let mut passes = [None; LANES];
-    let mut entry_fresnel = [0.0; LANES];
-    if GLASS {
-        lens_passes(p, &surfaces, lambda_um, &mut passes, &mut entry_fresnel);
-    }
+    let passes = if GLASS {
+        lens_passes(p, &surfaces, lambda_um)
+    } else {
+        None
+    };
+    let traced = |l: usize| passes.as_ref().filter(|ps| ps.lanes >> l & 1 != 0);
     // Refracted (0) and reflected (1) rays, gathered and traced afterwards
     // (most packets send none).
     let PacketScratch {
@@ -403,12 +404,12 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             depth[l],
             lambda_um,
             weight[l],
-            &mut |cos_i, n1, n2| match passes[l] {
-                Some(_) => entry_fresnel[l],
+            &mut |cos_i, n1, n2| match traced(l) {
+                Some(ps) => ps.pass.entry_fresnel[l],
                 None => fresnel_dielectric(cos_i, n1, n2),
             },
-            &mut |s, ior| match passes[l] {
-                Some(pass) => pass,
+            &mut |s, ior| match traced(l) {
+                Some(ps) => ps.transmitted(l),
                 None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
             },
             &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
@@ -798,21 +799,44 @@ pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: D
     }
 }
 
+/// The passes through a lens of the lanes of a packet whose surface is the
+/// entry into it ([`lens_passes`]).
+struct LensPasses {
+    /// The lanes traced.
+    lanes: u32,
+    /// The traced lanes that send no ray on: totally reflected at the entry
+    /// (never from air into glass), or trapped inside.
+    stopped: u32,
+    /// [`through_lens`]'s ray, depth used and Fresnel factor for the
+    /// other traced lanes.
+    pass: LensLanes,
+    bounces: Lanes<u32>,
+}
+
+impl LensPasses {
+    /// [`transmitted_ray`] for traced lane `l`.
+    #[inline(always)]
+    fn transmitted(&self, l: usize) -> Option<Transmitted> {
+        let pass = &self.pass;
+        (self.stopped >> l & 1 == 0).then(|| Transmitted {
+            ray: Ray {
+                origin: DVec3::new(pass.origin[0][l], pass.origin[1][l], pass.origin[2][l]),
+                dir: DVec3::new(pass.dir[0][l], pass.dir[1][l], pass.dir[2][l]),
+            },
+            bounces: self.bounces[l],
+            factor: pass.factor[l],
+        })
+    }
+}
+
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
-/// (the first such lens; lanes on another take the scalar path): sets
-/// `out` to `Some` for each lane it traced (leaving the others), and
-/// `entry_fresnel` to the Fresnel reflectance at each traced lane's entry
-/// (what [`shade_onward`] weighs the pass with). The whole pass runs over
-/// the lanes at once ([`lens_lanes`]); a lane that reflects inside is
-/// traced by the scalar [`through_lens`].
+/// (the first such lens; lanes on another take the scalar path), with the
+/// Fresnel reflectance at each traced lane's entry (what [`shade_onward`]
+/// weighs the pass with). The whole pass runs over the lanes at once
+/// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
+/// [`through_lens`]. `None` when no lane enters a lens.
 #[inline(always)]
-fn lens_passes(
-    rays: &Packet,
-    surfaces: &[Option<Surface>; LANES],
-    lambda_um: f64,
-    out: &mut [Option<Option<Transmitted>>; LANES],
-    entry_fresnel: &mut Lanes<f64>,
-) {
+fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f64) -> Option<LensPasses> {
     // The lens (its object index, shape and index of refraction there).
     let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
@@ -831,9 +855,7 @@ fn lens_passes(
             nf[k][l] = s.nf[k];
         }
     }
-    let Some((_, lens, ior)) = which else {
-        return;
-    };
+    let (_, lens, ior) = which?;
     // Lanes outside `lanes` repeat a traced lane, so that every lane holds
     // numbers (their results are not read).
     let first = lanes.trailing_zeros() as usize;
@@ -847,30 +869,37 @@ fn lens_passes(
             }
         }
     }
-    let pass = lens_lanes(lens, ior, &x, &dir, &nf);
+    let mut pass = lens_lanes(lens, ior, &x, &dir, &nf);
+    let mut stopped = 0u32;
+    let mut bounces = [2; LANES];
     let mut m = lanes;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
-        out[l] = Some(if pass.reflected[l] {
-            // Total reflection at the entry (never from air into glass).
-            None
-        } else if pass.ok[l] {
-            Some(Transmitted {
-                ray: Ray {
-                    origin: DVec3::new(pass.origin[0][l], pass.origin[1][l], pass.origin[2][l]),
-                    dir: DVec3::new(pass.dir[0][l], pass.dir[1][l], pass.dir[2][l]),
-                },
-                bounces: 2,
-                factor: pass.factor[l],
-            })
-        } else {
+        if pass.reflected[l] {
+            stopped |= 1 << l;
+        } else if !pass.ok[l] {
             let p = DVec3::new(x[0][l], x[1][l], x[2][l]);
             let t = DVec3::new(pass.inside[0][l], pass.inside[1][l], pass.inside[2][l]);
-            through_lens(lens, p, t, ior)
-        });
+            match through_lens(lens, p, t, ior) {
+                Some(tr) => {
+                    for k in 0..3 {
+                        pass.origin[k][l] = tr.ray.origin[k];
+                        pass.dir[k][l] = tr.ray.dir[k];
+                    }
+                    pass.factor[l] = tr.factor;
+                    bounces[l] = tr.bounces;
+                }
+                None => stopped |= 1 << l,
+            }
+        }
     }
-    *entry_fresnel = pass.entry_fresnel;
+    Some(LensPasses {
+        lanes,
+        stopped,
+        pass,
+        bounces,
+    })
 }
 
 /// Passes through a lens of a packet's lanes ([`lens_lanes`]).

@@ -258,11 +258,17 @@ mod tests {
     /// default scene and on one with dispersive glass.
     #[test]
     fn packets_render_what_single_rays_render() {
+        // A steep lens of index 3: many rays reflect inside it, and the
+        // packet path hands those to the scalar lens tracer.
+        let steep =
+            include_str!("../../scenes/cubes.toml").replace("r1 = 5\nr2 = 5\nn = 1.5", "r1 = 1.05\nr2 = 8\nn = 3");
+        assert!(steep.contains("n = 3"));
         let scenes = [
             Scene::default_scene().1,
             Scene::parse("primitives", include_str!("../../scenes/primitives.toml"))
                 .unwrap()
                 .1,
+            Scene::parse("steep", &steep).unwrap().1,
         ];
         for scene in &scenes {
             for spp in [1, 3] {
