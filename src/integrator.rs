@@ -182,6 +182,7 @@ pub type PacketKernel = fn(&Scene, &PacketPaths, f64, &mut PacketScratch) -> [Rg
 /// neither built nor copied per packet; every lane read is written first.
 pub struct PacketScratch {
     shadow: Packet,
+    lens: LensPasses,
     onward: [Onward; 2],
     back: [Lanes<Rgb>; 2],
     deeper: Option<Box<PacketScratch>>,
@@ -191,6 +192,7 @@ impl Default for PacketScratch {
     fn default() -> Self {
         PacketScratch {
             shadow: Packet::EMPTY,
+            lens: LensPasses::EMPTY,
             onward: [Onward::EMPTY, Onward::EMPTY],
             back: [[Rgb::ZERO; LANES]; 2],
             deeper: None,
@@ -379,18 +381,19 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
     if !(GLASS || MIRROR) {
         return;
     }
-    // The passes through a lens of the lanes that enter one, traced together.
-    let passes = if GLASS {
-        lens_passes(p, &surfaces, lambda_um)
-    } else {
-        None
-    };
-    let traced = |l: usize| passes.as_ref().filter(|ps| ps.lanes >> l & 1 != 0);
     // Refracted (0) and reflected (1) rays, gathered and traced afterwards
     // (most packets send none).
     let PacketScratch {
-        onward, back, deeper, ..
+        onward,
+        back,
+        deeper,
+        lens,
+        ..
     } = scratch;
+    // The passes through a lens of the lanes that enter one, traced together.
+    let passes = GLASS && lens_passes(p, &surfaces, lambda_um, lens);
+    let lens = &*lens;
+    let traced = |l: usize| (passes && lens.lanes >> l & 1 != 0).then_some(lens);
     for o in onward.iter_mut() {
         o.live = 0;
     }
@@ -814,6 +817,21 @@ struct LensPasses {
 }
 
 impl LensPasses {
+    const EMPTY: LensPasses = LensPasses {
+        lanes: 0,
+        stopped: 0,
+        pass: LensLanes {
+            reflected: [false; LANES],
+            entry_fresnel: [0.0; LANES],
+            ok: [false; LANES],
+            inside: [[0.0; LANES]; 3],
+            origin: [[0.0; LANES]; 3],
+            dir: [[0.0; LANES]; 3],
+            factor: [0.0; LANES],
+        },
+        bounces: [0; LANES],
+    };
+
     /// [`transmitted_ray`] for traced lane `l`.
     #[inline(always)]
     fn transmitted(&self, l: usize) -> Option<Transmitted> {
@@ -834,9 +852,10 @@ impl LensPasses {
 /// Fresnel reflectance at each traced lane's entry (what [`shade_onward`]
 /// weighs the pass with). The whole pass runs over the lanes at once
 /// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
-/// [`through_lens`]. `None` when no lane enters a lens.
+/// [`through_lens`]. The passes are written to `out` (working memory kept
+/// from packet to packet); `false` when no lane enters a lens.
 #[inline(always)]
-fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f64) -> Option<LensPasses> {
+fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f64, out: &mut LensPasses) -> bool {
     // The lens (its object index, shape and index of refraction there).
     let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
@@ -855,7 +874,9 @@ fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f6
             nf[k][l] = s.nf[k];
         }
     }
-    let (_, lens, ior) = which?;
+    let Some((_, lens, ior)) = which else {
+        return false;
+    };
     // Lanes outside `lanes` repeat a traced lane, so that every lane holds
     // numbers (their results are not read).
     let first = lanes.trailing_zeros() as usize;
@@ -869,15 +890,18 @@ fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f6
             }
         }
     }
-    let mut pass = lens_lanes(lens, ior, &x, &dir, &nf);
-    let mut stopped = 0u32;
-    let mut bounces = [2; LANES];
+    out.pass = lens_lanes(lens, ior, &x, &dir, &nf);
+    let LensPasses {
+        pass, stopped, bounces, ..
+    } = out;
+    *stopped = 0;
+    *bounces = [2; LANES];
     let mut m = lanes;
     while m != 0 {
         let l = m.trailing_zeros() as usize;
         m &= m - 1;
         if pass.reflected[l] {
-            stopped |= 1 << l;
+            *stopped |= 1 << l;
         } else if !pass.ok[l] {
             let p = DVec3::new(x[0][l], x[1][l], x[2][l]);
             let t = DVec3::new(pass.inside[0][l], pass.inside[1][l], pass.inside[2][l]);
@@ -890,16 +914,12 @@ fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f6
                     pass.factor[l] = tr.factor;
                     bounces[l] = tr.bounces;
                 }
-                None => stopped |= 1 << l,
+                None => *stopped |= 1 << l,
             }
         }
     }
-    Some(LensPasses {
-        lanes,
-        stopped,
-        pass,
-        bounces,
-    })
+    out.lanes = lanes;
+    true
 }
 
 /// Passes through a lens of a packet's lanes ([`lens_lanes`]).

@@ -174,6 +174,8 @@ struct Cap {
     /// Outward normal at the vertex (±axis).
     m: DVec3,
     r: f64,
+    /// `1/r`: the normal scales by it rather than dividing three times.
+    inv_r: f64,
 }
 
 impl Cap {
@@ -190,7 +192,7 @@ impl Cap {
     /// `m + (x − V)/r` to avoid the large `x − centre` of a flat face.
     #[inline]
     fn normal(&self, x: DVec3) -> DVec3 {
-        (self.m + (x - self.vertex) / self.r).normalize()
+        (self.m + (x - self.vertex) * self.inv_r).normalize()
     }
 
     fn f(&self, x: DVec3) -> f64 {
@@ -268,11 +270,13 @@ impl Lens {
                     vertex: a * sag1,
                     m: a,
                     r: r1,
+                    inv_r: 1.0 / r1,
                 },
                 Cap {
                     vertex: -a * sag2,
                     m: -a,
                     r: r2,
+                    inv_r: 1.0 / r2,
                 },
             ],
             one_sphere: r1 == half && r2 == half,
@@ -615,7 +619,7 @@ impl Lens {
                 by_roots
             };
             let cap = if s == 0 { c0 } else { c1 };
-            let normal = (cap.m + (y - cap.vertex) / cap.r).normalize();
+            let normal = (cap.m + (y - cap.vertex) * cap.inv_r).normalize();
             // `optics::refract(u, −normal, n, 1)`.
             let nn = -normal;
             let eta = n / 1.0;
