@@ -153,10 +153,22 @@ pub fn radiance_packet(
     lambda_um: f64,
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
-    let f = scene.features;
     let mut out = [Rgb::ZERO; LANES];
-    with_features!(f, packet_kernel, (scene, paths, lambda_um, scratch, &mut out));
+    radiance_packet_into(scene, paths, lambda_um, scratch, &mut out);
     out
+}
+
+/// [`radiance_packet`] written into `out` (every lane: zero where not live).
+#[inline]
+pub fn radiance_packet_into(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
+    let f = scene.features;
+    with_features!(f, packet_kernel, (scene, paths, lambda_um, scratch, out));
 }
 
 /// [`radiance_packet`] with every feature compiled in: what a renderer that

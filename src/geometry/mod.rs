@@ -78,7 +78,7 @@ impl Shape {
     }
 
     /// Outward unit normal at a point `p` of part `part`.
-    #[inline]
+    #[inline(always)]
     pub fn normal(&self, p: DVec3, part: u8) -> DVec3 {
         match self {
             Shape::Sphere(s) => s.normal(p),

@@ -12,7 +12,7 @@ pub use image::Image;
 
 use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
-use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet};
+use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -63,10 +63,13 @@ pub fn sample_packet(
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
-    shade_camera_packet(scene, &p, &hits, n, scratch)
+    let mut out = [Rgb::ZERO; LANES];
+    shade_camera_packet(scene, &p, &hits, n, scratch, &mut out);
+    out
 }
 
-/// The radiance of each camera ray of `p` (lanes `l < n`) from its hit.
+/// The radiance of each camera ray of `p` (lanes `l < n`) from its hit,
+/// written into `out` (lanes from `n` on: zero).
 #[inline]
 fn shade_camera_packet(
     scene: &Scene,
@@ -74,19 +77,19 @@ fn shade_camera_packet(
     hits: &PacketHits,
     n: usize,
     scratch: &mut PacketScratch,
-) -> [Rgb; LANES] {
+    out: &mut [Rgb; LANES],
+) {
     let paths = PacketPaths::camera(p, hits, n);
     if scene.features.dispersion {
-        let mut out = [Rgb::ZERO; LANES];
+        *out = [Rgb::ZERO; LANES];
         for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
             let c = radiance_packet(scene, &paths, lambda, scratch);
             for l in 0..n {
                 out[l][ch] = c[l][ch];
             }
         }
-        out
     } else {
-        radiance_packet(scene, &paths, WAVELENGTH_D_UM, scratch)
+        radiance_packet_into(scene, &paths, WAVELENGTH_D_UM, scratch, out);
     }
 }
 
@@ -141,12 +144,20 @@ pub fn add_band_samples(
             tile,
         );
         for r in 0..count {
-            let v = shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n, scratch);
             let row = &mut rows[r * w + x0..r * w + x0 + n];
-            if i == 0 {
-                row.copy_from_slice(&v[..n]);
-            } else {
-                for (px, v) in row.iter_mut().zip(v) {
+            // A whole packet's first sample is written in place.
+            if i == 0
+                && let Ok(row) = <&mut [Rgb; LANES]>::try_from(&mut *row)
+            {
+                shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n, scratch, row);
+                continue;
+            }
+            let mut v = [Rgb::ZERO; LANES];
+            shade_camera_packet(scene, &tile.packets[r], &tile.hits[r], n, scratch, &mut v);
+            for (px, v) in row.iter_mut().zip(v) {
+                if i == 0 {
+                    *px = v;
+                } else {
                     *px += v;
                 }
             }
