@@ -289,6 +289,15 @@ impl Onward {
             }
             return;
         }
+        if self.all_escape(scene) {
+            let mut m = self.live;
+            while m != 0 {
+                let l = m.trailing_zeros() as usize;
+                m &= m - 1;
+                back[l] = scene.background;
+            }
+            return;
+        }
         self.rays.fill_unused(self.live);
         // Lanes that sent nothing hold what an earlier packet left; they
         // never hit (`fill_unused`), and skip nothing.
@@ -306,6 +315,29 @@ impl Onward {
             weight: self.weight,
         };
         packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &paths, lambda_um, scratch, back);
+    }
+
+    /// Whether every live lane's ray leaves its object (`skip`) and misses
+    /// the box around all the others ([`Scene::others_bounds`]): then it
+    /// meets nothing and brings back the background, which is what tracing
+    /// it would give (the rays a lens reflects away from the scene, mostly).
+    #[inline(always)]
+    fn all_escape(&self, scene: &Scene) -> bool {
+        let mut m = self.live;
+        while m != 0 {
+            let l = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
+                return false;
+            };
+            if let Some(b) = bounds {
+                let ray = self.rays.ray(l);
+                if b.hit(&ray, ray.dir.recip(), 0.0, f64::INFINITY) {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Adds what lane `l`'s ray brought back (`back`) to `color`, as

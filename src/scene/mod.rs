@@ -187,6 +187,42 @@ pub struct Scene {
     pub features: Features,
     /// A BVH over `objects` when there are at least [`BVH_MIN_OBJECTS`].
     pub bvh: Option<crate::accel::Bvh>,
+    /// For each object, a box around every other object, enlarged by a
+    /// millionth of its size (`None`: no other object): a ray that cannot
+    /// meet object `i` and misses box `i` meets nothing ([`Scene::compile`]).
+    pub others_bounds: Vec<Option<Aabb>>,
+}
+
+/// [`Scene::others_bounds`]: unions of the objects' world boxes before and
+/// after each one, enlarged so that rounding in a box test can never make a
+/// ray that meets an object miss the box.
+fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
+    let join = |a: Option<Aabb>, b: &Aabb| {
+        Some(match a {
+            Some(a) => Aabb::new(a.min.min(b.min), a.max.max(b.max)),
+            None => *b,
+        })
+    };
+    let mut before = Vec::with_capacity(objects.len());
+    let mut acc = None;
+    for o in objects {
+        before.push(acc);
+        acc = join(acc, &o.world_bounds);
+    }
+    let mut out = vec![None; objects.len()];
+    let mut after: Option<Aabb> = None;
+    for (i, o) in objects.iter().enumerate().rev() {
+        out[i] = match (before[i], after) {
+            (Some(a), Some(b)) => join(Some(a), &b),
+            (a, b) => a.or(b),
+        }
+        .map(|b| {
+            let pad = (b.max - b.min).max_element() * 1e-6 + (b.min.abs().max(b.max.abs())).max_element() * 1e-12;
+            Aabb::new(b.min - pad, b.max + pad)
+        });
+        after = join(after, &o.world_bounds);
+    }
+    out
 }
 
 impl Scene {
@@ -206,6 +242,7 @@ impl Scene {
             let bounds: Vec<Aabb> = self.objects.iter().map(|o| o.world_bounds).collect();
             crate::accel::Bvh::build(&bounds)
         });
+        self.others_bounds = others_bounds(&self.objects);
     }
 
     /// Loads and validates a scene file.
@@ -395,6 +432,7 @@ impl Scene {
                 spp: r.spp,
                 features: Features::ALL,
                 bvh: None,
+                others_bounds: Vec::new(),
             };
             scene.compile();
             Ok(scene)
