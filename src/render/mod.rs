@@ -266,7 +266,7 @@ mod tests {
 
     /// The packet path of `render` gives, pixel for pixel and bit for bit,
     /// what tracing each camera sample alone (`render_pixel`) gives, on the
-    /// default scene and on one with dispersive glass.
+    /// default scene, on one with dispersive glass and on a steep lens.
     #[test]
     fn packets_render_what_single_rays_render() {
         // A steep lens of index 3: many rays reflect inside it, and the
