@@ -5,7 +5,9 @@
 //! Light through a lens follows the lens's own exact tracer
 //! ([`Lens::propagate_inside`]): the same code `lensview lens trace` reports.
 
-use crate::accel::packet::{LANES, Lanes, NO_OBJECT, Packet, PacketHits, closest_hits, transmittances, with_avx2};
+use crate::accel::packet::{
+    LANES, Lanes, NO_OBJECT, Packet, PacketHits, closest_hits, live_lanes, transmittances, with_avx2,
+};
 use crate::color::Rgb;
 use crate::geometry::{Hit, Lens, LensSurface, LensTraceStatus};
 use crate::light::{Light, LightSample};
@@ -278,10 +280,7 @@ impl Onward {
         back: &mut Lanes<Rgb>,
     ) {
         if self.live.count_ones() < MIN_PACKET {
-            let mut m = self.live;
-            while m != 0 {
-                let l = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for l in live_lanes(self.live) {
                 let sec = self.secondary(l);
                 back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
                     scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
@@ -290,10 +289,7 @@ impl Onward {
             return;
         }
         if self.all_escape(scene) {
-            let mut m = self.live;
-            while m != 0 {
-                let l = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for l in live_lanes(self.live) {
                 back[l] = scene.background;
             }
             return;
@@ -323,10 +319,7 @@ impl Onward {
     /// it would give (the rays a lens reflects away from the scene, mostly).
     #[inline(always)]
     fn all_escape(&self, scene: &Scene) -> bool {
-        let mut m = self.live;
-        while m != 0 {
-            let l = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for l in live_lanes(self.live) {
             let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
                 return false;
             };
@@ -940,10 +933,7 @@ fn lens_passes(rays: &Packet, surfaces: &[Option<Surface>; LANES], lambda_um: f6
     } = out;
     *stopped = 0;
     *bounces = [2; LANES];
-    let mut m = lanes;
-    while m != 0 {
-        let l = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for l in live_lanes(lanes) {
         if pass.reflected[l] {
             *stopped |= 1 << l;
         } else if !pass.ok[l] {

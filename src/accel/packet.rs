@@ -242,6 +242,29 @@ fn slab(min: DVec3, max: DVec3, p: &Packet, t_max: &Lanes<f64>) -> u32 {
 
 const _: () = assert!(LANES == 8, "`mask` packs eight lanes");
 
+/// The lanes whose bit is set in `mask`, lowest first.
+#[inline(always)]
+pub(crate) fn live_lanes(mask: u32) -> LiveLanes {
+    LiveLanes(mask)
+}
+
+/// [`live_lanes`]: the bits left to visit.
+pub(crate) struct LiveLanes(u32);
+
+impl Iterator for LiveLanes {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let l = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(l)
+    }
+}
+
 /// Bit `l` set where `b[l]`: the eight flags as bytes of one word, gathered
 /// into its top byte by one multiplication (each byte's bit lands 7 places
 /// apart from the next; no two products meet in the top byte).
@@ -373,10 +396,7 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
                 part: h.part.map(u64::from),
             };
             // Origins far from the lens need the scalar test's exact start.
-            let mut slow = lanes & mask(&h.slow);
-            while slow != 0 {
-                let l = slow.trailing_zeros() as usize;
-                slow &= slow - 1;
+            for l in live_lanes(lanes & mask(&h.slow)) {
                 if let Some(h) = lens.intersect(&p.ray(l), 0.0, t_max[l]) {
                     out.hit[l] = 1;
                     out.t[l] = h.t;
@@ -391,10 +411,7 @@ fn test_object(scene: &Scene, i: u32, lanes: u32, skip: u32, p: &Packet, t_max: 
                 t: [0.0; LANES],
                 part: [0; LANES],
             };
-            let mut m = lanes;
-            while m != 0 {
-                let l = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for l in live_lanes(lanes) {
                 if let Some(h) = shape.intersect(&o.to_object(&p.ray(l)), 0.0, t_max[l]) {
                     out.hit[l] = 1;
                     out.t[l] = h.t;
