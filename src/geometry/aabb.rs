@@ -14,6 +14,11 @@ impl Aabb {
         Aabb { min, max }
     }
 
+    /// The smallest box holding both.
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb::new(self.min.min(other.min), self.max.max(other.max))
+    }
+
     /// The box of `rot · p + offset` for every `p` in `self` (Arvo, Graphics
     /// Gems I, "Transforming axis-aligned bounding boxes").
     pub fn transformed(&self, rot: DMat3, offset: DVec3) -> Aabb {

@@ -192,11 +192,7 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb 
 /// Renders the whole image in parallel bands of [`TILE`] rows. `progress` is called with the
 /// fraction of rows done (from worker threads, at most about 100 times).
 pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>) -> Image {
-    let mut img = Image {
-        width: 0,
-        height: 0,
-        pixels: Vec::new(),
-    };
+    let mut img = Image::new(0, 0);
     render_into(scene, s, progress, &mut img);
     img
 }

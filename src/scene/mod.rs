@@ -197,30 +197,24 @@ pub struct Scene {
 /// after each one, enlarged so that rounding in a box test can never make a
 /// ray that meets an object miss the box.
 fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
-    let join = |a: Option<Aabb>, b: &Aabb| {
-        Some(match a {
-            Some(a) => Aabb::new(a.min.min(b.min), a.max.max(b.max)),
-            None => *b,
-        })
+    let join = |a: Option<Aabb>, b: Option<Aabb>| match (a, b) {
+        (Some(a), Some(b)) => Some(a.union(&b)),
+        (a, b) => a.or(b),
     };
     let mut before = Vec::with_capacity(objects.len());
     let mut acc = None;
     for o in objects {
         before.push(acc);
-        acc = join(acc, &o.world_bounds);
+        acc = join(acc, Some(o.world_bounds));
     }
     let mut out = vec![None; objects.len()];
-    let mut after: Option<Aabb> = None;
+    let mut after = None;
     for (i, o) in objects.iter().enumerate().rev() {
-        out[i] = match (before[i], after) {
-            (Some(a), Some(b)) => join(Some(a), &b),
-            (a, b) => a.or(b),
-        }
-        .map(|b| {
+        out[i] = join(before[i], after).map(|b| {
             let pad = (b.max - b.min).max_element() * 1e-6 + (b.min.abs().max(b.max.abs())).max_element() * 1e-12;
             Aabb::new(b.min - pad, b.max + pad)
         });
-        after = join(after, &o.world_bounds);
+        after = join(after, Some(o.world_bounds));
     }
     out
 }
