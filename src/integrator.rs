@@ -9,10 +9,10 @@ use crate::accel::packet::{
     LANES, Lanes, NO_OBJECT, Packet, PacketHits, closest_hits, live_lanes, transmittances, with_avx2,
 };
 use crate::color::Rgb;
-use crate::geometry::{Hit, Lens, LensSurface, LensTraceStatus};
+use crate::geometry::{ExitCrossing, Hit, Lens, LensTraceStatus};
 use crate::light::{Light, LightSample};
 use crate::math::{Ray, surface_offset};
-use crate::optics::{self, fresnel_dielectric};
+use crate::optics::{self, fresnel_at};
 use crate::scene::{Object, Scene};
 use glam::DVec3;
 
@@ -444,9 +444,9 @@ fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, con
             depth[l],
             lambda_um,
             weight[l],
-            &mut |cos_i, n1, n2| match traced(l) {
+            &mut |dir, nf, n1, n2| match traced(l) {
                 Some(ps) => ps.pass.entry_fresnel[l],
-                None => fresnel_dielectric(cos_i, n1, n2),
+                None => fresnel_at(dir, nf, n1, n2),
             },
             &mut |s, ior| match traced(l) {
                 Some(ps) => ps.transmitted(l),
@@ -676,7 +676,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             depth,
             lambda_um,
             weight,
-            &mut fresnel_dielectric,
+            &mut fresnel_at,
             &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
             &mut |sec, color| {
                 sec.join(
@@ -738,8 +738,8 @@ fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
 /// `depth` bounces deep with path weight `weight`: `trace(secondary,
 /// colour)` follows each and adds what it brings (the scalar kernel at
 /// once, a packet after the local shading of all its lanes: the additions
-/// come in the same order either way). `fresnel(cos_i, n1, n2)` is
-/// [`fresnel_dielectric`] and `transmit(s, ior)` is [`transmitted_ray`] at
+/// come in the same order either way). `fresnel(dir, nf, n1, n2)` is
+/// [`fresnel_at`] and `transmit(s, ior)` is [`transmitted_ray`] at
 /// the surface for this ray: a packet traces the passes through a lens of
 /// all its lanes together beforehand, the entry's reflectance with them.
 #[inline(always)]
@@ -751,7 +751,7 @@ fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     depth: u32,
     lambda_um: f64,
     weight: f64,
-    fresnel: &mut impl FnMut(f64, f64, f64) -> f64,
+    fresnel: &mut impl FnMut(DVec3, DVec3, f64, f64) -> f64,
     transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
     trace: &mut impl FnMut(Secondary, &mut Rgb),
     color: &mut Rgb,
@@ -765,7 +765,7 @@ fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
         let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
-        let f = fresnel(nf.dot(-dir), n1, n2);
+        let f = fresnel(dir, nf, n1, n2);
         kr += m.transparency * f;
         let kt = m.transparency * (1.0 - f);
         if kt * weight > MIN_WEIGHT
@@ -992,16 +992,13 @@ fn lens_lanes_impl(
     let mut inside = [[0.0; LANES]; 3];
     let mut entry_fresnel = [0.0; LANES];
     // `optics::refract(dir, nf, 1.0, ior)`, and `shade_onward`'s Fresnel
-    // reflectance.
-    let eta = 1.0 / ior;
+    // reflectance (`optics::fresnel_at`) from the same cosines.
     for l in 0..LANES {
         let (i, n) = (lane(dir, l), lane(nf, l));
-        entry_fresnel[l] = fresnel_dielectric(n.dot(-i), 1.0, ior);
-        let cos_i = -i.dot(n);
-        let sin2_i = i.cross(n).length_squared();
-        let sin2_t = eta * eta * sin2_i;
+        let (eta, cos_i, sin2_t) = optics::snell(i, n, 1.0, ior);
         reflected[l] = sin2_t > 1.0;
         let cos_t = (1.0 - sin2_t).sqrt();
+        entry_fresnel[l] = optics::fresnel_cosines(cos_i, cos_t, 1.0, ior);
         let t = (eta * i + (eta * cos_i - cos_t) * n).normalize();
         for k in 0..3 {
             inside[k][l] = t[k];
@@ -1011,14 +1008,11 @@ fn lens_lanes_impl(
     let mut origin = [[0.0; LANES]; 3];
     let mut out_dir = [[0.0; LANES]; 3];
     let mut factor = [0.0; LANES];
-    // `leaving_lens(lens, part, y, out, ior, 0)`.
+    // `leaving_lens` of the exit.
     for l in 0..LANES {
-        let (y, out) = (lane(&e.y, l), lane(&e.out, l));
-        let n = lens.normal_lane(y, e.part[l]);
-        let cos_out = out.dot(n).abs();
-        let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+        let (y, out, n) = (lane(&e.y, l), lane(&e.out, l), lane(&e.normal, l));
         let ray = spawn_ray(y, n, out, lens.d);
-        factor[l] = 1.0 - fresnel_dielectric(cos_in, ior, 1.0);
+        factor[l] = 1.0 - e.reflectance[l];
         for k in 0..3 {
             origin[k][l] = ray.origin[k];
             out_dir[k][l] = ray.dir[k];
@@ -1053,26 +1047,22 @@ with_avx2! {
 /// Follows a ray that has just refracted into `lens` at `p` to its exit.
 fn through_lens(lens: &Lens, p: DVec3, inside: DVec3, ior: f64) -> Option<Transmitted> {
     let path = lens.propagate_inside(p, inside, ior);
-    match (path.status, path.exit) {
-        (LensTraceStatus::Transmitted, Some((s, y, out))) => {
-            Some(leaving_lens(lens, s, y, out, ior, path.internal_reflections))
+    match (path.status, path.exit, path.exit_crossing) {
+        (LensTraceStatus::Transmitted, Some((_, y, out)), Some(c)) => {
+            Some(leaving_lens(lens, y, out, c, path.internal_reflections))
         }
         _ => None,
     }
 }
 
-/// The ray that leaves `lens` through face `s` at `y` along `out`, after
-/// `reflections` internal reflections, with the Fresnel loss at the exit.
-#[inline]
-fn leaving_lens(lens: &Lens, s: LensSurface, y: DVec3, out: DVec3, ior: f64, reflections: u32) -> Transmitted {
-    let n = lens.surface_normal(y, s);
-    // Fresnel loss at the exit face, at the inside angle of incidence.
-    let cos_out = out.dot(n).abs();
-    let cos_in = (1.0 - (1.0 - cos_out * cos_out) / (ior * ior)).max(0.0).sqrt();
+/// The ray out of `lens` from the exit point `y` along `out`, and what its
+/// exit crossing `c` lets through.
+fn leaving_lens(lens: &Lens, y: DVec3, out: DVec3, c: ExitCrossing, reflections: u32) -> Transmitted {
     Transmitted {
-        ray: spawn_ray(y, n, out, lens.d),
+        ray: spawn_ray(y, c.normal, out, lens.d),
         bounces: 2 + reflections,
-        factor: 1.0 - fresnel_dielectric(cos_in, ior, 1.0),
+        // The Fresnel loss at the exit face.
+        factor: 1.0 - c.reflectance,
     }
 }
 
@@ -1150,7 +1140,7 @@ mod tests {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
                     let want = transmitted_ray(obj, at(&x), at(&nf), true, at(&dir), ior);
                     assert!(!pass.reflected[l], "air to glass never reflects totally");
-                    let f = fresnel_dielectric(at(&nf).dot(-at(&dir)), 1.0, ior);
+                    let f = fresnel_at(at(&dir), at(&nf), 1.0, ior);
                     assert_eq!(pass.entry_fresnel[l], f, "shade_onward's reflectance");
                     if !pass.ok[l] {
                         scalar += 1;

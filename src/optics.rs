@@ -26,16 +26,38 @@ pub fn reflect(i: DVec3, n: DVec3) -> DVec3 {
 /// incidence. Returns `None` for total internal reflection.
 #[inline]
 pub fn refract(i: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
-    let eta = n1 / n2;
-    let cos_i = -i.dot(n);
-    let sin2_i = i.cross(n).length_squared();
-    let sin2_t = eta * eta * sin2_i;
+    let (eta, cos_i, sin2_t) = snell(i, n, n1, n2);
     if sin2_t > 1.0 {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
     let t = eta * i + (eta * cos_i - cos_t) * n;
     Some(t.normalize())
+}
+
+/// What [`refract`] and [`fresnel_at`] share: `η = n1/n2`, `cos θi = −i·n`
+/// and `sin² θt = η²·|i × n|²`.
+#[inline(always)]
+pub fn snell(i: DVec3, n: DVec3, n1: f64, n2: f64) -> (f64, f64, f64) {
+    let eta = n1 / n2;
+    let cos_i = -i.dot(n);
+    let sin2_i = i.cross(n).length_squared();
+    (eta, cos_i, eta * eta * sin2_i)
+}
+
+/// The Fresnel reflectance where the unit direction `i` meets a surface of
+/// unit normal `n` (facing it) from index `n1` into `n2`, from the very
+/// cosines [`refract`] computes ([`snell`]): the reflectance and the
+/// refracted ray of one crossing agree to the last bit, and a caller that
+/// refracts anyway (the lens pass) gets both from one square root. 1 under
+/// total internal reflection.
+#[inline]
+pub fn fresnel_at(i: DVec3, n: DVec3, n1: f64, n2: f64) -> f64 {
+    let (_, cos_i, sin2_t) = snell(i, n, n1, n2);
+    if sin2_t > 1.0 {
+        return 1.0;
+    }
+    fresnel_cosines(cos_i, (1.0 - sin2_t).sqrt(), n1, n2)
 }
 
 /// Unpolarised Fresnel reflectance of a dielectric interface (the mean of the
@@ -51,14 +73,25 @@ pub fn fresnel_dielectric(cos_i: f64, n1: f64, n2: f64) -> f64 {
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
     let total = sin2_t >= 1.0;
     let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
-    // rs = (a − b)/(a + b) and rp = (c − d)/(c + d), their squares summed
-    // over one common denominator: one division instead of two.
+    let r = fresnel_cosines(cos_i, cos_t, n1, n2);
+    if total { 1.0 } else { r }
+}
+
+/// The unpolarised Fresnel reflectance from both cosines, `cos θi` (clamped
+/// to [0, 1]) and `cos θt`, below the critical angle: the mean of
+/// `rs = (n1·cos θi − n2·cos θt)/(n1·cos θi + n2·cos θt)` and
+/// `rp = (n1·cos θt − n2·cos θi)/(n1·cos θt + n2·cos θi)` squared. No branch
+/// and no square root.
+#[inline]
+pub fn fresnel_cosines(cos_i: f64, cos_t: f64, n1: f64, n2: f64) -> f64 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    // rs and rp squared and summed over one common denominator: one
+    // division instead of two.
     let (a, b) = (n1 * cos_i, n2 * cos_t);
     let (c, d) = (n1 * cos_t, n2 * cos_i);
     let (s_num, s_den) = ((a - b) * (a - b), (a + b) * (a + b));
     let (p_num, p_den) = ((c - d) * (c - d), (c + d) * (c + d));
-    let r = 0.5 * (s_num * p_den + p_num * s_den) / (s_den * p_den);
-    if total { 1.0 } else { r }
+    0.5 * (s_num * p_den + p_num * s_den) / (s_den * p_den)
 }
 
 /// A refractive index: a constant, or Cauchy's law `n(λ) = A + B/λ²` with λ in
@@ -207,6 +240,51 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `fresnel_at` (cosines from the directions, as `refract` computes
+    /// them) agrees with `fresnel_dielectric` (from `cos θi` alone) to a few
+    /// ulp of the reflectance wherever the light gets through, and is 1
+    /// beyond the critical angle.
+    #[test]
+    fn fresnel_at_agrees_with_fresnel_dielectric() {
+        for (n1, n2) in [(1.0, 1.5), (1.5, 1.0), (1.0, 2.4), (1.33, 1.0)] {
+            for k in 0..=2000 {
+                let th = std::f64::consts::FRAC_PI_2 * k as f64 / 2000.0;
+                let i = DVec3::new(th.sin(), 0.0, -th.cos());
+                let cos_i = -i.dot(DVec3::Z);
+                let want = fresnel_dielectric(cos_i, n1, n2);
+                let got = fresnel_at(i, DVec3::Z, n1, n2);
+                if want == 1.0 {
+                    assert!(
+                        got == 1.0 || (n1 / n2 * th.sin() - 1.0).abs() < 1e-12,
+                        "{n1} → {n2} at {th}: {got}"
+                    );
+                } else {
+                    // Near grazing and near the critical angle the reflectance
+                    // is ill-conditioned in cos θt: an error of ε in sin² θt
+                    // moves it by about ε / cos θt.
+                    let sin2_t = (n1 / n2 * th.sin()).powi(2);
+                    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+                    let tol = if k < 2000 {
+                        64.0 * f64::EPSILON / cos_t.max(1e-6)
+                    } else {
+                        1e-7
+                    };
+                    assert!(
+                        (got - want).abs() <= tol * want.max(1e-3),
+                        "{n1} → {n2} at {th}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+        // 0.04 straight on, 1 past the critical angle of glass into air.
+        assert_relative_eq!(fresnel_at(-DVec3::Z, DVec3::Z, 1.0, 1.5), 0.04, epsilon = 1e-15);
+        let crit = (1.0f64 / 1.5).asin() + 1e-6;
+        assert_eq!(
+            fresnel_at(DVec3::new(crit.sin(), 0.0, -crit.cos()), DVec3::Z, 1.5, 1.0),
+            1.0
+        );
     }
 
     #[test]

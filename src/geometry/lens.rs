@@ -139,6 +139,9 @@ pub(crate) struct LaneExits<const N: usize> {
     pub out: [[f64; N]; 3],
     /// The face left through (0: S1, 1: S2).
     pub part: [u64; N],
+    /// [`ExitCrossing::normal`] and [`ExitCrossing::reflectance`].
+    pub normal: [[f64; N]; 3],
+    pub reflectance: [f64; N],
     /// Lanes that leave by refraction at their first exit; the others (a
     /// total internal reflection, or a start outside the glass) need the
     /// scalar [`Lens::propagate_inside`].
@@ -164,7 +167,21 @@ pub struct LensPath {
     pub entry: Option<(LensSurface, DVec3, DVec3)>,
     /// Exit face, point, and unit direction in air after the last refraction.
     pub exit: Option<(LensSurface, DVec3, DVec3)>,
+    /// The crossing at the exit: `None` without an exit.
+    pub exit_crossing: Option<ExitCrossing>,
     pub internal_reflections: u32,
+}
+
+/// How a path crosses the exit face, beyond the point and direction of
+/// [`LensPath::exit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExitCrossing {
+    /// The face's outward unit normal at the exit point.
+    pub normal: DVec3,
+    /// The Fresnel reflectance of the crossing from glass into air
+    /// ([`optics::fresnel_at`], from the cosines of the refraction itself):
+    /// the share of the light that stays inside.
+    pub reflectance: f64,
 }
 
 /// One face in vertex form.
@@ -492,14 +509,6 @@ impl Lens {
         self.caps[s as usize].normal(p - self.center)
     }
 
-    /// [`Lens::normal`] of face `part` (0 or 1) with the face chosen by a
-    /// select rather than an index, for code that runs lanes side by side.
-    #[inline(always)]
-    pub(crate) fn normal_lane(&self, p: DVec3, part: u64) -> DVec3 {
-        let cap = if part == 0 { self.caps[0] } else { self.caps[1] };
-        cap.normal(p - self.center)
-    }
-
     pub fn contains(&self, p: DVec3) -> bool {
         let x = p - self.center;
         self.caps[0].f(x) <= 0.0 && self.caps[1].f(x) <= 0.0
@@ -525,6 +534,7 @@ impl Lens {
             status: LensTraceStatus::Miss,
             entry: None,
             exit: None,
+            exit_crossing: None,
             internal_reflections: 0,
         };
         let (p, u, t0) = self.localize(origin, dir);
@@ -583,6 +593,8 @@ impl Lens {
             y: [[0.0; N]; 3],
             out: [[0.0; N]; 3],
             part: [0; N],
+            normal: [[0.0; N]; 3],
+            reflectance: [0.0; N],
             ok: [false; N],
         };
         let [c0, c1] = self.caps;
@@ -620,18 +632,18 @@ impl Lens {
             };
             let cap = if s == 0 { c0 } else { c1 };
             let normal = (cap.m + (y - cap.vertex) * cap.inv_r).normalize();
-            // `optics::refract(u, −normal, n, 1)`.
+            // `optics::refract(u, −normal, n, 1)` and `optics::fresnel_at`
+            // of the same crossing, from one set of cosines.
             let nn = -normal;
-            let eta = n / 1.0;
-            let cos_i = -u.dot(nn);
-            let sin2_i = u.cross(nn).length_squared();
-            let sin2_t = eta * eta * sin2_i;
+            let (eta, cos_i, sin2_t) = optics::snell(u, nn, n, 1.0);
             let cos_t = (1.0 - sin2_t).sqrt();
             let dir = (eta * u + (eta * cos_i - cos_t) * nn).normalize();
+            out.reflectance[l] = optics::fresnel_cosines(cos_i, cos_t, n, 1.0);
             let yw = self.center + y;
             for k in 0..3 {
                 out.y[k][l] = yw[k];
                 out.out[k][l] = dir[k];
+                out.normal[k][l] = normal[k];
             }
             out.part[l] = s;
             out.ok[l] = real & (t >= 0.0) & !(sin2_t > 1.0);
@@ -648,6 +660,7 @@ impl Lens {
                     status: LensTraceStatus::Miss,
                     entry: None,
                     exit: None,
+                    exit_crossing: None,
                     internal_reflections: reflections,
                 };
             };
@@ -661,6 +674,10 @@ impl Lens {
                         status: LensTraceStatus::Transmitted,
                         entry: None,
                         exit: Some((LensSurface::from_part(s as u8), y, out)),
+                        exit_crossing: Some(ExitCrossing {
+                            normal,
+                            reflectance: optics::fresnel_at(u, -normal, n, 1.0),
+                        }),
                         internal_reflections: reflections,
                     };
                 }
@@ -670,6 +687,7 @@ impl Lens {
                             status: LensTraceStatus::Trapped,
                             entry: None,
                             exit: None,
+                            exit_crossing: None,
                             internal_reflections: reflections,
                         };
                     }
@@ -868,6 +886,11 @@ mod tests {
                     assert_eq!(want.status, LensTraceStatus::Transmitted, "case {c}");
                     assert_eq!(want.internal_reflections, 0, "case {c}");
                     assert_eq!(want.exit, Some((part, y, out)), "case {c}");
+                    let crossing = ExitCrossing {
+                        normal: DVec3::new(got.normal[0][lane], got.normal[1][lane], got.normal[2][lane]),
+                        reflectance: got.reflectance[lane],
+                    };
+                    assert_eq!(want.exit_crossing, Some(crossing), "case {c}");
                 }
             }
         }

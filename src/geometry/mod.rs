@@ -16,7 +16,7 @@ mod sphere;
 
 pub use aabb::Aabb;
 pub use cuboid::Cuboid;
-pub use lens::{Lens, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
+pub use lens::{ExitCrossing, Lens, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 pub use prism::Prism;
 pub use pyramid::Pyramid;
 pub use sphere::Sphere;
