@@ -564,7 +564,7 @@ impl Surface<'_> {
 }
 
 /// The shading data of hit `hit` of object `index` along `ray`.
-#[inline]
+#[inline(always)]
 pub fn surface<'a>(scene: &'a Scene, ray: &Ray, index: usize, hit: Hit) -> Surface<'a> {
     let object = &scene.objects[index];
     let p = ray.at(hit.t);

@@ -119,7 +119,7 @@ impl Object {
     }
 
     /// The shape's normal at the object-space image of `p`, in world space.
-    #[inline]
+    #[inline(always)]
     fn transformed_normal(&self, p: DVec3, part: u8) -> DVec3 {
         if self.identity {
             self.shape.normal(p, part)
