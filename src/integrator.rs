@@ -543,15 +543,23 @@ pub struct Surface<'a> {
     pub index: usize,
     pub object: &'a Object,
     pub p: DVec3,
-    /// Outward unit normal.
-    pub n: DVec3,
-    /// The normal on the side the ray came from.
+    /// The unit normal on the side the ray came from: the outward normal
+    /// when `entering`, else its opposite.
     pub nf: DVec3,
     /// Whether the ray arrived from outside the solid.
     pub entering: bool,
 }
 
 impl Surface<'_> {
+    /// Whether `dir` points out of the solid: `dir · n > 0` for the outward
+    /// normal `n`, evaluated as `±(dir · nf)` (negation is exact, so this is
+    /// the same test to the bit).
+    #[inline(always)]
+    pub fn outward(&self, dir: DVec3) -> bool {
+        let d = dir.dot(self.nf);
+        if self.entering { d > 0.0 } else { d < 0.0 }
+    }
+
     /// The object a ray leaving this point along `dir` cannot meet again,
     /// or `usize::MAX`. Every shape is convex, so a ray that starts on the
     /// surface and heads outward never returns to it: its test is skipped
@@ -559,7 +567,7 @@ impl Surface<'_> {
     /// there to avoid).
     #[inline]
     pub fn leaving(&self, dir: DVec3) -> usize {
-        if dir.dot(self.n) > 0.0 { self.index } else { usize::MAX }
+        if self.outward(dir) { self.index } else { usize::MAX }
     }
 }
 
@@ -574,7 +582,6 @@ pub fn surface<'a>(scene: &'a Scene, ray: &Ray, index: usize, hit: Hit) -> Surfa
         index,
         object,
         p,
-        n,
         nf: if entering { n } else { -n },
         entering,
     }
@@ -774,7 +781,7 @@ fn shade_onward<const GLASS: bool, const MIRROR: bool>(
         {
             let w = kt * tr.factor;
             // Out of a lens, or out of a solid: the ray has left the object.
-            let skip = if tr.ray.dir.dot(s.n) > 0.0 || obj.lens().is_some() {
+            let skip = if s.outward(tr.ray.dir) || obj.lens().is_some() {
                 s.index
             } else {
                 usize::MAX
