@@ -11,8 +11,13 @@ of the rays), and the best of the two (one thread or all) is reported, median
 of RUNS. lensview is measured by `lensview bench --primary-only`, its own
 closest-hit throughput on the same rays, also the median of RUNS.
 
+The two alternate for ROUNDS rounds (lensview first, after a pause), and the
+ratio reported is the median of the rounds' ratios: on a shared machine a
+slow spell then falls on one round, not on one side of the comparison, and
+Embree's worker threads have gone idle before lensview is timed.
+
 Optional (needs Python ≥ 3.11): python3 -m pip install embreex numpy
-Run from the repository root:  python3 benches/embree_compare.py [SCENE] [--width W --height H --runs N]
+Run from the repository root:  python3 benches/embree_compare.py [SCENE] [--width W --height H --runs N --rounds K]
 """
 import argparse
 import math
@@ -120,6 +125,7 @@ def main():
     ap.add_argument("--width", type=int, default=1280)
     ap.add_argument("--height", type=int, default=720)
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--rounds", type=int, default=3)
     args = ap.parse_args()
     with open(args.scene, "rb") as f:
         sc = tomllib.load(f)
@@ -138,34 +144,48 @@ def main():
         with ThreadPoolExecutor(threads) as ex:
             return list(ex.map(lambda p: scene.run(origins[p[0]:p[-1] + 1], dirs[p[0]:p[-1] + 1]), parts))
 
-    best = {}
-    for threads in sorted({1, cores}):
-        times = []
-        for _ in range(args.runs):
-            t = time.perf_counter()
-            cast(threads)
-            times.append(time.perf_counter() - t)
-        best[threads] = n / statistics.median(times)
-    hits = int((scene.run(origins, dirs) >= 0).sum())
-    embree_threads, embree = max(best.items(), key=lambda kv: kv[1])
+    def embree_best():
+        best = {}
+        for threads in sorted({1, cores}):
+            times = []
+            for _ in range(args.runs):
+                t = time.perf_counter()
+                cast(threads)
+                times.append(time.perf_counter() - t)
+            best[threads] = n / statistics.median(times)
+        return best
 
     exe = os.path.join("target", "release", "lensview")
     subprocess.run(["cargo", "build", "--release", "--quiet"], check=True)
-    out = subprocess.run(
-        [exe, "bench", args.scene, "--primary-only", "--width", str(args.width), "--height", str(args.height), "--runs", str(args.runs)],
-        check=True, capture_output=True, text=True,
-    ).stdout
-    figures = dict(l.split()[:2] for l in out.splitlines() if l.startswith("primary_rays_per_s"))
-    ours = float(figures["primary_rays_per_s"])
-    scalar = float(figures["primary_rays_per_s_scalar"])
 
+    def lensview():
+        out = subprocess.run(
+            [exe, "bench", args.scene, "--primary-only", "--width", str(args.width), "--height", str(args.height),
+             "--runs", str(args.runs)],
+            check=True, capture_output=True, text=True,
+        ).stdout
+        figures = dict(l.split()[:2] for l in out.splitlines() if l.startswith("primary_rays_per_s"))
+        return float(figures["primary_rays_per_s"]), float(figures["primary_rays_per_s_scalar"])
+
+    hits = int((scene.run(origins, dirs) >= 0).sum())
     print(f"scene {args.scene}: {len(tris)} triangles for Embree; {n} primary rays ({args.width}×{args.height}), {hits} hit")
-    for t, r in sorted(best.items()):
-        print(f"Embree (embreex), {t} thread(s): {r / 1e6:8.2f} M rays/s")
-    print(f"Embree best ({embree_threads} thread(s)):  {embree / 1e6:8.2f} M rays/s")
-    print(f"lensview ({cores} threads), tiles:         {ours / 1e6:8.2f} M rays/s")
-    print(f"lensview ({cores} threads), one by one:   {scalar / 1e6:8.2f} M rays/s")
-    print(f"ratio lensview / Embree:          {ours / embree:8.2f}× (one by one {scalar / embree:.2f}×)")
+    ratios, scalar_ratios = [], []
+    for r in range(1, args.rounds + 1):
+        time.sleep(1.0)
+        ours, scalar = lensview()
+        best = embree_best()
+        embree_threads, embree = max(best.items(), key=lambda kv: kv[1])
+        ratios.append(ours / embree)
+        scalar_ratios.append(scalar / embree)
+        print(f"round {r}:")
+        for t, rate in sorted(best.items()):
+            print(f"  Embree (embreex), {t} thread(s): {rate / 1e6:8.2f} M rays/s")
+        print(f"  Embree best ({embree_threads} thread(s)):  {embree / 1e6:8.2f} M rays/s")
+        print(f"  lensview ({cores} threads), tiles:         {ours / 1e6:8.2f} M rays/s")
+        print(f"  lensview ({cores} threads), one by one:   {scalar / 1e6:8.2f} M rays/s")
+        print(f"  ratio lensview / Embree:          {ours / embree:8.2f}× (one by one {scalar / embree:.2f}×)")
+    print(f"median ratio over {args.rounds} rounds: {statistics.median(ratios):.2f}× "
+          f"(one by one {statistics.median(scalar_ratios):.2f}×); rounds {', '.join(f'{x:.2f}' for x in ratios)}")
 
 
 if __name__ == "__main__":
