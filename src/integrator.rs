@@ -999,16 +999,13 @@ fn lens_lanes_impl(
     let mut inside = [[0.0; LANES]; 3];
     let mut entry_fresnel = [0.0; LANES];
     // `optics::refract(dir, nf, 1.0, ior)`, and `shade_onward`'s Fresnel
-    // reflectance (`optics::fresnel_at`) from the same cosines.
+    // reflectance (`optics::fresnel_at`), from one crossing.
     for l in 0..LANES {
-        let (i, n) = (lane(dir, l), lane(nf, l));
-        let (eta, cos_i, sin2_t) = optics::snell(i, n, 1.0, ior);
-        reflected[l] = sin2_t > 1.0;
-        let cos_t = (1.0 - sin2_t).sqrt();
-        entry_fresnel[l] = optics::fresnel_cosines(cos_i, cos_t, 1.0, ior);
-        let t = (eta * i + (eta * cos_i - cos_t) * n).normalize();
-        for k in 0..3 {
-            inside[k][l] = t[k];
+        let c = optics::crossing(lane(dir, l), lane(nf, l), 1.0, ior);
+        reflected[l] = c.total;
+        entry_fresnel[l] = c.reflectance;
+        for (k, inside) in inside.iter_mut().enumerate() {
+            inside[l] = c.dir[k];
         }
     }
     let e = lens.exit_lanes(x, &inside, ior);

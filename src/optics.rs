@@ -30,27 +30,59 @@ pub fn refract(i: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
     if sin2_t > 1.0 {
         return None;
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let t = eta * i + (eta * cos_i - cos_t) * n;
-    Some(t.normalize())
+    Some(refracted(i, n, eta, cos_i, sin2_t).0)
 }
 
-/// What [`refract`] and [`fresnel_at`] share: `η = n1/n2`, `cos θi = −i·n`
-/// and `sin² θt = η²·|i × n|²`.
+/// What [`refract`], [`crossing`] and [`fresnel_at`] share: `η = n1/n2`,
+/// `cos θi = −i·n` and `sin² θt = η²·|i × n|²`.
 #[inline(always)]
-pub fn snell(i: DVec3, n: DVec3, n1: f64, n2: f64) -> (f64, f64, f64) {
+fn snell(i: DVec3, n: DVec3, n1: f64, n2: f64) -> (f64, f64, f64) {
     let eta = n1 / n2;
     let cos_i = -i.dot(n);
     let sin2_i = i.cross(n).length_squared();
     (eta, cos_i, eta * eta * sin2_i)
 }
 
+/// The refracted unit direction and `cos θt` from [`snell`]'s numbers (not
+/// numbers under total internal reflection, `sin² θt > 1`).
+#[inline(always)]
+fn refracted(i: DVec3, n: DVec3, eta: f64, cos_i: f64, sin2_t: f64) -> (DVec3, f64) {
+    let cos_t = (1.0 - sin2_t).sqrt();
+    ((eta * i + (eta * cos_i - cos_t) * n).normalize(), cos_t)
+}
+
+/// One crossing of an interface ([`crossing`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Crossing {
+    /// [`refract`]'s direction.
+    pub dir: DVec3,
+    /// [`fresnel_at`]'s reflectance.
+    pub reflectance: f64,
+    /// Total internal reflection: `dir` and `reflectance` are then not
+    /// numbers to use.
+    pub total: bool,
+}
+
+/// [`refract`] and [`fresnel_at`] of one crossing from one set of cosines
+/// (one square root for `cos θt`), bit for bit what each gives alone, and
+/// written without branches so that packet lanes can run it side by side.
+#[inline(always)]
+pub fn crossing(i: DVec3, n: DVec3, n1: f64, n2: f64) -> Crossing {
+    let (eta, cos_i, sin2_t) = snell(i, n, n1, n2);
+    let (dir, cos_t) = refracted(i, n, eta, cos_i, sin2_t);
+    Crossing {
+        dir,
+        reflectance: fresnel_cosines(cos_i, cos_t, n1, n2),
+        total: sin2_t > 1.0,
+    }
+}
+
 /// The Fresnel reflectance where the unit direction `i` meets a surface of
 /// unit normal `n` (facing it) from index `n1` into `n2`, from the very
-/// cosines [`refract`] computes ([`snell`]): the reflectance and the
-/// refracted ray of one crossing agree to the last bit, and a caller that
-/// refracts anyway (the lens pass) gets both from one square root. 1 under
-/// total internal reflection.
+/// cosines [`refract`] computes: the reflectance and the refracted ray of
+/// one crossing agree to the last bit, and a caller that needs both takes
+/// them from [`crossing`] with one square root. 1 under total internal
+/// reflection.
 #[inline]
 pub fn fresnel_at(i: DVec3, n: DVec3, n1: f64, n2: f64) -> f64 {
     let (_, cos_i, sin2_t) = snell(i, n, n1, n2);
@@ -62,10 +94,9 @@ pub fn fresnel_at(i: DVec3, n: DVec3, n1: f64, n2: f64) -> f64 {
 
 /// Unpolarised Fresnel reflectance of a dielectric interface (the mean of the
 /// s and p reflectances, Hecht eq. 4.34/4.40); 1 under total internal
-/// reflection. `cos_i` is the cosine of the incidence angle (≥ 0).
-///
-/// Written without branches (the total reflection is a select at the end),
-/// so that packet lanes can run it side by side in SIMD registers.
+/// reflection. `cos_i` is the cosine of the incidence angle (≥ 0): for a
+/// caller that has only that cosine (the renderer, which has the
+/// directions, uses [`fresnel_at`] and [`crossing`]).
 #[inline]
 pub fn fresnel_dielectric(cos_i: f64, n1: f64, n2: f64) -> f64 {
     let cos_i = cos_i.clamp(0.0, 1.0);

@@ -505,10 +505,6 @@ impl Lens {
         self.caps[part as usize & 1].normal(p - self.center)
     }
 
-    pub fn surface_normal(&self, p: DVec3, s: LensSurface) -> DVec3 {
-        self.caps[s as usize].normal(p - self.center)
-    }
-
     pub fn contains(&self, p: DVec3) -> bool {
         let x = p - self.center;
         self.caps[0].f(x) <= 0.0 && self.caps[1].f(x) <= 0.0
@@ -632,21 +628,17 @@ impl Lens {
             };
             let cap = if s == 0 { c0 } else { c1 };
             let normal = (cap.m + (y - cap.vertex) * cap.inv_r).normalize();
-            // `optics::refract(u, −normal, n, 1)` and `optics::fresnel_at`
-            // of the same crossing, from one set of cosines.
-            let nn = -normal;
-            let (eta, cos_i, sin2_t) = optics::snell(u, nn, n, 1.0);
-            let cos_t = (1.0 - sin2_t).sqrt();
-            let dir = (eta * u + (eta * cos_i - cos_t) * nn).normalize();
-            out.reflectance[l] = optics::fresnel_cosines(cos_i, cos_t, n, 1.0);
+            // `propagate_local`'s crossing out, inside to air.
+            let c = optics::crossing(u, -normal, n, 1.0);
+            out.reflectance[l] = c.reflectance;
             let yw = self.center + y;
             for k in 0..3 {
                 out.y[k][l] = yw[k];
-                out.out[k][l] = dir[k];
+                out.out[k][l] = c.dir[k];
                 out.normal[k][l] = normal[k];
             }
             out.part[l] = s;
-            out.ok[l] = real & (t >= 0.0) & !(sin2_t > 1.0);
+            out.ok[l] = real & (t >= 0.0) & !c.total;
         }
         out
     }
@@ -668,34 +660,31 @@ impl Lens {
             let normal = self.caps[s].normal(y);
             // Inside, the face's outward normal points away from the incident
             // side, so Snell's law takes −normal.
-            match optics::refract(u, -normal, n, 1.0) {
-                Some(out) => {
-                    return LensPath {
-                        status: LensTraceStatus::Transmitted,
-                        entry: None,
-                        exit: Some((LensSurface::from_part(s as u8), y, out)),
-                        exit_crossing: Some(ExitCrossing {
-                            normal,
-                            reflectance: optics::fresnel_at(u, -normal, n, 1.0),
-                        }),
-                        internal_reflections: reflections,
-                    };
-                }
-                None => {
-                    if reflections >= MAX_INTERNAL_REFLECTIONS {
-                        return LensPath {
-                            status: LensTraceStatus::Trapped,
-                            entry: None,
-                            exit: None,
-                            exit_crossing: None,
-                            internal_reflections: reflections,
-                        };
-                    }
-                    reflections += 1;
-                    u = optics::reflect(u, normal).normalize();
-                    x = y;
-                }
+            let c = optics::crossing(u, -normal, n, 1.0);
+            if !c.total {
+                return LensPath {
+                    status: LensTraceStatus::Transmitted,
+                    entry: None,
+                    exit: Some((LensSurface::from_part(s as u8), y, c.dir)),
+                    exit_crossing: Some(ExitCrossing {
+                        normal,
+                        reflectance: c.reflectance,
+                    }),
+                    internal_reflections: reflections,
+                };
             }
+            if reflections >= MAX_INTERNAL_REFLECTIONS {
+                return LensPath {
+                    status: LensTraceStatus::Trapped,
+                    entry: None,
+                    exit: None,
+                    exit_crossing: None,
+                    internal_reflections: reflections,
+                };
+            }
+            reflections += 1;
+            u = optics::reflect(u, normal).normalize();
+            x = y;
         }
     }
 }
