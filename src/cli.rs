@@ -215,7 +215,7 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn converge(a: &ConvergeArgs) -> Result<()> {
-    use lensview::render::progressive::{converge, reference};
+    use lensview::bench::convergence::{converge, reference};
     let (_, scene) = load_scene(a.scene.as_deref())?;
     if a.width == 0 || a.height == 0 || a.max_spp == 0 || a.reference_spp == 0 {
         bail!("--width, --height, --max-spp and --reference-spp must be at least 1");
