@@ -208,9 +208,12 @@ struct Study<'a> {
     quick: bool,
 }
 
+/// A report of the full study: it measures and returns its table.
+type Report = fn(&Study) -> Table;
+
 /// The reports of the full study and the names of their files, in the
 /// order they run.
-const REPORTS: [(&str, fn(&Study) -> Table); 4] = [
+const REPORTS: [(&str, Report); 4] = [
     ("bench-size", report_sizes),
     ("bench-objects", report_objects),
     ("bench-throughput", report_throughput),
