@@ -246,6 +246,10 @@ fn bench_writes_its_tables_and_plots() {
         "bench-features.csv",
     ] {
         let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        // The columns of the tables the docs show.
+        let docs =
+            std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/bench").join(f)).unwrap();
+        assert_eq!(text.lines().next(), docs.lines().next(), "{f}");
         let rows: Vec<&str> = text.lines().skip(1).collect();
         assert!(rows.len() >= 3, "{f}: {text}");
         for r in rows {
@@ -300,4 +304,40 @@ fn bench_writes_its_tables_and_plots() {
     let o = bin().args(["bench", "--unused-feature", "fog"]).output().unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("unknown feature \"fog\""));
+}
+
+/// `converge` writes its table and plot, one row a stage of the schedule,
+/// the error falling as the samples add up.
+#[test]
+fn converge_writes_its_table_and_plot() {
+    let (csv, png) = (tmp("converge.csv"), tmp("converge.png"));
+    let _ = std::fs::remove_file(&csv);
+    let _ = std::fs::remove_file(&png);
+    let o = bin()
+        .args([
+            "converge",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--max-spp",
+            "4",
+            "--reference-spp",
+            "32",
+        ])
+        .args(["--csv", csv.to_str().unwrap(), "--plot", png.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("stage,spp,stage_ms,elapsed_ms,rmse,psnr_db"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // 8×8, 4×4 and 2×2 blocks, then 1, 2 and 4 samples a pixel.
+    let spp: Vec<&str> = rows.iter().map(|r| r[1]).collect();
+    assert_eq!(spp, ["0", "0", "0", "1", "2", "4"], "{text}");
+    let rmse = |r: &Vec<&str>| r[4].parse::<f64>().unwrap();
+    assert!(rmse(&rows[5]) < rmse(&rows[0]), "{text}");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("PSNR dB"));
 }

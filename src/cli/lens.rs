@@ -1,0 +1,83 @@
+//! `lensview lens`: real rays through lenses (`trace`, JSON in and out)
+//! and a lens's paraxial data (`info`).
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use std::path::{Path, PathBuf};
+
+#[derive(Subcommand, Debug)]
+pub enum LensCommand {
+    /// Trace real rays through lenses given in a JSON file; JSON on stdout.
+    Trace {
+        /// The cases file: { "cases": [ { "id", "lens": {center, axis, d, R1, R2, n}, "rays": [...] } ] }.
+        cases: PathBuf,
+    },
+    /// Paraxial data of a lens (light entering through S1), its real marginal focus and axial colour.
+    Info(LensInfoArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct LensInfoArgs {
+    /// Diameter.
+    #[arg(long)]
+    pub d: f64,
+    /// Radius of curvature of S1 (magnitude, ≥ d/2).
+    #[arg(long)]
+    pub r1: f64,
+    /// Radius of curvature of S2 (magnitude, ≥ d/2).
+    #[arg(long)]
+    pub r2: f64,
+    /// Refractive index (a number), or Cauchy coefficients as A,B (n = A + B/λ², λ in µm).
+    #[arg(long, value_parser = parse_index)]
+    pub n: lensview::optics::Index,
+    /// Wavelength in µm (default: the helium d line, 0.5875618).
+    #[arg(long, default_value_t = lensview::optics::WAVELENGTH_D_UM)]
+    pub wavelength_um: f64,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|e| format!("`{t}` is not a number: {e}"))
+    };
+    let s = s.trim().trim_start_matches("cauchy:");
+    match s.split_once(',') {
+        Some((a, b)) => Ok(lensview::optics::Index::Cauchy { a: num(a)?, b: num(b)? }),
+        None => Ok(lensview::optics::Index::Constant(num(s)?)),
+    }
+}
+
+fn lens_trace(path: &Path) -> Result<()> {
+    use lensview::lens_tools::{TraceInput, trace_cases};
+    let name = path.display();
+    let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
+    let input: TraceInput =
+        serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{name}:{}:{}: {e}", e.line(), e.column()))?;
+    let out = trace_cases(&input).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    println!("{}", serde_json::to_string_pretty(&out)?);
+    Ok(())
+}
+
+fn lens_info(a: &LensInfoArgs) -> Result<()> {
+    if !(a.wavelength_um > 0.0 && a.wavelength_um.is_finite()) {
+        bail!("--wavelength-um must be a positive number, got {}", a.wavelength_um);
+    }
+    let info = lensview::lens_tools::lens_info(a.d, a.r1, a.r2, a.n, a.wavelength_um).context("impossible lens")?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&info)?);
+    } else {
+        print!("{info}");
+    }
+    Ok(())
+}
+
+pub fn lens(c: LensCommand) -> Result<()> {
+    match c {
+        LensCommand::Trace { cases } => lens_trace(&cases),
+        LensCommand::Info(a) => lens_info(&a),
+    }
+}

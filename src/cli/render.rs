@@ -1,0 +1,76 @@
+//! `lensview render`: one image, headless, to a PNG file.
+
+use super::load_scene;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use lensview::render::{RenderSettings, render};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (TOML); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output PNG file.
+    #[arg(short, long, default_value = "lensview.png")]
+    pub output: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 800)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 600)]
+    pub height: u32,
+    /// Samples per pixel (default: the scene's `render.spp`).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Seed of the sample pattern.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+pub fn render_cmd(a: RenderArgs) -> Result<()> {
+    let (_, scene) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
+    }
+    if a.width > 16384 || a.height > 16384 {
+        bail!(
+            "--width and --height must be at most 16384 (got {}×{})",
+            a.width,
+            a.height
+        );
+    }
+    let spp = a.spp.unwrap_or(scene.spp);
+    if spp == 0 {
+        bail!("--spp must be at least 1");
+    }
+    let settings = RenderSettings {
+        width: a.width,
+        height: a.height,
+        spp,
+        seed: a.seed,
+    };
+    let tty = std::io::stderr().is_terminal();
+    let show = |f: f64| eprint!("\rrendering {:3.0}%", f * 100.0);
+    let start = Instant::now();
+    let img = render(&scene, &settings, if tty { Some(&show) } else { None });
+    let secs = start.elapsed().as_secs_f64();
+    if tty {
+        eprint!("\r");
+    }
+    img.write_png(&a.output)
+        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    let samples = a.width as f64 * a.height as f64 * spp as f64;
+    println!(
+        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",
+        a.width,
+        a.height,
+        spp,
+        secs,
+        samples / secs / 1e6,
+        rayon::current_num_threads(),
+        a.output.display()
+    );
+    Ok(())
+}

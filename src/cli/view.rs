@@ -1,0 +1,60 @@
+//! `lensview view` (and `lensview` alone): checks the flags and opens the
+//! window (the binary's `viewer` module).
+
+use super::load_scene;
+use anyhow::{Result, bail};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Default)]
+pub struct ViewArgs {
+    /// Scene file (TOML); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Append one JSON line per presented frame to this file.
+    #[arg(long)]
+    pub frame_log: Option<PathBuf>,
+    /// Close the window cleanly after this many seconds.
+    #[arg(long)]
+    pub exit_after: Option<f64>,
+    /// Samples per pixel to refine to.
+    #[arg(long, default_value_t = 64)]
+    pub max_spp: u32,
+    /// Initial window width.
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Initial window height.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Start with the editing panel hidden (F4 shows it).
+    #[arg(long)]
+    pub no_panel: bool,
+    /// Write the screen rectangles of the panel's buttons to this file (JSON), for scripted tests.
+    #[arg(long, hide = true)]
+    pub ui_log: Option<PathBuf>,
+}
+
+pub fn view(a: ViewArgs) -> Result<()> {
+    let (scene_file, _) = load_scene(a.scene.as_deref())?;
+    if a.width == 0 || a.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
+    }
+    if a.max_spp == 0 {
+        bail!("--max-spp must be at least 1");
+    }
+    if let Some(t) = a.exit_after
+        && !(t >= 0.0 && t.is_finite())
+    {
+        bail!("--exit-after must be a number of seconds ≥ 0, got {t}");
+    }
+    crate::viewer::run(crate::viewer::ViewOptions {
+        scene_path: a.scene,
+        scene_file,
+        frame_log: a.frame_log,
+        exit_after: a.exit_after,
+        max_spp: a.max_spp,
+        width: a.width,
+        height: a.height,
+        panel: !a.no_panel,
+        ui_log: a.ui_log,
+    })
+}
