@@ -589,7 +589,8 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
 /// The three primary-ray rates (rays/s) in words: in tiles (what the
 /// renderer casts), in packets walking alone, one by one.
 fn primary_summary(tiles: f64, packets: f64, one_by_one: f64) -> String {
-    use lensview::accel::packet::{LANES, TILE, uses_avx2};
+    use lensview::simd::{LANES, uses_avx2};
+    use lensview::trace::TILE;
     format!(
         "{:.2} M rays/s in tiles of {TILE} packets of {LANES} ({}), {:.2} M rays/s in packets walking alone, \
          {:.2} M rays/s one by one (tiles {:.2}× one by one)",

@@ -3,10 +3,12 @@
 //! construction of SAH-based bounding volume hierarchies", 2007) and
 //! flattened into an array in depth-first order, so that a node's left child
 //! follows it and traversal walks memory forward.
+//!
+//! The tree is built over boxes and walked through [`Walker`]: it knows no
+//! scene, shape or camera. The queries that walk it with rays of a scene,
+//! one ray or a packet or a tile's frustum, live in [`crate::trace`].
 
-pub mod packet;
-
-use crate::geometry::Aabb;
+use crate::geometry::{Aabb, slab_hit};
 use crate::math::Ray;
 use glam::DVec3;
 
@@ -305,12 +307,7 @@ impl Stack {
 
 #[inline]
 fn slab(n: &Node, o: DVec3, inv: DVec3, t_max: f64) -> bool {
-    let t0 = (n.min - o) * inv;
-    let t1 = (n.max - o) * inv;
-    let lo = t0.min(t1).max_element().max(0.0);
-    let hi = t0.max(t1).min_element().min(t_max);
-    // Rounding of the products may cut a box that a ray just touches.
-    lo <= hi * (1.0 + 4.0 * f64::EPSILON)
+    slab_hit(n.min, n.max, o, inv, 0.0, t_max)
 }
 
 #[cfg(test)]
