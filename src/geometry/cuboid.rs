@@ -146,3 +146,60 @@ impl Cuboid {
         &self.poly
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+    use crate::simd::{LANES, set_lane};
+
+    /// Every lane of `intersect_lanes` is `intersect` of its ray moved into
+    /// object space, bit for bit: rays from outside, from inside, along an
+    /// axis (infinite reciprocals), with short intervals.
+    #[test]
+    fn lanes_give_the_scalar_hit_bit_for_bit() {
+        let mut s = Sampler::new(17, 0, 0);
+        let mut v = |scale: f64| (DVec3::new(s.next_f64(), s.next_f64(), s.next_f64()) - 0.5) * scale;
+        let (mut hits, mut misses) = (0, 0);
+        for k in 0..3000 {
+            let cube = Cuboid::new(DVec3::new(1.0, 2.0, 0.5) + v(1.0).abs());
+            let position = v(10.0);
+            let (mut o, mut d, mut inv) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+            let mut t_max = [f64::INFINITY; LANES];
+            let mut rays = [Ray::new(DVec3::ZERO, DVec3::X); LANES];
+            for l in 0..LANES {
+                let origin = position + v([0.5, 4.0, 30.0][(k + l) % 3]);
+                let mut dir = position + v(2.0) - origin;
+                if l == 5 {
+                    dir[k % 3] = 0.0;
+                }
+                rays[l] = Ray::new(origin, dir);
+                if l == 6 {
+                    t_max[l] = v(20.0).x.abs();
+                }
+                set_lane(&mut o, l, rays[l].origin);
+                set_lane(&mut d, l, rays[l].dir);
+                set_lane(&mut inv, l, rays[l].dir.recip());
+            }
+            let got = cube.intersect_lanes(position, &o, &d, &inv, &t_max);
+            for (l, ray) in rays.iter().enumerate() {
+                let local = Ray {
+                    origin: ray.origin - position,
+                    dir: ray.dir,
+                };
+                let want = cube.intersect(&local, 0.0, t_max[l]);
+                let have = (got.hit[l] != 0).then(|| Hit {
+                    t: got.t[l],
+                    part: got.part[l] as u8,
+                });
+                assert_eq!(have, want, "packet {k} lane {l}: {ray:?}");
+                if want.is_some() {
+                    hits += 1;
+                } else {
+                    misses += 1;
+                }
+            }
+        }
+        assert!(hits > 5000 && misses > 2000, "{hits} hits, {misses} misses");
+    }
+}

@@ -97,8 +97,9 @@ impl Lens {
             reflectance: [0.0; N],
             ok: [false; N],
         };
+        let caps = self.caps;
         for l in 0..N {
-            let e = self.exit_step(lane(x, l) - self.center, lane(u, l), n);
+            let e = self.exit_step(caps, lane(x, l) - self.center, lane(u, l), n);
             set_lane(&mut out.y, l, self.center + e.y);
             set_lane(&mut out.out, l, e.crossing.dir);
             set_lane(&mut out.normal, l, e.normal);
@@ -116,6 +117,7 @@ mod tests {
     use crate::geometry::{ExitCrossing, Hit, LensSurface, LensTraceStatus};
     use crate::math::Ray;
     use crate::optics::{self, Index};
+    use glam::DVec3;
 
     /// Lenses for the lane tests: the benchmark scene's, a ball, a
     /// meniscus-like pair of radii, a nearly flat one and a tiny one far

@@ -234,17 +234,10 @@ impl Lens {
     /// a ball lens names it by the side of the rim plane.
     #[inline(always)]
     fn face(&self, x: DVec3, by_roots: usize) -> usize {
-        if self.one_sphere {
-            if x.dot(self.axis) >= 0.0 { 0 } else { 1 }
-        } else {
-            by_roots
-        }
-    }
-
-    /// Face `s` (0 or 1), picked without a lookup by index.
-    #[inline(always)]
-    fn cap(&self, s: usize) -> Cap {
-        if s == 0 { self.caps[0] } else { self.caps[1] }
+        // Both sides computed, then one picked: a branch here keeps the
+        // lane loops from running in SIMD registers.
+        let rim_side = if x.dot(self.axis) >= 0.0 { 0 } else { 1 };
+        if self.one_sphere { rim_side } else { by_roots }
     }
 
     /// The crossing a ray from the local point `p` along the unit `u` (its

@@ -5,7 +5,7 @@
 //! step ([`Lens::exit_step`]) is shared with the lanes
 //! ([`Lens::exit_lanes`]).
 
-use super::cap::span;
+use super::cap::{Cap, span};
 use super::{Lens, LensSurface};
 use crate::optics::{self, Crossing};
 use glam::DVec3;
@@ -128,13 +128,18 @@ impl Lens {
     /// and the crossing there from index `n` into air. Inside the glass only
     /// the far roots are used, which needs no epsilon. No branch: lanes run
     /// it side by side.
+    ///
+    /// `caps` are this lens's faces, passed in by value so that a lane loop
+    /// holds them in registers: picked out of memory by each lane's face,
+    /// they would be gathered lane by lane.
     #[inline(always)]
-    pub(super) fn exit_step(&self, x: DVec3, u: DVec3, n: f64) -> ExitStep {
-        let sp = span(&self.caps, x, u);
+    pub(super) fn exit_step(&self, caps: [Cap; 2], x: DVec3, u: DVec3, n: f64) -> ExitStep {
+        let sp = span(&caps, x, u);
         let t = sp.t_out;
         let y = x + t * u;
         let face = self.face(y, sp.face_out);
-        let normal = self.cap(face).normal(y);
+        let [c0, c1] = caps;
+        let normal = if face == 0 { c0 } else { c1 }.normal(y);
         ExitStep {
             found: sp.real & (t >= 0.0),
             y,
@@ -157,7 +162,7 @@ impl Lens {
             internal_reflections: reflections,
         };
         loop {
-            let e = self.exit_step(x, u, n);
+            let e = self.exit_step(self.caps, x, u, n);
             if !e.found {
                 return stop(LensTraceStatus::Miss, reflections);
             }
