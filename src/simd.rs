@@ -1,7 +1,7 @@
 //! Lanes for SIMD code written as plain arrays: [`LANES`] values side by
 //! side ([`Lanes`]), bit masks over them ([`mask`], [`live_lanes`]), the
 //! comparisons glam's vectors use ([`gmin`], [`gmax`]), and
-//! [`with_avx2!`], which compiles a lane function a second time for AVX2
+//! `with_avx2!`, which compiles a lane function a second time for AVX2
 //! and picks the build at run time.
 //!
 //! Lane loops here are `for l in 0..LANES` over `f64` arrays, without

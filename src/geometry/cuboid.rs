@@ -2,6 +2,9 @@
 //! one ray ([`Cuboid::intersect`]) or a packet's lanes at once
 //! ([`Cuboid::intersect_lanes`]), both from the same slab step.
 
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
 use super::polytope::Polytope;
 use super::{Aabb, Hit, WideHits, crossing_choice};
 use crate::math::Ray;

@@ -95,7 +95,7 @@ impl LensPasses {
 
 /// [`transmitted_ray`] for the lanes whose surface is the entry into a lens
 /// (the first such lens; lanes on another take the scalar path), with the
-/// Fresnel reflectance at each traced lane's entry (what [`shade_onward`]
+/// Fresnel reflectance at each traced lane's entry (what `shade_onward`
 /// weighs the pass with). The whole pass runs over the lanes at once
 /// ([`lens_lanes`]); a lane that reflects inside is traced by the scalar
 /// [`through_lens`]. The passes are written to `out` (working memory kept

@@ -40,7 +40,7 @@ fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(
 
 /// The radiance along `ray` given its closest hit, one ray alone: light
 /// by light with a shadow ray each, then the refracted and reflected rays
-/// traced at once. [`packet_kernel`] runs the same three steps over a
+/// traced at once. `packet_kernel` (`packet.rs`) runs the same three steps over a
 /// packet.
 #[inline(always)]
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(

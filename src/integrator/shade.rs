@@ -68,10 +68,10 @@ fn phong_lobe(rv: f64, shininess: f64) -> f64 {
     }
 }
 
-/// Whether the light of sample `ls` can change what [`shade`] adds at the
+/// Whether the light of sample `ls` can change what shading adds at the
 /// surface for a ray along `dir`: a diffuse term (zero for clear glass, whose
 /// opacity is zero) or a specular one (left out where `r·v` is at most the
-/// object's [`Object::lobe_cos_min`], below which the lobe is under
+/// object's [`crate::scene::Object::lobe_cos_min`], below which the lobe is under
 /// [`crate::material::LOBE_FLOOR`] of its peak). Where neither is, the shadow ray
 /// would not change a bit of the pixel, and a packet does not trace it (the
 /// scalar kernel still does: the tests compare the two paths bit for bit).
@@ -138,7 +138,7 @@ pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: 
 /// colour)` follows each and adds what it brings (the scalar kernel at
 /// once, a packet after the local shading of all its lanes: the additions
 /// come in the same order either way). `fresnel(dir, nf, n1, n2)` is
-/// [`fresnel_at`] and `transmit(s, ior)` is [`transmitted_ray`] at
+/// [`optics::fresnel_at`] and `transmit(s, ior)` is [`super::transmitted_ray`] at
 /// the surface for this ray: a packet traces the passes through a lens of
 /// all its lanes together beforehand, the entry's reflectance with them.
 #[inline(always)]

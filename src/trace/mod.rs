@@ -1,5 +1,6 @@
 //! Scene queries, between the scene and the integrator: what a ray (or a
-//! packet of rays, or a tile of camera packets) meets in a [`Scene`].
+//! packet of rays, or a tile of camera packets) meets in a
+//! [`Scene`](crate::scene::Scene).
 //!
 //! - [`scalar`]: one ray: [`closest_hit`], [`transmittance`] (shadow rays)
 //!   and their `*_skip` forms, [`hit_point`].
@@ -20,9 +21,6 @@ pub mod tile;
 pub use packet::{Packet, PacketHits, closest_hits, closest_hits_portable, transmittances, transmittances_portable};
 pub use scalar::{closest_hit, closest_hit_skip, hit_point, transmittance, transmittance_skip};
 pub use tile::{CameraTile, TILE, camera_hits, camera_tile_hits};
-
-#[cfg(doc)]
-use crate::scene::Scene;
 
 /// No object (a lane's ray escapes, or the lane is unused).
 pub const NO_OBJECT: u32 = u32::MAX;

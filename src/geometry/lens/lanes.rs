@@ -4,6 +4,9 @@
 //! with no branch on a lane's value, so that the lanes run side by side in
 //! SIMD registers and each gets the scalar answer bit for bit.
 
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
 use super::cap::span;
 use super::{Lens, near_point};
 use crate::simd::{lane, set_lane};

@@ -30,14 +30,14 @@
 //! on a face going inward has its near root at ≈0 on that face and the far
 //! roots ahead.
 //!
-//! Files by responsibility: [`cap`] holds one face and the roots of both
-//! faces along a ray, `dd` the double-double arithmetic of
-//! [`Lens::localize`], [`trace`] the scalar tracer inside the glass
-//! ([`Lens::trace`], [`Lens::propagate_inside`]), and `lanes` the same hit
-//! test and exit for a packet's lanes at once. The hit test, the tracer and
-//! the lanes call the same `#[inline(always)]` steps ([`cap::span`],
-//! `Lens::near_point`, `Lens::pick`, `Lens::exit_step`), so each lane gets
-//! the scalar answer bit for bit.
+//! Files by responsibility: `cap.rs` holds one face and the roots of both
+//! faces along a ray, `dd.rs` the double-double arithmetic of
+//! [`Lens::localize`], `trace.rs` the scalar tracer inside the glass
+//! ([`Lens::trace`], [`Lens::propagate_inside`]), and `lanes.rs` the same
+//! hit test and exit for a packet's lanes at once. The hit test, the tracer
+//! and the lanes call the same `#[inline(always)]` steps (`span`,
+//! `near_point`, `Lens::pick`, `Lens::exit_step`), so each lane gets the
+//! scalar answer bit for bit.
 
 mod cap;
 mod dd;

@@ -120,9 +120,6 @@ impl Lens {
         path
     }
 
-    /// [`Lens::propagate_inside`] for `N` rays at once, for rays that leave
-    /// at their first exit: lane `l` starts at the world point `x[l]` inside
-
     /// The exit from inside the glass: the nearer of the two far roots, from
     /// the local point `x` (inside or on the surface) along the unit `u`,
     /// and the crossing there from index `n` into air. Inside the glass only
