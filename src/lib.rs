@@ -35,3 +35,5 @@ pub mod optics;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
+pub mod trace;

@@ -33,11 +33,7 @@ impl Ray {
 /// larger magnitude is `q = −(b + sign(b)·√(b²−c))`, the other is `c / q`.
 /// Returns `None` when the discriminant is negative.
 pub fn solve_half_b_quadratic(b: f64, c: f64) -> Option<(f64, f64)> {
-    let disc = b * b - c;
-    if !(disc >= 0.0) {
-        return None;
-    }
-    solve_with_discriminant(b, c, disc)
+    solve_with_discriminant(b, c, half_b_discriminant(b, c))
 }
 
 /// Same as [`solve_half_b_quadratic`] with a discriminant `b² − c` that the
@@ -46,15 +42,28 @@ pub fn solve_with_discriminant(b: f64, c: f64, disc: f64) -> Option<(f64, f64)> 
     if !(disc >= 0.0) {
         return None;
     }
+    Some(half_b_roots(b, c, disc))
+}
+
+/// The discriminant `b² − c` of `t² + 2·b·t + c = 0`: real roots when it
+/// is at least 0.
+#[inline(always)]
+pub fn half_b_discriminant(b: f64, c: f64) -> f64 {
+    b * b - c
+}
+
+/// [`solve_half_b_quadratic`]'s roots `(smaller, larger)` from the
+/// discriminant `disc` (not numbers when it is negative), written without
+/// branches, so that SIMD lanes can run it side by side and a scalar
+/// caller gets the same bits.
+#[inline(always)]
+pub fn half_b_roots(b: f64, c: f64, disc: f64) -> (f64, f64) {
     let s = disc.sqrt();
     let q = if b >= 0.0 { -(b + s) } else { -(b - s) };
-    if q == 0.0 {
-        // b = 0 and c = 0: a double root at zero.
-        return Some((0.0, 0.0));
-    }
-    let r1 = q;
     let r2 = c / q;
-    Some(if r1 <= r2 { (r1, r2) } else { (r2, r1) })
+    let pair = if q <= r2 { (q, r2) } else { (r2, q) };
+    // b = 0 and c = 0: a double root at zero (and not 0/0).
+    if q == 0.0 { (0.0, 0.0) } else { pair }
 }
 
 /// Rotation matrix from angles in degrees about x, y and z, applied in the

@@ -4,12 +4,13 @@
 
 use glam::DVec3;
 use lensview::geometry::LensSurface;
-use lensview::integrator::{closest_hit, transmitted_ray};
+use lensview::integrator::transmitted_ray;
 use lensview::lens_tools::lens_info;
 use lensview::math::Ray;
 use lensview::optics::Index;
 use lensview::render::{RenderSettings, render};
 use lensview::scene::Scene;
+use lensview::trace::closest_hit;
 
 /// Paraxial data by ray-transfer (ABCD) matrices — refraction
 /// `[[1, 0], [−(n2−n1)/(n2·R), n1/n2]]`, translation `[[1, t], [0, 1]]` —

@@ -78,7 +78,7 @@ fn an_occluder_casts_a_hard_shadow_and_glass_a_light_one() {
     let p = DVec3::new(0.0, 0.0, 0.0);
     let light = DVec3::new(0.3, 2.0, 0.2);
     let dir = (light - p).normalize();
-    let t = lensview::integrator::transmittance(&scene, p + dir * 1e-9, dir, (light - p).length());
+    let t = lensview::trace::transmittance(&scene, p + dir * 1e-9, dir, (light - p).length());
     assert_eq!(t, DVec3::ZERO);
     let glass = opaque
         .replace(
@@ -91,7 +91,7 @@ fn an_occluder_casts_a_hard_shadow_and_glass_a_light_one() {
             1,
         );
     let (_, scene) = Scene::parse("g.toml", &glass).unwrap();
-    let t = lensview::integrator::transmittance(&scene, p + dir * 1e-9, dir, (light - p).length());
+    let t = lensview::trace::transmittance(&scene, p + dir * 1e-9, dir, (light - p).length());
     // Two faces at normal incidence: (1 − 0.04)².
     assert!((t - DVec3::splat(0.96 * 0.96)).abs().max_element() < 1e-12, "{t}");
 }

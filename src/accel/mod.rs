@@ -3,10 +3,12 @@
 //! construction of SAH-based bounding volume hierarchies", 2007) and
 //! flattened into an array in depth-first order, so that a node's left child
 //! follows it and traversal walks memory forward.
+//!
+//! The tree is built over boxes and walked through [`Walker`]: it knows no
+//! scene, shape or camera. The queries that walk it with rays of a scene,
+//! one ray or a packet or a tile's frustum, live in [`crate::trace`].
 
-pub mod packet;
-
-use crate::geometry::Aabb;
+use crate::geometry::{Aabb, slab_hit};
 use crate::math::Ray;
 use glam::DVec3;
 
@@ -39,6 +41,61 @@ const TRAVERSAL_COST: f64 = 0.5;
 fn area(min: DVec3, max: DVec3) -> f64 {
     let e = (max - min).max(DVec3::ZERO);
     2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+}
+
+/// The SAH bin (of [`BINS`] over the centroid range from `lo`, `scale`
+/// bins a unit) of the centroid coordinate `c`.
+#[inline]
+fn bin(c: f64, lo: f64, scale: f64) -> usize {
+    (((c - lo) * scale) as usize).min(BINS - 1)
+}
+
+/// The cheapest split of `prims` by the binned SAH over the centroid range
+/// `cmin .. cmin + extent`, on every axis: `(cost, axis, split bin)`, the
+/// objects of bins below the split going left; an infinite cost when no
+/// axis splits them (all centroids coincide).
+fn best_split(prims: &[u32], bounds: &[Aabb], centroids: &[DVec3], cmin: DVec3, extent: DVec3) -> (f64, usize, usize) {
+    let mut best = (f64::INFINITY, 0usize, 0usize);
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        let mut bin_min = [DVec3::INFINITY; BINS];
+        let mut bin_max = [DVec3::NEG_INFINITY; BINS];
+        let mut bin_n = [0usize; BINS];
+        let scale = BINS as f64 / extent[axis];
+        for &p in prims {
+            let b = bin(centroids[p as usize][axis], cmin[axis], scale);
+            bin_n[b] += 1;
+            bin_min[b] = bin_min[b].min(bounds[p as usize].min);
+            bin_max[b] = bin_max[b].max(bounds[p as usize].max);
+        }
+        // Sweep from the right to get each split's right-side area.
+        let mut right_area = [0.0; BINS];
+        let (mut rmin, mut rmax, mut rn) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
+        let mut right_n = [0usize; BINS];
+        for b in (1..BINS).rev() {
+            rmin = rmin.min(bin_min[b]);
+            rmax = rmax.max(bin_max[b]);
+            rn += bin_n[b];
+            right_area[b] = area(rmin, rmax);
+            right_n[b] = rn;
+        }
+        let (mut lmin, mut lmax, mut ln) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
+        for b in 1..BINS {
+            lmin = lmin.min(bin_min[b - 1]);
+            lmax = lmax.max(bin_max[b - 1]);
+            ln += bin_n[b - 1];
+            if ln == 0 || right_n[b] == 0 {
+                continue;
+            }
+            let cost = ln as f64 * area(lmin, lmax) + right_n[b] as f64 * right_area[b];
+            if cost < best.0 {
+                best = (cost, axis, b);
+            }
+        }
+    }
+    best
 }
 
 impl Bvh {
@@ -78,48 +135,8 @@ impl Bvh {
         if n <= 1 {
             return idx;
         }
-        // Binned SAH over the centroid extent, on every axis.
         let extent = cmax - cmin;
-        let mut best = (f64::INFINITY, 0usize, 0usize); // (cost, axis, split bin)
-        for axis in 0..3 {
-            if extent[axis] <= 0.0 {
-                continue;
-            }
-            let mut bin_min = [DVec3::INFINITY; BINS];
-            let mut bin_max = [DVec3::NEG_INFINITY; BINS];
-            let mut bin_n = [0usize; BINS];
-            let scale = BINS as f64 / extent[axis];
-            for &p in &self.prims[start..end] {
-                let b = (((centroids[p as usize][axis] - cmin[axis]) * scale) as usize).min(BINS - 1);
-                bin_n[b] += 1;
-                bin_min[b] = bin_min[b].min(bounds[p as usize].min);
-                bin_max[b] = bin_max[b].max(bounds[p as usize].max);
-            }
-            // Sweep from the right to get each split's right-side area.
-            let mut right_area = [0.0; BINS];
-            let (mut rmin, mut rmax, mut rn) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
-            let mut right_n = [0usize; BINS];
-            for b in (1..BINS).rev() {
-                rmin = rmin.min(bin_min[b]);
-                rmax = rmax.max(bin_max[b]);
-                rn += bin_n[b];
-                right_area[b] = area(rmin, rmax);
-                right_n[b] = rn;
-            }
-            let (mut lmin, mut lmax, mut ln) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0);
-            for b in 1..BINS {
-                lmin = lmin.min(bin_min[b - 1]);
-                lmax = lmax.max(bin_max[b - 1]);
-                ln += bin_n[b - 1];
-                if ln == 0 || right_n[b] == 0 {
-                    continue;
-                }
-                let cost = ln as f64 * area(lmin, lmax) + right_n[b] as f64 * right_area[b];
-                if cost < best.0 {
-                    best = (cost, axis, b);
-                }
-            }
-        }
+        let best = best_split(&self.prims[start..end], bounds, centroids, cmin, extent);
         let leaf_cost = n as f64;
         let split_cost = TRAVERSAL_COST + best.0 / area(min, max).max(f64::MIN_POSITIVE);
         if best.0.is_infinite() || (n <= MAX_LEAF && split_cost >= leaf_cost) {
@@ -135,8 +152,7 @@ impl Bvh {
             let slice = &mut self.prims[start..end];
             let mut i = 0;
             for j in 0..slice.len() {
-                let c = centroids[slice[j] as usize][axis];
-                if ((((c - cmin[axis]) * scale) as usize).min(BINS - 1)) < split {
+                if bin(centroids[slice[j] as usize][axis], cmin[axis], scale) < split {
                     slice.swap(i, j);
                     i += 1;
                 }
@@ -305,12 +321,7 @@ impl Stack {
 
 #[inline]
 fn slab(n: &Node, o: DVec3, inv: DVec3, t_max: f64) -> bool {
-    let t0 = (n.min - o) * inv;
-    let t1 = (n.max - o) * inv;
-    let lo = t0.min(t1).max_element().max(0.0);
-    let hi = t0.max(t1).min_element().min(t_max);
-    // Rounding of the products may cut a box that a ray just touches.
-    lo <= hi * (1.0 + 4.0 * f64::EPSILON)
+    slab_hit(n.min, n.max, o, inv, 0.0, t_max)
 }
 
 #[cfg(test)]

@@ -103,10 +103,11 @@ pub fn feature_costs(base: &SceneFile, w: u32, h: u32, runs: usize) -> Vec<Featu
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::packet::{LANES, camera_hits};
     use crate::color::Rgb;
     use crate::integrator::{PacketPaths, PacketScratch};
     use crate::scene::Scene;
+    use crate::simd::LANES;
+    use crate::trace::camera_hits;
 
     #[test]
     fn unspecialised_kernel_draws_the_same_picture() {

@@ -3,11 +3,12 @@
 //! camera packets) but outside it, so kernels and walks compare on equal
 //! terms.
 
-use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
-use crate::integrator::{PacketKernel, PacketPaths, PacketScratch, closest_hit};
+use crate::integrator::{PacketKernel, PacketPaths, PacketScratch};
 use crate::render::{Image, RenderSettings, render_into};
 use crate::scene::Scene;
+use crate::simd::LANES;
+use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits, closest_hit};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -161,7 +162,7 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel
 /// Closest-hit primary rays per second (pixel centres, no shading), cast
 /// the way the renderer casts them: tiles of 8 × [`TILE`] pixels whose frustum
 /// walks the BVH once, each row of a tile a packet of eight rays
-/// ([`crate::accel::packet`]). With `tiles` off, each packet walks the BVH
+/// ([`crate::trace`]). With `tiles` off, each packet walks the BVH
 /// on its own.
 pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usize, tiles: bool) -> f64 {
     let t = median_time(runs, || {
@@ -181,7 +182,7 @@ pub fn primary_rays_per_second(scene: &Scene, width: u32, height: u32, runs: usi
 }
 
 /// The same rays one at a time through the scalar walk
-/// ([`crate::integrator::closest_hit`]): what the packets are measured
+/// ([`crate::trace::closest_hit`]): what the packets are measured
 /// against.
 pub fn primary_rays_per_second_scalar(scene: &Scene, width: u32, height: u32, runs: usize) -> f64 {
     let t = median_time(runs, || {

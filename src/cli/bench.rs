@@ -159,7 +159,8 @@ impl PrimaryRates {
 
     /// The three rates in words.
     fn summary(&self) -> String {
-        use lensview::accel::packet::{LANES, TILE, uses_avx2};
+        use lensview::simd::{LANES, uses_avx2};
+        use lensview::trace::TILE;
         format!(
             "{:.2} M rays/s in tiles of {TILE} packets of {LANES} ({}), {:.2} M rays/s in packets walking alone, \
              {:.2} M rays/s one by one (tiles {:.2}× one by one)",

@@ -14,7 +14,7 @@ mod prism;
 mod pyramid;
 mod sphere;
 
-pub use aabb::Aabb;
+pub use aabb::{Aabb, BOX_PAD, slab_hit, slab_overlap};
 pub use cuboid::Cuboid;
 pub use lens::{ExitCrossing, Lens, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 pub use prism::Prism;
@@ -32,26 +32,50 @@ pub struct Hit {
     pub part: u8,
 }
 
+/// Whether `t` lies in the open interval `(t_min, t_max)`.
+#[inline(always)]
+pub(crate) fn within(t: f64, t_min: f64, t_max: f64) -> bool {
+    (t > t_min) & (t < t_max)
+}
+
+/// Which end of the span from `entry` to `exit` a ray meets on
+/// `(t_min, t_max)`: `(entry, exit)` flags, both false for an empty span
+/// (`entry > exit`). Written without branches, so that lane code can run
+/// it side by side; [`first_crossing`] is its scalar form.
+#[inline(always)]
+pub(crate) fn crossing_choice(entry: f64, exit: f64, t_min: f64, t_max: f64) -> (bool, bool) {
+    let ordered = !(entry > exit);
+    (
+        ordered & within(entry, t_min, t_max),
+        ordered & within(exit, t_min, t_max),
+    )
+}
+
 /// The hit of a convex solid met on the interval from entry `(t, part)` to
 /// exit: the entry when it lies in `(t_min, t_max)`, else the exit (the ray
 /// starts inside), else none. An empty interval (`entry > exit`) is a miss.
 #[inline]
 pub(crate) fn first_crossing(entry: (f64, u8), exit: (f64, u8), t_min: f64, t_max: f64) -> Option<Hit> {
-    if entry.0 > exit.0 {
-        None
-    } else if entry.0 > t_min && entry.0 < t_max {
-        Some(Hit {
-            t: entry.0,
-            part: entry.1,
-        })
-    } else if exit.0 > t_min && exit.0 < t_max {
-        Some(Hit {
-            t: exit.0,
-            part: exit.1,
-        })
+    let (take_entry, take_exit) = crossing_choice(entry.0, exit.0, t_min, t_max);
+    let (t, part) = if take_entry {
+        entry
+    } else if take_exit {
+        exit
     } else {
-        None
-    }
+        return None;
+    };
+    Some(Hit { t, part })
+}
+
+/// Hits of one object in `N` lanes (by [`Cuboid::intersect_lanes`]), flags
+/// and faces in 64-bit lanes, the width of the distances, so that the
+/// loops that pick among them stay in SIMD registers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WideHits<const N: usize> {
+    /// 1 where the lane's ray hits within its interval, else 0.
+    pub hit: [u64; N],
+    pub t: [f64; N],
+    pub part: [u64; N],
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -10,12 +10,13 @@ pub mod worker;
 
 pub use image::Image;
 
-use crate::accel::packet::{CameraTile, LANES, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use crate::color::Rgb;
 use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
+use crate::simd::LANES;
+use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -8,10 +8,11 @@
 //! whether it got there in one wave or many.
 
 use super::{BandMemory, RenderSettings, add_band_samples, sample_packet};
-use crate::accel::packet::{LANES, TILE};
 use crate::color::Rgb;
 use crate::integrator::PacketScratch;
 use crate::scene::Scene;
+use crate::simd::LANES;
+use crate::trace::TILE;
 use rayon::prelude::*;
 
 /// One step of the schedule.

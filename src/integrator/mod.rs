@@ -1,0 +1,143 @@
+//! Whitted radiance: ambient + Lambert diffuse + Phong specular for each
+//! light, hard shadows, mirror reflection and Snell refraction with total
+//! internal reflection, to a maximum depth.
+//!
+//! Light through a lens follows the lens's own exact tracer
+//! ([`crate::geometry::Lens::propagate_inside`]): the same code
+//! `lensview lens trace` reports.
+//!
+//! Where things live:
+//! - `mod.rs`: the entry points ([`radiance`], [`radiance_packet`] and
+//!   its forms) and `with_features!`, which picks the kernel compiled for
+//!   the scene's [`Features`];
+//! - `surface.rs`: a hit with what shading needs ([`Surface`]), and the
+//!   one place rays are spawned off a surface ([`spawn_ray`],
+//!   [`shadow_ray`]);
+//! - `shade.rs`: the shading both kernels share, step by step (ambient,
+//!   each light, the refracted and reflected rays sent on);
+//! - `scalar.rs`: the kernel for one ray;
+//! - `packet.rs`: the kernel for a packet of rays, lane by lane the scalar
+//!   one's arithmetic, and its working memory ([`PacketScratch`]);
+//! - `lens_pass.rs`: the pass through a lens of one ray
+//!   ([`transmitted_ray`]) or of a packet's lanes at once, from the same
+//!   per-ray steps.
+//!
+//! [`Features`]: crate::scene::Features
+
+/// Calls `$f::<SHADOWS, GLASS, MIRROR, SPECULAR>$args` with the const
+/// parameters read from a `Features` value.
+macro_rules! with_features {
+    ($feat:expr, $f:ident, $args:tt) => {
+        with_features!(@ $f, $args, [], [$feat.shadows, $feat.glass, $feat.mirror, $feat.specular])
+    };
+    (@ $f:ident, $args:tt, [$($acc:tt)*], []) => { $f::<$($acc)*> $args };
+    (@ $f:ident, $args:tt, [$($acc:tt)*], [$b:expr $(, $rest:expr)*]) => {
+        if $b {
+            with_features!(@ $f, $args, [$($acc)* true,], [$($rest),*])
+        } else {
+            with_features!(@ $f, $args, [$($acc)* false,], [$($rest),*])
+        }
+    };
+}
+
+mod lens_pass;
+mod packet;
+mod scalar;
+mod shade;
+mod surface;
+
+pub use lens_pass::{Transmitted, transmitted_ray};
+pub use packet::PacketScratch;
+pub use shade::{Secondary, light_at};
+pub use surface::{Surface, shadow_ray, spawn_ray, surface};
+
+use crate::color::Rgb;
+use crate::math::Ray;
+use crate::scene::Scene;
+use crate::simd::{LANES, Lanes};
+use crate::trace::{Packet, PacketHits};
+use packet::packet_kernel;
+use scalar::kernel;
+
+/// Radiance arriving along `ray` at wavelength `lambda_um` (used only by
+/// dispersive glass), `depth` bounces deep.
+///
+/// The kernel is chosen once per call from the scene's [`Features`]: each
+/// combination is its own monomorphised function, so a scene pays nothing for
+/// what it does not use — no shadow rays, no refraction or mirror branch, no
+/// specular term — not even a test per hit.
+///
+/// [`Features`]: crate::scene::Features
+pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
+    let f = scene.features;
+    with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
+}
+
+/// The rays of a packet in flight: their closest hits, which lanes are live
+/// (`active`, a bit mask), and each lane's path depth and weight.
+#[derive(Clone, Copy, Debug)]
+pub struct PacketPaths<'a> {
+    pub rays: &'a Packet,
+    pub hits: &'a PacketHits,
+    pub active: u32,
+    pub depth: [u32; LANES],
+    pub weight: [f64; LANES],
+}
+
+impl<'a> PacketPaths<'a> {
+    /// Camera rays: the first `n` lanes live, at depth 0 and weight 1.
+    pub fn camera(rays: &'a Packet, hits: &'a PacketHits, n: usize) -> Self {
+        PacketPaths {
+            rays,
+            hits,
+            active: (1u32 << n) - 1,
+            depth: [0; LANES],
+            weight: [1.0; LANES],
+        }
+    }
+}
+
+/// [`radiance`] of every live ray of a packet whose closest hits are known:
+/// the same values, lane by lane, with the shadow rays and the refracted and
+/// reflected rays of the lanes traced as packets too.
+/// `scratch` is working memory kept from packet to packet (one per thread
+/// of work): it holds no result between calls.
+pub fn radiance_packet(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+) -> [Rgb; LANES] {
+    let mut out = [Rgb::ZERO; LANES];
+    radiance_packet_into(scene, paths, lambda_um, scratch, &mut out);
+    out
+}
+
+/// [`radiance_packet`] written into `out` (every lane: zero where not live).
+#[inline]
+pub fn radiance_packet_into(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
+    let f = scene.features;
+    with_features!(f, packet_kernel, (scene, paths, lambda_um, scratch, out));
+}
+
+/// [`radiance_packet`] with every feature compiled in: what a renderer that
+/// does not specialise would run. For benchmarks of the savings.
+pub fn radiance_packet_unspecialised(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+) -> [Rgb; LANES] {
+    let mut out = [Rgb::ZERO; LANES];
+    packet_kernel::<true, true, true, true>(scene, paths, lambda_um, scratch, &mut out);
+    out
+}
+
+/// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
+pub type PacketKernel = fn(&Scene, &PacketPaths, f64, &mut PacketScratch) -> [Rgb; LANES];

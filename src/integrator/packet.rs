@@ -1,0 +1,336 @@
+//! The kernel for a packet of rays ([`packet_kernel`]): every step of the
+//! scalar kernel (`scalar.rs`) over the lanes, in the same order and with
+//! the same arithmetic per lane (the steps of `shade.rs`), so that each lane
+//! gets the scalar radiance bit for bit. Each light's shadow rays are one
+//! packet; the refracted and the reflected rays of the lanes are a packet
+//! each ([`Onward`]), traced after the local shading of every lane.
+
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
+use super::PacketPaths;
+use super::lens_pass::{LensPasses, lens_passes, transmitted_ray};
+use super::scalar::kernel;
+use super::shade::{Secondary, add_light, ambient, join, light_at, shade_onward, visibility_matters};
+use super::surface::{Surface, shadow_ray, surface};
+use crate::color::Rgb;
+use crate::light::{Light, LightSample};
+use crate::optics::fresnel_at;
+use crate::scene::Scene;
+use crate::simd::{LANES, Lanes, live_lanes};
+use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
+
+/// The packet kernel's working memory for one depth of its recursion, and
+/// (made when first needed) for the depths below: the shadow packet, the
+/// gathered refracted and reflected rays and what they bring back. Kept
+/// from packet to packet, so that these arrays (about 3 KB a depth) are
+/// neither built nor copied per packet; every lane read is written first.
+pub struct PacketScratch {
+    shadow: Packet,
+    lens: LensPasses,
+    onward: [Onward; 2],
+    back: [Lanes<Rgb>; 2],
+    deeper: Option<Box<PacketScratch>>,
+}
+
+impl Default for PacketScratch {
+    fn default() -> Self {
+        PacketScratch {
+            shadow: Packet::EMPTY,
+            lens: LensPasses::EMPTY,
+            onward: [Onward::EMPTY, Onward::EMPTY],
+            back: [[Rgb::ZERO; LANES]; 2],
+            deeper: None,
+        }
+    }
+}
+
+/// Below this many rays, secondary rays are traced one by one.
+const MIN_PACKET: u32 = 3;
+
+/// The refracted (kind 0) or reflected (kind 1) rays a packet's lanes send
+/// on, gathered as a packet, with what [`Secondary`] holds for each lane.
+struct Onward {
+    rays: Packet,
+    live: u32,
+    skip: [u32; LANES],
+    depth: [u32; LANES],
+    weight: [f64; LANES],
+    tint: [Option<Rgb>; LANES],
+    factor: [f64; LANES],
+}
+
+impl Onward {
+    const EMPTY: Onward = Onward {
+        rays: Packet::EMPTY,
+        live: 0,
+        skip: [NO_OBJECT; LANES],
+        depth: [0; LANES],
+        weight: [0.0; LANES],
+        tint: [None; LANES],
+        factor: [0.0; LANES],
+    };
+
+    #[inline(always)]
+    fn push(&mut self, l: usize, sec: &Secondary) {
+        self.rays.set(l, &sec.ray, f64::INFINITY);
+        self.live |= 1 << l;
+        self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
+        self.depth[l] = sec.depth;
+        self.weight[l] = sec.weight;
+        self.tint[l] = sec.tint;
+        self.factor[l] = sec.factor;
+    }
+
+    /// Lane `l`'s ray as shading sent it.
+    #[inline(always)]
+    fn secondary(&self, l: usize) -> Secondary {
+        Secondary {
+            ray: self.rays.ray(l),
+            skip: if self.skip[l] == NO_OBJECT {
+                usize::MAX
+            } else {
+                self.skip[l] as usize
+            },
+            depth: self.depth[l],
+            weight: self.weight[l],
+            tint: self.tint[l],
+            factor: self.factor[l],
+        }
+    }
+
+    /// The radiance each live lane's ray brings back, written to `back`: a
+    /// packet (with `scratch` for the next depth), or one ray at a time
+    /// below [`MIN_PACKET`] rays.
+    #[inline(always)]
+    fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+        &mut self,
+        scene: &Scene,
+        lambda_um: f64,
+        scratch: &mut PacketScratch,
+        back: &mut Lanes<Rgb>,
+    ) {
+        if self.live.count_ones() < MIN_PACKET {
+            for l in live_lanes(self.live) {
+                let sec = self.secondary(l);
+                back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                    scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                );
+            }
+            return;
+        }
+        if self.all_escape(scene) {
+            for l in live_lanes(self.live) {
+                back[l] = scene.background;
+            }
+            return;
+        }
+        self.rays.fill_unused(self.live);
+        // Lanes that sent nothing hold what an earlier packet left; they
+        // never hit (`fill_unused`), and skip nothing.
+        for l in 0..LANES {
+            if self.live >> l & 1 == 0 {
+                self.skip[l] = NO_OBJECT;
+            }
+        }
+        let hits = closest_hits(scene, &self.rays, &self.skip);
+        let paths = PacketPaths {
+            rays: &self.rays,
+            hits: &hits,
+            active: self.live,
+            depth: self.depth,
+            weight: self.weight,
+        };
+        packet_kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &paths, lambda_um, scratch, back);
+    }
+
+    /// Whether every live lane's ray leaves its object (`skip`) and misses
+    /// the box around all the others ([`Scene::others_bounds`]): then it
+    /// meets nothing and brings back the background, which is what tracing
+    /// it would give (the rays a lens reflects away from the scene, mostly).
+    #[inline(always)]
+    fn all_escape(&self, scene: &Scene) -> bool {
+        for l in live_lanes(self.live) {
+            let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
+                return false;
+            };
+            if let Some(b) = bounds {
+                let ray = self.rays.ray(l);
+                if b.hit(&ray, ray.dir.recip(), 0.0, f64::INFINITY) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Adds what lane `l`'s ray brought back (`back`) to `color`, as
+    /// [`Secondary::join`] does.
+    #[inline(always)]
+    fn join(&self, l: usize, color: &mut Rgb, back: Rgb) {
+        join(color, self.tint[l], self.factor[l], back);
+    }
+}
+
+/// The radiance of each live lane of `paths` (the others are zero), written
+/// to `out`: the local shading of every lane, each light's shadow rays as
+/// one packet, then the refracted and reflected rays as a packet each.
+pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
+    let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
+    if !local_shading::<GLASS>(scene, paths, &mut surfaces, out) {
+        // Every ray escaped (the rays a lens reflects, mostly).
+        return;
+    }
+    for light in &scene.lights {
+        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(scene, paths.rays, &surfaces, light, &mut scratch.shadow, out);
+    }
+    if !(GLASS || MIRROR) {
+        return;
+    }
+    let PacketScratch {
+        onward,
+        back,
+        deeper,
+        lens,
+        ..
+    } = scratch;
+    if !send_onward::<GLASS, MIRROR>(scene, paths, &surfaces, lambda_um, lens, onward, out) {
+        return;
+    }
+    let deeper = deeper.get_or_insert_with(Box::default);
+    for (o, back) in onward.iter_mut().zip(back.iter_mut()) {
+        if o.live != 0 {
+            o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um, deeper, back);
+        }
+    }
+    // In the order `shade` adds them: refracted, then reflected.
+    for l in 0..LANES {
+        for (o, back) in onward.iter().zip(back.iter()) {
+            if o.live >> l & 1 != 0 {
+                o.join(l, &mut out[l], back[l]);
+            }
+        }
+    }
+}
+
+/// Each live lane's surface (in `surfaces`) and [`ambient`] term, or the
+/// background where its ray escapes (in `out`); whether any lane hit.
+#[inline(always)]
+fn local_shading<'s, const GLASS: bool>(
+    scene: &'s Scene,
+    paths: &PacketPaths,
+    surfaces: &mut [Option<Surface<'s>>; LANES],
+    out: &mut Lanes<Rgb>,
+) -> bool {
+    *out = [Rgb::ZERO; LANES];
+    let mut any = false;
+    for l in 0..LANES {
+        if paths.active >> l & 1 == 0 {
+            continue;
+        }
+        match paths.hits.get(l) {
+            Some((i, h)) => {
+                let s = surface(scene, &paths.rays.ray(l), i, h);
+                out[l] = ambient::<GLASS>(scene, &s);
+                surfaces[l] = Some(s);
+                any = true;
+            }
+            None => out[l] = scene.background,
+        }
+    }
+    any
+}
+
+/// [`add_light`] of `light` at every lane's surface, its shadow rays a
+/// packet (`shadow`, working memory).
+#[inline(always)]
+fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    p: &Packet,
+    surfaces: &[Option<Surface>; LANES],
+    light: &Light,
+    shadow: &mut Packet,
+    out: &mut Lanes<Rgb>,
+) {
+    let mut samples: [Option<LightSample>; LANES] = [None; LANES];
+    for l in 0..LANES {
+        samples[l] = surfaces[l].as_ref().and_then(|s| light_at(s, light));
+    }
+    let mut vis = [Rgb::ONE; LANES];
+    if SHADOWS && scene.shadows {
+        let mut live = 0u32;
+        let mut skip = [NO_OBJECT; LANES];
+        for l in 0..LANES {
+            if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l])
+                && visibility_matters::<GLASS, SPECULAR>(s, ls, p.dir(l))
+            {
+                let (r, t_max) = shadow_ray(s, ls);
+                shadow.set(l, &r, t_max);
+                live |= 1 << l;
+                skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
+            }
+        }
+        if live != 0 {
+            shadow.fill_unused(live);
+            vis = transmittances(scene, shadow, &skip);
+        }
+    }
+    for l in 0..LANES {
+        if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l]) {
+            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, p.dir(l), ls, vis[l], &mut out[l]);
+        }
+    }
+}
+
+/// [`shade_onward`] at every lane's surface: the refracted (0) and
+/// reflected (1) rays gathered into `onward`, to be traced afterwards (most
+/// packets send none), with the passes through a lens of the lanes that
+/// enter one traced together first (`lens`, working memory). Whether any
+/// lane sends a ray on.
+#[inline(always)]
+fn send_onward<const GLASS: bool, const MIRROR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    surfaces: &[Option<Surface>; LANES],
+    lambda_um: f64,
+    lens: &mut LensPasses,
+    onward: &mut [Onward; 2],
+    out: &mut Lanes<Rgb>,
+) -> bool {
+    let p = paths.rays;
+    let passes = GLASS && lens_passes(p, surfaces, lambda_um, lens);
+    let lens = &*lens;
+    let traced = |l: usize| (passes && lens.lanes >> l & 1 != 0).then_some(lens);
+    for o in onward.iter_mut() {
+        o.live = 0;
+    }
+    for l in 0..LANES {
+        let Some(s) = &surfaces[l] else { continue };
+        let dir = p.dir(l);
+        shade_onward::<GLASS, MIRROR>(
+            scene,
+            dir,
+            s,
+            paths.depth[l],
+            lambda_um,
+            paths.weight[l],
+            &mut |dir, nf, n1, n2| match traced(l) {
+                Some(ps) => ps.pass.entry_fresnel[l],
+                None => fresnel_at(dir, nf, n1, n2),
+            },
+            &mut |s, ior| match traced(l) {
+                Some(ps) => ps.transmitted(l),
+                None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
+            },
+            &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
+            &mut out[l],
+        );
+    }
+    onward.iter().any(|o| o.live != 0)
+}

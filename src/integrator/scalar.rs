@@ -1,0 +1,85 @@
+//! The kernel for one ray: its closest hit, then [`shade`], which follows
+//! the refracted and reflected rays at once by calling the kernel again.
+//! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
+//! packet.
+
+use super::lens_pass::transmitted_ray;
+use super::shade::{add_light, ambient, light_at, shade_onward};
+use super::surface::{Surface, shadow_ray, surface};
+use crate::color::Rgb;
+use crate::light::LightSample;
+use crate::math::Ray;
+use crate::optics::fresnel_at;
+use crate::scene::Scene;
+use crate::trace::{closest_hit_skip, transmittance_skip};
+
+pub(super) fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    ray: &Ray,
+    skip: usize,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+) -> Rgb {
+    let hit = closest_hit_skip(scene, ray, f64::INFINITY, skip);
+    let hit = hit.map(|(i, h)| surface(scene, ray, i, h));
+    shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, ray, hit.as_ref(), depth, lambda_um, weight)
+}
+
+/// Light `j`'s sample at the surface and, with shadows, the transmittance
+/// of the shadow ray toward it, traced alone (one without shadows).
+#[inline]
+fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
+    let ls = light_at(s, &scene.lights[j])?;
+    if !(SHADOWS && scene.shadows) {
+        return Some((ls, Rgb::ONE));
+    }
+    let (sr, dist) = shadow_ray(s, &ls);
+    Some((ls, transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))))
+}
+
+/// The radiance along `ray` given its closest hit, one ray alone: light
+/// by light with a shadow ray each, then the refracted and reflected rays
+/// traced at once. `packet_kernel` (`packet.rs`) runs the same three steps over a
+/// packet.
+#[inline(always)]
+fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    ray: &Ray,
+    hit: Option<&Surface>,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+) -> Rgb {
+    let Some(s) = hit else {
+        return scene.background;
+    };
+    let mut color = ambient::<GLASS>(scene, s);
+    for j in 0..scene.lights.len() {
+        if let Some((ls, visible)) = lit_by::<SHADOWS>(scene, j, s) {
+            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, ray.dir, &ls, visible, &mut color);
+        }
+    }
+    if GLASS || MIRROR {
+        shade_onward::<GLASS, MIRROR>(
+            scene,
+            ray.dir,
+            s,
+            depth,
+            lambda_um,
+            weight,
+            &mut fresnel_at,
+            &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
+            &mut |sec, color| {
+                sec.join(
+                    color,
+                    kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                    ),
+                )
+            },
+            &mut color,
+        );
+    }
+    color
+}

@@ -1,0 +1,208 @@
+//! The shading steps both kernels run, the scalar one ray by ray and the
+//! packet one lane by lane, in the same order with the same arithmetic:
+//! [`ambient`], each light ([`light_at`], [`add_light`], with
+//! [`visibility_matters`] deciding whether a packet traces its shadow ray)
+//! and the rays sent on ([`shade_onward`], [`Secondary`]).
+
+use super::lens_pass::Transmitted;
+use super::surface::{Surface, spawn_ray};
+use crate::color::Rgb;
+use crate::light::{Light, LightSample};
+use crate::math::Ray;
+use crate::optics;
+use crate::scene::Scene;
+use glam::DVec3;
+
+/// Below this path weight a branch is not traced further.
+const MIN_WEIGHT: f64 = 1e-4;
+
+/// A ray that shading sends on (refracted or reflected), and how its
+/// radiance `L` joins the colour: `colour += tint · L · factor`.
+#[derive(Clone, Copy, Debug)]
+pub struct Secondary {
+    pub ray: Ray,
+    /// The object the ray leaves ([`Surface::leaving`]), or `usize::MAX`.
+    pub skip: usize,
+    pub depth: u32,
+    /// Path weight after this ray.
+    pub weight: f64,
+    pub tint: Option<Rgb>,
+    pub factor: f64,
+}
+
+impl Secondary {
+    /// Adds the radiance `l` that came back along the ray.
+    #[inline]
+    pub fn join(&self, color: &mut Rgb, l: Rgb) {
+        join(color, self.tint, self.factor, l);
+    }
+}
+
+/// How the radiance `l` a secondary ray brought back joins the colour:
+/// `colour += tint · l · factor` (without a tint, `l · factor`).
+#[inline(always)]
+pub(super) fn join(color: &mut Rgb, tint: Option<Rgb>, factor: f64, l: Rgb) {
+    *color += match tint {
+        Some(t) => t * l * factor,
+        None => l * factor,
+    };
+}
+
+/// The light's sample at the surface when the light is on the side the ray
+/// came from (`None` when it lights the other side).
+#[inline]
+pub fn light_at(s: &Surface, light: &Light) -> Option<LightSample> {
+    let ls = light.sample(s.p);
+    (s.nf.dot(ls.to_light) > 0.0).then_some(ls)
+}
+
+/// `rv` to the power `shininess`: by repeated squaring for a whole
+/// exponent (the usual case, within a few ulp of `powf` and several times
+/// cheaper), by `powf` otherwise.
+#[inline]
+fn phong_lobe(rv: f64, shininess: f64) -> f64 {
+    if shininess.fract() == 0.0 && shininess <= 4096.0 {
+        rv.powi(shininess as i32)
+    } else {
+        rv.powf(shininess)
+    }
+}
+
+/// Whether the light of sample `ls` can change what shading adds at the
+/// surface for a ray along `dir`: a diffuse term (zero for clear glass, whose
+/// opacity is zero) or a specular one (left out where `r·v` is at most the
+/// object's [`crate::scene::Object::lobe_cos_min`], below which the lobe is under
+/// [`crate::material::LOBE_FLOOR`] of its peak). Where neither is, the shadow ray
+/// would not change a bit of the pixel, and a packet does not trace it (the
+/// scalar kernel still does: the tests compare the two paths bit for bit).
+/// The expressions are `shade`'s own.
+#[inline(always)]
+pub(super) fn visibility_matters<const GLASS: bool, const SPECULAR: bool>(
+    s: &Surface,
+    ls: &LightSample,
+    dir: DVec3,
+) -> bool {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let cos = s.nf.dot(ls.to_light);
+    if m.diffuse * opacity * cos != 0.0 || !ls.irradiance.is_finite() {
+        return true;
+    }
+    SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > s.object.lobe_cos_min
+}
+
+/// The ambient term at the surface: where local shading starts.
+#[inline(always)]
+pub(super) fn ambient<const GLASS: bool>(scene: &Scene, s: &Surface) -> Rgb {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let mut color = Rgb::ZERO;
+    color += m.color * scene.ambient * (m.ambient * opacity);
+    color
+}
+
+/// Adds the Lambert and Phong terms of one light's sample `ls` at the
+/// surface, for a ray along `dir`, dimmed by the transmittance `visible` of
+/// its shadow ray (ignored without shadows).
+#[inline(always)]
+pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    s: &Surface,
+    dir: DVec3,
+    ls: &LightSample,
+    visible: Rgb,
+    color: &mut Rgb,
+) {
+    let m = &s.object.material;
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let cos = s.nf.dot(ls.to_light);
+    let mut e = ls.irradiance;
+    if SHADOWS && scene.shadows {
+        e *= visible;
+        if e == Rgb::ZERO {
+            return;
+        }
+    }
+    *color += m.color * e * (m.diffuse * opacity * cos);
+    if SPECULAR && m.specular > 0.0 {
+        let r = optics::reflect(-ls.to_light, s.nf);
+        let rv = r.dot(-dir);
+        if rv > s.object.lobe_cos_min {
+            *color += e * (m.specular * phong_lobe(rv, m.shininess));
+        }
+    }
+}
+
+/// The refracted and reflected rays at the surface for a ray along `dir`,
+/// `depth` bounces deep with path weight `weight`: `trace(secondary,
+/// colour)` follows each and adds what it brings (the scalar kernel at
+/// once, a packet after the local shading of all its lanes: the additions
+/// come in the same order either way). `fresnel(dir, nf, n1, n2)` is
+/// [`optics::fresnel_at`] and `transmit(s, ior)` is [`super::transmitted_ray`] at
+/// the surface for this ray: a packet traces the passes through a lens of
+/// all its lanes together beforehand, the entry's reflectance with them.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the three callbacks are what differ between the scalar and packet kernels
+pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
+    scene: &Scene,
+    dir: DVec3,
+    s: &Surface,
+    depth: u32,
+    lambda_um: f64,
+    weight: f64,
+    fresnel: &mut impl FnMut(DVec3, DVec3, f64, f64) -> f64,
+    transmit: &mut impl FnMut(&Surface, f64) -> Option<Transmitted>,
+    trace: &mut impl FnMut(Secondary, &mut Rgb),
+    color: &mut Rgb,
+) {
+    if depth >= scene.max_depth {
+        return;
+    }
+    let (obj, p, nf, entering) = (s.object, s.p, s.nf, s.entering);
+    let m = &obj.material;
+    let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
+    if GLASS && m.transparency > 0.0 {
+        let ior = m.ior.at(lambda_um);
+        let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
+        let f = fresnel(dir, nf, n1, n2);
+        kr += m.transparency * f;
+        let kt = m.transparency * (1.0 - f);
+        if kt * weight > MIN_WEIGHT
+            && let Some(tr) = transmit(s, ior)
+            && depth + tr.bounces <= scene.max_depth
+        {
+            let w = kt * tr.factor;
+            // Out of a lens, or out of a solid: the ray has left the object.
+            let skip = if s.outward(tr.ray.dir) || obj.lens().is_some() {
+                s.index
+            } else {
+                usize::MAX
+            };
+            trace(
+                Secondary {
+                    ray: tr.ray,
+                    skip,
+                    depth: depth + tr.bounces,
+                    weight: weight * w,
+                    tint: Some(m.color),
+                    factor: w,
+                },
+                color,
+            );
+        }
+    }
+    if kr * weight > MIN_WEIGHT {
+        let r = optics::reflect(dir, nf);
+        trace(
+            Secondary {
+                ray: spawn_ray(p, nf, r, obj.scale),
+                skip: s.leaving(r),
+                depth: depth + 1,
+                weight: weight * kr,
+                tint: None,
+                factor: kr,
+            },
+            color,
+        );
+    }
+}
