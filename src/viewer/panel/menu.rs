@@ -65,26 +65,19 @@ fn file_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
 }
 
 fn edit_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
-    let undo = cx.doc.undo_label().map(|l| format!("Undo {l}"));
-    if ui
-        .add_enabled(
-            undo.is_some(),
-            egui::Button::new(undo.unwrap_or_else(|| "Undo".into())).shortcut_text("Ctrl+Z"),
-        )
-        .clicked()
-    {
+    if history_entry(ui, "Undo", cx.doc.undo_label(), "Ctrl+Z") {
         cx.undo();
     }
-    let redo = cx.doc.redo_label().map(|l| format!("Redo {l}"));
-    if ui
-        .add_enabled(
-            redo.is_some(),
-            egui::Button::new(redo.unwrap_or_else(|| "Redo".into())).shortcut_text("Ctrl+Shift+Z"),
-        )
-        .clicked()
-    {
+    if history_entry(ui, "Redo", cx.doc.redo_label(), "Ctrl+Shift+Z") {
         cx.redo();
     }
+}
+
+/// *Undo …* / *Redo …* naming the step, greyed out without one.
+fn history_entry(ui: &mut egui::Ui, verb: &str, step: Option<&str>, keys: &str) -> bool {
+    let text = step.map_or_else(|| verb.to_string(), |l| format!("{verb} {l}"));
+    ui.add_enabled(step.is_some(), egui::Button::new(text).shortcut_text(keys))
+        .clicked()
 }
 
 fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
