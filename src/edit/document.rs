@@ -9,11 +9,11 @@
 //! valid scene, so it can always be rendered and saved.
 //!
 //! - This file: the document, its undo history and what a change did.
-//! - [`items`]: the *Objects* list — add, delete, duplicate, names.
-//! - [`scene_edits`]: every other change the panel and keys make (camera,
+//! - `items`: the *Objects* list — add, delete, duplicate, names.
+//! - `scene_edits`: every other change the panel and keys make (camera,
 //!   lens, light, material, render settings, the key edits of
 //!   [`super::Edit`]), each one method.
-//! - [`files`]: save, save as, reload, and the TOML text.
+//! - `files`: save, save as, reload, and the TOML text.
 
 mod files;
 mod items;

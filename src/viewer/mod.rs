@@ -6,16 +6,16 @@
 //!
 //! This file is the shell: the [`ApplicationHandler`] that hands events to
 //! the parts and carries out what they ask.
-//! - [`screen`]: window, framebuffer, egui surface, sizes, presenting.
-//! - [`input`]: keys and mouse → flight, key edits, commands.
-//! - [`keys`]: the key-binding tables and the help printed from them.
-//! - [`flight`]: camera flight and mouse-look (a pure step, tested).
-//! - [`refine`]: the link to the render thread: generations, pause.
-//! - [`stats`]: frame timings, the frame log, the overlay's lines.
-//! - [`session`]: the document, the panel's state and the message line,
+//! - `screen`: window, framebuffer, egui surface, sizes, presenting.
+//! - `input`: keys and mouse → flight, key edits, commands.
+//! - `keys`: the key-binding tables and the help printed from them.
+//! - `flight`: camera flight and mouse-look (a pure step, tested).
+//! - `refine`: the link to the render thread: generations, pause.
+//! - `stats`: frame timings, the frame log, the overlay's lines.
+//! - `session`: the document, the panel's state and the message line,
 //!   with the commands keys and panel share (undo, save, open, quit…).
-//! - [`panel`]: the egui panel, one file per section.
-//! - [`gui`], [`overlay`]: egui on `pixels`; text drawn into the picture.
+//! - `panel`: the egui panel, one file per section.
+//! - `gui`, `overlay`: egui on `pixels`; text drawn into the picture.
 //!
 //! The scene lives in a `Document` (library, `lensview::edit`): every change
 //! is one of its methods, which validates with `Scene::build`, keeps the

@@ -1,8 +1,8 @@
-//! The editing panel (egui): the menu bar and status lines ([`menu`]), the
-//! sections *Add* ([`add`]), *Objects* ([`objects`], with the material
-//! editor in [`material`]), *Camera* ([`camera`]), *Lens* ([`lens`]),
-//! *Light* ([`light`]) and *Render* ([`render`]), the file dialog
-//! ([`file_dialog`]) and the unsaved-changes question ([`confirm`]).
+//! The editing panel (egui): the menu bar and status lines (`menu`), the
+//! sections *Add* (`add`), *Objects* (`objects`, with the material
+//! editor in `material`), *Camera* (`camera`), *Lens* (`lens`),
+//! *Light* (`light`) and *Render* (`render`), the file dialog
+//! (`file_dialog`) and the unsaved-changes question (`confirm`).
 //!
 //! A section gets a [`Ctx`]: the editing session (document, the panel's
 //! state in [`UiState`], the message line) and the few display settings it

@@ -1,5 +1,5 @@
 //! The *Objects* section: the list of primitives and lenses, the editor of
-//! the selected primitive (its material below it, see [`super::material`]),
+//! the selected primitive (its material below it, see `material.rs`),
 //! and *Duplicate* / *Delete*.
 
 use super::widgets::{name, number, vec3};
