@@ -3,16 +3,17 @@
 //!
 //! - [`document`]: the scene being edited — validation of every change
 //!   through `Scene::build`, undo/redo, unsaved-changes state, save and
-//!   open, add/delete/duplicate. The viewer's panels and keys go through it.
+//!   open, add/delete/duplicate, and one method for each change the
+//!   viewer's panel and keys make. The viewer only calls them.
 //! - [`presets`]: the scenes of `scenes/`, compiled in.
 //! - This module: the viewer's key edits ([`Edit`], [`apply`]), each clamped
 //!   to valid values and saying what it did, clamp included, instead of
-//!   failing.
+//!   failing (applied to a document by `Document::apply_edit`).
 
 pub mod document;
 pub mod presets;
 
-pub use document::{Change, Document, Item, Rejected, Source};
+pub use document::{Change, Document, Item, Placement, Rejected, Source};
 
 use crate::color::{Rgb, blackbody};
 use crate::math::rotation_from_degrees;

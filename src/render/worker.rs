@@ -1,7 +1,10 @@
 //! The render thread: takes jobs (scene, size, generation), refines them
 //! through the progressive schedule and sends a frame after every stage over
 //! a `crossbeam-channel`, then calls a wake-up function so an event loop can
-//! draw it. A newer job cancels the current one between row bands.
+//! draw it. A newer job cancels the current one between row bands, and
+//! [`Worker::cancel`] stops it without starting another (the viewer's
+//! pause). [`Worker::newest_frame`] hands out only frames of the job that
+//! is still wanted.
 
 use super::progressive::{Progressive, Stage, first_stage, schedule};
 use crate::scene::Scene;
@@ -51,10 +54,16 @@ pub struct Frame {
     pub last: bool,
 }
 
+/// The value of `Worker::wanted` that no job has: nothing is to be rendered.
+const NOTHING: u64 = u64::MAX;
+
 pub struct Worker {
     jobs: Option<Sender<Job>>,
-    pub frames: Receiver<Frame>,
-    latest: Arc<AtomicU64>,
+    frames: Receiver<Frame>,
+    /// The generation the render thread may work on: the newest submitted,
+    /// or [`NOTHING`] after [`Worker::cancel`]. The thread polls it between
+    /// row bands, so one atomic both cancels and tells frames apart.
+    wanted: Arc<AtomicU64>,
     handle: Option<JoinHandle<()>>,
 }
 
@@ -63,38 +72,50 @@ impl Worker {
     pub fn spawn(wake: impl Fn() + Send + 'static) -> Self {
         let (job_tx, job_rx) = unbounded::<Job>();
         let (frame_tx, frame_rx) = unbounded::<Frame>();
-        let latest = Arc::new(AtomicU64::new(0));
-        let l = latest.clone();
+        let wanted = Arc::new(AtomicU64::new(NOTHING));
+        let w = wanted.clone();
         let handle = std::thread::Builder::new()
             .name("lensview-render".into())
-            .spawn(move || run(job_rx, frame_tx, l, wake))
+            .spawn(move || run(job_rx, frame_tx, w, wake))
             .ok();
         Worker {
             jobs: Some(job_tx),
             frames: frame_rx,
-            latest,
+            wanted,
             handle,
         }
     }
 
-    /// Replaces whatever is being rendered by `job`.
+    /// Replaces whatever is being rendered by `job`. Generations must grow
+    /// and stay below `u64::MAX`.
     pub fn submit(&self, job: Job) {
-        self.latest.store(job.generation, Ordering::SeqCst);
+        debug_assert!(job.generation != NOTHING);
+        self.wanted.store(job.generation, Ordering::SeqCst);
         if let Some(tx) = &self.jobs {
             let _ = tx.send(job);
         }
     }
 
-    /// The newest generation submitted.
-    pub fn latest(&self) -> u64 {
-        self.latest.load(Ordering::SeqCst)
+    /// Stops the current job between row bands and starts none: the thread
+    /// waits for the next [`Self::submit`]. Frames the job already sent are
+    /// dropped by [`Self::newest_frame`].
+    pub fn cancel(&self) {
+        self.wanted.store(NOTHING, Ordering::SeqCst);
+    }
+
+    /// Takes every frame sent so far and returns the newest one of the job
+    /// still wanted; frames of older or cancelled jobs are dropped. Never
+    /// waits.
+    pub fn newest_frame(&self) -> Option<Frame> {
+        let wanted = self.wanted.load(Ordering::SeqCst);
+        self.frames.try_iter().filter(|f| f.generation == wanted).last()
     }
 }
 
 impl Drop for Worker {
     fn drop(&mut self) {
         // Cancel the current job and close the channel: the thread ends.
-        self.latest.store(u64::MAX, Ordering::SeqCst);
+        self.cancel();
         self.jobs.take();
         if let Some(h) = self.handle.take() {
             let _ = h.join();
@@ -102,7 +123,7 @@ impl Drop for Worker {
     }
 }
 
-fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake: impl Fn()) {
+fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake: impl Fn()) {
     let mut seconds_per_sample: Option<f64> = None;
     // Reused across jobs of the same size: allocating and zeroing two
     // full-resolution buffers per keypress costs milliseconds.
@@ -111,7 +132,7 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake:
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
         }
-        if job.generation != latest.load(Ordering::SeqCst) {
+        if job.generation != wanted.load(Ordering::SeqCst) {
             continue;
         }
         let stages = schedule(job.max_spp.max(1));
@@ -119,7 +140,7 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, latest: Arc<AtomicU64>, wake:
         prog.reset(job.width, job.height, job.seed);
         let queued_ms = job.input_time.elapsed().as_secs_f64() * 1e3;
         let generation = job.generation;
-        let cancelled = || latest.load(Ordering::Relaxed) != generation;
+        let cancelled = || wanted.load(Ordering::Relaxed) != generation;
         for (i, &stage) in stages.iter().enumerate().skip(first) {
             let cost = stage.cost(job.width, job.height, prog.spp);
             let t0 = Instant::now();
@@ -214,6 +235,59 @@ mod tests {
         assert!(last_gen2, "the newer job never finished");
         // Nothing more of generation 1 arrives after generation 2 finished.
         assert!(w.frames.recv_timeout(Duration::from_millis(300)).is_err());
+    }
+
+    /// Waits (up to 30 s) until the render thread has sent something.
+    fn wait_for_a_frame(w: &Worker) {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while w.frames.is_empty() {
+            assert!(Instant::now() < deadline, "no frame");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    #[test]
+    fn cancel_stops_the_job_and_drops_what_it_sent() {
+        let w = Worker::spawn(|| {});
+        // Small and with a huge cap: many quick stages, each a frame.
+        w.submit(job(1, 64, 48, 1 << 16));
+        wait_for_a_frame(&w);
+        w.cancel();
+        assert!(
+            w.newest_frame().is_none(),
+            "a frame of the cancelled job was handed out"
+        );
+        // One row band may still finish; after that the thread is quiet.
+        std::thread::sleep(Duration::from_millis(200));
+        let _ = w.frames.try_iter().count();
+        assert!(
+            w.frames.recv_timeout(Duration::from_secs(1)).is_err(),
+            "the cancelled job kept rendering"
+        );
+        // The thread takes the next job as usual.
+        w.submit(job(2, 16, 16, 2));
+        let deadline = Instant::now() + Duration::from_secs(30);
+        let mut last = None;
+        while Instant::now() < deadline && last.is_none() {
+            last = w.newest_frame().filter(|f| f.last);
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        assert_eq!(last.map(|f| (f.generation, f.spp)), Some((2, 2)));
+    }
+
+    #[test]
+    fn newest_frame_drops_frames_of_older_jobs() {
+        let w = Worker::spawn(|| {});
+        w.submit(job(1, 16, 16, 2));
+        wait_for_a_frame(&w);
+        // Frames of job 1 wait in the channel; job 2 replaces it.
+        w.submit(job(2, 16, 16, 2));
+        let f = w.newest_frame();
+        assert!(
+            f.as_ref().is_none_or(|f| f.generation == 2),
+            "{:?}",
+            f.map(|f| f.generation)
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::edit::presets::PRESETS;
-use crate::scene::file::LightKind;
+use crate::scene::file::{IndexFile, LightKind, ShapeKind};
 
 fn cubes() -> Document {
     Document::preset("cubes").unwrap()

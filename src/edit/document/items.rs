@@ -1,0 +1,239 @@
+//! The *Objects* list of a [`Document`]: primitives and lenses, their
+//! displayed names, and adding, deleting and duplicating them; the default
+//! new items of the *Add* form.
+
+use super::{Change, Document, Item, Rejected};
+use crate::scene::Scene;
+use crate::scene::file::{IndexFile, LensFile, MaterialFile, ObjectFile, ShapeKind, V3};
+
+/// Where the *Add* form puts a new item.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Placement {
+    /// This far in front of the camera, so it is seen at once.
+    InFrontOfCamera(f64),
+    /// At this point.
+    At(V3),
+}
+
+impl Document {
+    /// The items of the *Objects* list: primitives, then lenses, with the
+    /// names the renderer uses.
+    pub fn items(&self) -> Vec<(Item, String)> {
+        let mut v: Vec<(Item, String)> = (0..self.scene.objects.len())
+            .map(|i| (Item::Object(i), self.item_name(Item::Object(i))))
+            .collect();
+        v.extend((0..self.scene.lenses.len()).map(|i| (Item::Lens(i), self.item_name(Item::Lens(i)))));
+        v
+    }
+
+    /// The displayed name of an item (its `name`, or the default the
+    /// renderer gives it).
+    pub fn item_name(&self, item: Item) -> String {
+        match item {
+            Item::Object(i) => self.scene.objects.get(i).map_or_else(String::new, |o| {
+                o.name.clone().unwrap_or_else(|| format!("{} {}", o.kind.name(), i + 1))
+            }),
+            Item::Lens(i) => self.scene.lenses.get(i).map_or_else(String::new, |l| {
+                l.name.clone().unwrap_or_else(|| format!("lens {}", i + 1))
+            }),
+        }
+    }
+
+    pub fn contains(&self, item: Item) -> bool {
+        match item {
+            Item::Object(i) => i < self.scene.objects.len(),
+            Item::Lens(i) => i < self.scene.lenses.len(),
+        }
+    }
+
+    /// Adds a primitive, with a new material of its own when `material` is
+    /// given (its name made unique). Returns the new item.
+    pub fn add_object(
+        &mut self,
+        mut object: ObjectFile,
+        material: Option<(String, MaterialFile)>,
+    ) -> Result<Item, Rejected> {
+        if object.name.is_none() {
+            object.name = Some(self.unique_name(object.kind.name()));
+        }
+        let label = format!("add {}", object.kind.name());
+        let index = self.scene.objects.len();
+        self.edit(&label, |sf| {
+            if let Some((name, m)) = material {
+                let name = unique_key(&sf.materials, &name);
+                sf.materials.insert(name.clone(), m);
+                object.material = Some(name);
+            }
+            sf.objects.push(object);
+        })?;
+        Ok(Item::Object(index))
+    }
+
+    /// Where `at` is: a point in front of the camera, or `at` itself.
+    pub fn place(&self, at: Placement) -> V3 {
+        match at {
+            Placement::InFrontOfCamera(distance) => in_front_of_camera(&self.built, distance),
+            Placement::At(p) => p,
+        }
+    }
+
+    /// The *Add* form's primitive: `object` (its position and sizes set)
+    /// named after its kind, with a new plain material of `colour` of the
+    /// same name. Returns the new item.
+    pub fn add_primitive(&mut self, mut object: ObjectFile, colour: V3) -> Result<Item, Rejected> {
+        let name = self.unique_name(object.kind.name());
+        object.name = Some(name.clone());
+        self.add_object(object, Some((name, new_material(colour))))
+    }
+
+    /// The *Add* form's lens: `lens` (its centre and shape set) turned to
+    /// face the camera, S1 toward it. Returns the new item.
+    pub fn add_lens_facing_camera(&mut self, mut lens: LensFile) -> Result<Item, Rejected> {
+        lens.axis = (-self.built.camera.forward()).to_array();
+        self.add_lens(lens)
+    }
+
+    /// Adds a lens; returns the new item.
+    pub fn add_lens(&mut self, mut lens: LensFile) -> Result<Item, Rejected> {
+        if lens.name.is_none() {
+            lens.name = Some(self.unique_name("lens"));
+        }
+        let index = self.scene.lenses.len();
+        self.edit("add lens", |sf| sf.lenses.push(lens))?;
+        Ok(Item::Lens(index))
+    }
+
+    /// Deletes an item (its material stays in `[materials]`).
+    pub fn delete(&mut self, item: Item) -> Result<Change, Rejected> {
+        if !self.contains(item) {
+            return Ok(Change::None);
+        }
+        let label = format!("delete {}", self.item_name(item));
+        self.edit(&label, |sf| match item {
+            Item::Object(i) => {
+                sf.objects.remove(i);
+            }
+            Item::Lens(i) => {
+                sf.lenses.remove(i);
+            }
+        })
+    }
+
+    /// Duplicates an item beside the original (moved along +x by its width
+    /// and a little more, so the copy is seen); returns the copy.
+    pub fn duplicate(&mut self, item: Item) -> Result<Option<Item>, Rejected> {
+        if !self.contains(item) {
+            return Ok(None);
+        }
+        let base = self.item_name(item);
+        let name = self.unique_name(&format!("{base} copy"));
+        let label = format!("duplicate {base}");
+        match item {
+            Item::Object(i) => {
+                let mut o = self.scene.objects[i].clone();
+                o.name = Some(name);
+                o.position[0] += object_width(&o) + 0.25;
+                let at = self.scene.objects.len();
+                self.edit(&label, |sf| sf.objects.push(o))?;
+                Ok(Some(Item::Object(at)))
+            }
+            Item::Lens(i) => {
+                let mut l = self.scene.lenses[i].clone();
+                l.name = Some(name);
+                l.center[0] += l.d + 0.25;
+                let at = self.scene.lenses.len();
+                self.edit(&label, |sf| sf.lenses.push(l))?;
+                Ok(Some(Item::Lens(at)))
+            }
+        }
+    }
+
+    /// A name no item has yet: `base`, or `base 2`, `base 3`, …
+    pub fn unique_name(&self, base: &str) -> String {
+        let taken: Vec<String> = self.items().into_iter().map(|(_, n)| n).collect();
+        free_name(base, |n| taken.iter().any(|t| t == n))
+    }
+}
+
+/// The first of `base`, `base 2`, `base 3`, … that `taken` refuses.
+pub fn free_name(base: &str, taken: impl Fn(&str) -> bool) -> String {
+    (1..)
+        .map(|k| {
+            if k == 1 {
+                base.to_string()
+            } else {
+                format!("{base} {k}")
+            }
+        })
+        .find(|n| !taken(n))
+        .unwrap_or_else(|| base.to_string()) // ok: the range is endless
+}
+
+/// A key not yet in `map`: see [`free_name`].
+pub fn unique_key<V>(map: &std::collections::BTreeMap<String, V>, base: &str) -> String {
+    free_name(base, |n| map.contains_key(n))
+}
+
+fn object_width(o: &ObjectFile) -> f64 {
+    match o.kind {
+        ShapeKind::Cuboid => o.size.map_or(1.0, |s| s[0]),
+        ShapeKind::Sphere => 2.0 * o.radius.unwrap_or(0.5),
+        ShapeKind::Prism | ShapeKind::Pyramid => o.side.unwrap_or(1.0),
+    }
+}
+
+/// A new primitive of `kind` at `position` with the default sizes of the
+/// *Add* form: a unit cube, a sphere of radius 0.5, prism and pyramid of
+/// side 1 and height 1.
+pub fn new_object(kind: ShapeKind, position: V3) -> ObjectFile {
+    let mut o = ObjectFile {
+        kind,
+        name: None,
+        position,
+        rotation: [0.0; 3],
+        size: None,
+        radius: None,
+        side: None,
+        height: None,
+        material: None,
+    };
+    match kind {
+        ShapeKind::Cuboid => o.size = Some([1.0; 3]),
+        ShapeKind::Sphere => o.radius = Some(0.5),
+        ShapeKind::Prism | ShapeKind::Pyramid => {
+            o.side = Some(1.0);
+            o.height = Some(1.0);
+        }
+    }
+    o
+}
+
+/// A new lens at `center` facing `axis`: d = 2, r1 = r2 = 5, n = 1.5 (the
+/// cubes scene's lens).
+pub fn new_lens(center: V3, axis: V3) -> LensFile {
+    LensFile {
+        name: None,
+        center,
+        axis,
+        d: 2.0,
+        r1: 5.0,
+        r2: 5.0,
+        n: IndexFile::Constant(1.5),
+        tint: [1.0; 3],
+    }
+}
+
+/// A plain coloured material for a new object.
+pub fn new_material(color: V3) -> MaterialFile {
+    MaterialFile {
+        color,
+        specular: 0.3,
+        ..MaterialFile::default()
+    }
+}
+
+/// A point `distance` in front of the camera: where the *Add* form puts new
+/// things so they are seen at once.
+pub fn in_front_of_camera(scene: &Scene, distance: f64) -> V3 {
+    (scene.camera.position + scene.camera.forward() * distance).to_array()
+}

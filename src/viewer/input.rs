@@ -1,0 +1,180 @@
+//! Keys and mouse: which key events count (not those typed into a field,
+//! not auto-repeated toggles), what a pressed key does (flight, a key edit
+//! of the document, a session command, a display switch), and mouse-look
+//! and the flight-speed wheel.
+
+use super::Viewer;
+use super::keys::{self, Action};
+use super::panel::{Answer, DialogMode};
+use super::session::Command;
+use glam::DVec3;
+use lensview::edit::{Edit, LIGHT_PRESETS};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta};
+use winit::keyboard::{KeyCode, PhysicalKey};
+
+impl Viewer {
+    pub(super) fn keyboard_input(&mut self, event: &KeyEvent, is_synthetic: bool, consumed: bool) {
+        // winit fakes presses for keys held when focus arrives.
+        if is_synthetic {
+            return;
+        }
+        let PhysicalKey::Code(code) = event.physical_key else {
+            return;
+        };
+        let (ctrl, shift) = (self.modifiers.control_key(), self.modifiers.shift_key());
+        // Keys typed into a field are the field's (Ctrl+Z there is the
+        // field's own undo); releases always stop flight. Save and open,
+        // which no field uses, work while typing too.
+        let typing = self.screen.as_ref().is_some_and(|s| s.gui.typing());
+        let file_chord = ctrl
+            && matches!(
+                keys::action_for(code, true, shift),
+                Some(Action::Save | Action::SaveAs | Action::Open)
+            );
+        if consumed && typing && event.state == ElementState::Pressed && !file_chord {
+            return;
+        }
+        // Auto-repeat steps scene edits and undo/redo, never toggles.
+        let repeats = keys::action_for(code, ctrl, shift)
+            .is_some_and(|a| !a.is_held() && (a.restarts() || matches!(a, Action::Undo | Action::Redo)));
+        if event.repeat && !repeats {
+            return;
+        }
+        self.key_event(code, event.state);
+    }
+
+    fn key_event(&mut self, code: KeyCode, state: ElementState) {
+        let (ctrl, shift) = (self.modifiers.control_key(), self.modifiers.shift_key());
+        // While the unsaved-changes question is up, keys answer it.
+        if self.session.ui.confirm.is_some() {
+            if state == ElementState::Pressed {
+                match code {
+                    KeyCode::KeyS | KeyCode::Enter if !ctrl => self.session.answer(Answer::Save),
+                    KeyCode::KeyD | KeyCode::KeyN => self.session.answer(Answer::Discard),
+                    KeyCode::Escape => self.session.answer(Answer::Cancel),
+                    _ => {}
+                }
+                self.settle();
+            }
+            self.flight.release_keys();
+            return;
+        }
+        let Some(action) = keys::action_for(code, ctrl, shift) else {
+            // A flight key released while Ctrl is down still stops flying.
+            if state == ElementState::Released {
+                self.flight.key(code, false);
+            }
+            return;
+        };
+        match state {
+            ElementState::Pressed if action.is_held() => self.flight.key(code, true),
+            ElementState::Released if action.is_held() => self.flight.key(code, false),
+            ElementState::Pressed => self.press(action),
+            ElementState::Released => {}
+        }
+    }
+
+    /// A pressed key's action (all but flight).
+    fn press(&mut self, a: Action) {
+        match self.key_edit(a) {
+            // The key edits clamp to valid values; they still pass through
+            // the document's validation and undo history like any edit.
+            Some(e) => self.session.apply_edit(e),
+            None => self.command_key(a),
+        }
+        self.session.redraw();
+        self.settle();
+    }
+
+    /// The document edit of a scene-edit key; the colour keys step the
+    /// preset and the temperature the panel shares.
+    fn key_edit(&mut self, a: Action) -> Option<Edit> {
+        let ui = &mut self.session.ui;
+        Some(match a {
+            Action::LightX(d) => Edit::LightMove(DVec3::X * d),
+            Action::LightY(d) => Edit::LightMove(DVec3::Y * d),
+            Action::LightZ(d) => Edit::LightMove(DVec3::Z * d),
+            Action::LightIntensity(f) => Edit::LightIntensity(f),
+            Action::LightPreset => {
+                ui.preset = (ui.preset + 1) % LIGHT_PRESETS.len();
+                Edit::LightPreset(ui.preset)
+            }
+            Action::LightWarmer | Action::LightCooler => {
+                let k = ui.temperature + if a == Action::LightWarmer { -500.0 } else { 500.0 };
+                ui.temperature = k.clamp(1000.0, 40000.0);
+                Edit::LightTemperature(ui.temperature)
+            }
+            Action::LensAlongAxis(d) => Edit::LensAlongAxis(d),
+            Action::LensSideways(d) => Edit::LensMove(DVec3::X * d),
+            Action::LensVertical(d) => Edit::LensMove(DVec3::Y * d),
+            Action::LensYaw(d) => Edit::LensTurn { yaw: d, pitch: 0.0 },
+            Action::LensPitch(d) => Edit::LensTurn { yaw: 0.0, pitch: d },
+            Action::LensD(d) => Edit::LensDiameter(d),
+            Action::LensR1(d) => Edit::LensR1(d),
+            Action::LensR2(d) => Edit::LensR2(d),
+            Action::LensN(d) => Edit::LensIndex(d),
+            _ => return None,
+        })
+    }
+
+    /// The keys of session commands and display switches.
+    fn command_key(&mut self, a: Action) {
+        let s = &mut self.session;
+        match a {
+            Action::ResetView => s.reset_view(),
+            Action::Reload => s.reload(),
+            Action::HalfResolution => s.ask(Command::Resolution(if self.display.res_div == 1 { 2 } else { 1 })),
+            Action::Screenshot => s.ask(Command::Screenshot),
+            Action::ToggleOverlay => self.display.overlay = !self.display.overlay,
+            Action::ToggleHelp => self.display.help = !self.display.help,
+            Action::Undo => s.undo(),
+            Action::Redo => s.redo(),
+            Action::Save => {
+                s.save();
+            }
+            Action::SaveAs => s.ui.open_file_dialog(DialogMode::SaveAs, s.doc.source()),
+            Action::Open => s.ui.open_file_dialog(DialogMode::Open, s.doc.source()),
+            Action::TogglePanel => s.ask(Command::ShowPanel(!self.display.panel)),
+            Action::Pause => s.ask(Command::TogglePause),
+            Action::DeleteSelected => s.delete_selected(),
+            Action::DuplicateSelected => s.duplicate_selected(),
+            Action::Quit => s.request_quit(),
+            _ => {}
+        }
+    }
+
+    /// The left button: pressed over the picture (not the panel) starts
+    /// mouse-look; released ends it.
+    pub(super) fn mouse_button(&mut self, state: ElementState, button: MouseButton, consumed: bool) {
+        if button != MouseButton::Left {
+            return;
+        }
+        if state == ElementState::Released {
+            self.flight.end_drag();
+            return;
+        }
+        let columns = self.screen.as_ref().map_or(0, |s| s.panel_columns(&self.display));
+        let over_panel = self.display.panel && self.flight.cursor().0 < columns as f64 * self.display.res_div as f64;
+        if !consumed && !over_panel {
+            self.flight.start_drag();
+        }
+    }
+
+    pub(super) fn cursor_moved(&mut self, x: f64, y: f64) {
+        let doc = &self.session.doc;
+        if let Some((pos, rot)) = self.flight.cursor_moved((x, y), || doc.camera_pose()) {
+            self.move_camera(pos, rot);
+        }
+    }
+
+    /// The wheel (over the picture) changes the flight speed.
+    pub(super) fn wheel(&mut self, delta: MouseScrollDelta) {
+        let steps = match delta {
+            MouseScrollDelta::LineDelta(_, y) => y as f64,
+            MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+        };
+        let speed = self.flight.wheel(steps);
+        self.session.message = format!("flight speed {speed:.2}");
+        self.request_redraw();
+    }
+}

@@ -1,0 +1,175 @@
+//! The link to the render thread: every change to what is drawn starts a
+//! new generation of refinement; the newest frame of the current one is
+//! kept for drawing. Pausing cancels the running job
+//! (`Worker::cancel`); while paused an edit is still shown, refined to one
+//! sample per pixel. The full-resolution screenshot renders here too, on a
+//! thread of its own.
+
+use lensview::render::progressive::{Progressive, Stage};
+use lensview::render::worker::{Frame, Job, Worker};
+use lensview::scene::Scene;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub struct Refine {
+    worker: Worker,
+    generation: u64,
+    /// When the input behind the current generation happened.
+    input_time: Instant,
+    /// Newest frame of the current generation.
+    frame: Option<Frame>,
+    paused: bool,
+    max_spp: u32,
+    screenshots: u32,
+}
+
+impl Refine {
+    pub fn new(worker: Worker, max_spp: u32) -> Self {
+        Refine {
+            worker,
+            generation: 0,
+            input_time: Instant::now(),
+            frame: None,
+            paused: false,
+            max_spp,
+            screenshots: 0,
+        }
+    }
+
+    /// Starts a new generation: `scene` at `width`×`height`.
+    pub fn submit(&mut self, scene: Arc<Scene>, (width, height): (u32, u32)) {
+        self.generation += 1;
+        self.input_time = Instant::now();
+        self.worker.submit(Job {
+            generation: self.generation,
+            scene,
+            width,
+            height,
+            // Paused: an edit still shows, refined to one sample per pixel.
+            max_spp: if self.paused { 1 } else { self.max_spp },
+            seed: 0,
+            input_time: self.input_time,
+        });
+    }
+
+    /// Pauses (stops the render thread; the picture stays) or resumes
+    /// (the caller submits again). Returns whether it is paused now.
+    pub fn toggle_pause(&mut self) -> bool {
+        self.paused = !self.paused;
+        if self.paused {
+            self.worker.cancel();
+        }
+        self.paused
+    }
+
+    pub fn paused(&self) -> bool {
+        self.paused
+    }
+
+    pub fn max_spp(&self) -> u32 {
+        self.max_spp
+    }
+
+    /// Sets the sample cap (clamped to 1..=65536); true when it changed
+    /// (the caller submits again).
+    pub fn set_max_spp(&mut self, spp: u32) -> bool {
+        let spp = spp.clamp(1, 65536);
+        let changed = spp != self.max_spp;
+        self.max_spp = spp;
+        changed
+    }
+
+    /// Takes the frames the render thread sent; true when a newer frame of
+    /// the current generation arrived (draw it).
+    pub fn receive(&mut self) -> bool {
+        match self.worker.newest_frame() {
+            Some(f) => {
+                self.frame = Some(f);
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn frame(&self) -> Option<&Frame> {
+        self.frame.as_ref()
+    }
+
+    /// Forgets the picture (a new size or a new document).
+    pub fn clear_frame(&mut self) {
+        self.frame = None;
+    }
+
+    pub fn input_time(&self) -> Instant {
+        self.input_time
+    }
+
+    /// Saves `scene` at `width`×`height` with the samples refined so far
+    /// (at least one), rendered on its own thread so the window stays live.
+    /// Returns the line for the message bar.
+    pub fn screenshot(&mut self, scene: Arc<Scene>, (w, h): (u32, u32)) -> String {
+        let spp = self.frame.as_ref().map_or(1, |f| f.spp.max(1));
+        self.screenshots += 1;
+        let name = PathBuf::from(format!(
+            "lensview-{}-{}.png",
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs()),
+            self.screenshots
+        ));
+        let msg = format!("saving {} ({w}×{h}, {spp} spp)…", name.display());
+        std::thread::spawn(move || {
+            let mut p = Progressive::new(w, h, 0);
+            p.run(&scene, Stage::Samples(spp), &|| false);
+            match p.image().write_png(&name) {
+                Ok(()) => eprintln!("saved {}", name.display()),
+                Err(e) => eprintln!("error: cannot write {}: {e}", name.display()),
+            }
+        });
+        msg
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    /// Waits up to 30 s for `refine` to receive a frame that passes `pred`.
+    fn wait(refine: &mut Refine, pred: impl Fn(&Frame) -> bool) -> bool {
+        let end = Instant::now() + Duration::from_secs(30);
+        while Instant::now() < end {
+            if refine.receive() && refine.frame().is_some_and(&pred) {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        false
+    }
+
+    #[test]
+    fn paused_the_picture_stays_and_an_edit_refines_to_one_sample() {
+        let scene = Arc::new(Scene::default_scene().1);
+        let mut r = Refine::new(Worker::spawn(|| {}), 1 << 16);
+        r.submit(scene.clone(), (48, 32));
+        assert!(wait(&mut r, |f| f.generation == 1));
+        assert!(r.toggle_pause());
+        let kept = r.frame().map(|f| (f.generation, f.spp));
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(!r.receive(), "a frame arrived while paused");
+        assert_eq!(r.frame().map(|f| (f.generation, f.spp)), kept);
+        // An edit while paused: shown, but only to one sample per pixel.
+        r.submit(scene.clone(), (48, 32));
+        assert!(wait(&mut r, |f| f.generation == 2 && f.last));
+        assert_eq!(r.frame().map(|f| f.spp), Some(1));
+        // Resumed: refinement goes on to the cap.
+        assert!(!r.toggle_pause());
+        assert!(r.set_max_spp(4) && !r.set_max_spp(4));
+        r.submit(scene, (48, 32));
+        assert!(wait(&mut r, |f| f.generation == 3 && f.last));
+        assert_eq!(r.frame().map(|f| f.spp), Some(4));
+        r.clear_frame();
+        assert!(r.frame().is_none());
+    }
+}

@@ -1,0 +1,159 @@
+//! The window's surface: the `winit` window, the `pixels` framebuffer at
+//! 1/`res_div` of its size, egui on top, and the title. The picture is
+//! copied in right of the panel's columns, the overlay text drawn over it,
+//! then the panel painted over both.
+
+use super::gui::Gui;
+use super::overlay;
+use super::panel::PANEL_WIDTH;
+use anyhow::{Result, anyhow};
+use lensview::render::worker::Frame;
+use pixels::{Pixels, SurfaceTexture};
+use std::sync::Arc;
+use winit::dpi::PhysicalSize;
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+/// What is shown, as opposed to what is rendered.
+pub struct Display {
+    /// The figures and message drawn over the picture (F1).
+    pub overlay: bool,
+    /// The key help under the overlay (F2).
+    pub help: bool,
+    /// The editing panel (F4).
+    pub panel: bool,
+    /// Render at 1/res_div of the window's resolution (F3: 2).
+    pub res_div: u32,
+}
+
+pub struct Screen {
+    pub window: Arc<Window>,
+    pixels: Pixels<'static>,
+    pub gui: Gui,
+    title: String,
+}
+
+impl Screen {
+    /// Opens the window (`width`×`height` pixels) and its surface.
+    pub fn open(event_loop: &ActiveEventLoop, (width, height): (u32, u32), title: String) -> Result<Screen> {
+        let attrs = Window::default_attributes()
+            .with_title(&title)
+            .with_inner_size(PhysicalSize::new(width, height))
+            .with_min_inner_size(PhysicalSize::new(1, 1));
+        let window = Arc::new(
+            event_loop
+                .create_window(attrs)
+                .map_err(|e| anyhow!("cannot create a window: {e}"))?,
+        );
+        let size = window.inner_size();
+        let (w, h) = (size.width.max(1), size.height.max(1));
+        // No vsync: a frame is presented as soon as it is rendered; waiting
+        // for a vertical blank would add up to a refresh period of latency.
+        let pixels = pixels::PixelsBuilder::new(w, h, SurfaceTexture::new(w, h, window.clone()))
+            .enable_vsync(false)
+            .build()
+            .map_err(|e| {
+                anyhow!("cannot draw into the window ({e}); render headless instead: lensview render -o out.png")
+            })?;
+        let gui = Gui::new(&window, &pixels);
+        Ok(Screen {
+            window,
+            pixels,
+            gui,
+            title,
+        })
+    }
+
+    pub fn set_title(&mut self, title: String) {
+        if title != self.title {
+            self.window.set_title(&title);
+            self.title = title;
+        }
+    }
+
+    pub fn is_minimised(&self) -> bool {
+        let s = self.window.inner_size();
+        s.width == 0 || s.height == 0
+    }
+
+    /// The framebuffer: the window at 1/res_div.
+    pub fn buffer_size(&self, d: &Display) -> Option<(u32, u32)> {
+        let s = self.window.inner_size();
+        if s.width == 0 || s.height == 0 {
+            return None;
+        }
+        Some(((s.width / d.res_div).max(1), (s.height / d.res_div).max(1)))
+    }
+
+    /// Columns of the framebuffer under the panel; the picture starts there.
+    pub fn panel_columns(&self, d: &Display) -> u32 {
+        let Some((bw, _)) = self.buffer_size(d) else {
+            return 0;
+        };
+        if !d.panel {
+            return 0;
+        }
+        let px = (PANEL_WIDTH as f64 * self.window.scale_factor()).ceil() as u32;
+        px.div_ceil(d.res_div).min(bw.saturating_sub(1))
+    }
+
+    /// The size the picture is rendered at: the framebuffer right of the panel.
+    pub fn render_size(&self, d: &Display) -> Option<(u32, u32)> {
+        let (bw, bh) = self.buffer_size(d)?;
+        Some(((bw - self.panel_columns(d)).max(1), bh))
+    }
+
+    /// Fits the surface to the window and the framebuffer to `d`.
+    pub fn resize(&mut self, d: &Display) -> Result<(), String> {
+        let size = self.window.inner_size();
+        let Some((bw, bh)) = self.buffer_size(d) else {
+            return Ok(());
+        };
+        self.pixels
+            .resize_surface(size.width, size.height)
+            .map_err(|e| e.to_string())?;
+        self.pixels.resize_buffer(bw, bh).map_err(|e| e.to_string())
+    }
+
+    /// Draws `frame` right of the panel, the overlay `lines` over it and
+    /// the last UI pass over both, and presents. `None` when there was
+    /// nothing to draw into; else the picture's first column and whether
+    /// presenting worked.
+    pub fn present(
+        &mut self,
+        d: &Display,
+        frame: Option<&Frame>,
+        lines: Option<&[String]>,
+    ) -> Option<(u32, Result<(), String>)> {
+        let (bw, bh) = self.buffer_size(d)?;
+        let x0 = self.panel_columns(d);
+        let (w, h) = ((bw - x0).max(1), bh);
+        let buf = self.pixels.frame_mut();
+        if buf.len() != (bw * bh * 4) as usize {
+            return None;
+        }
+        let (row, fw) = (bw as usize * 4, w as usize * 4);
+        match frame {
+            Some(f) if f.width == w && f.height == h && f.rgba.len() == fw * h as usize => {
+                for (y, src) in f.rgba.chunks_exact(fw).enumerate() {
+                    let start = y * row + x0 as usize * 4;
+                    buf[start..start + fw].copy_from_slice(src);
+                }
+                for y in 0..h as usize {
+                    buf[y * row..y * row + x0 as usize * 4].fill(0);
+                }
+            }
+            _ => buf.fill(0),
+        }
+        if let Some(lines) = lines {
+            overlay::draw_lines(buf, bw as usize, bh as usize, x0 as usize, lines);
+        }
+        let gui = &mut self.gui;
+        let result = self.pixels.render_with(|encoder, target, context| {
+            context.scaling_renderer.render(encoder, target);
+            gui.paint(encoder, target, context);
+            Ok(())
+        });
+        Some((x0, result.map_err(|e| e.to_string())))
+    }
+}

@@ -1,0 +1,190 @@
+//! Figures about the window's own work: present times, the smoothed frame
+//! interval, the frame log (`--frame-log`, one JSON line per presented
+//! frame), and the lines of the overlay (timings, camera, light, lens,
+//! message, key help).
+
+use super::keys::help_lines;
+use lensview::edit::Document;
+use lensview::render::worker::Frame;
+use std::io::Write;
+use std::time::Instant;
+
+pub struct Stats {
+    /// When the window opened (the log's `t`; `--exit-after` counts from it).
+    pub started: Instant,
+    /// Smoothed time between presented frames, ms (0 before the second).
+    frame_ms: f64,
+    last_present: Option<Instant>,
+    present_ms: f64,
+    log: Option<std::fs::File>,
+}
+
+/// Where a presented frame lies in the window and why it was drawn.
+pub struct Presented<'a> {
+    pub frame: Option<&'a Frame>,
+    /// First framebuffer column of the picture (right of the panel).
+    pub x0: u32,
+    /// When the input behind the frame's generation happened.
+    pub input_time: Instant,
+}
+
+impl Stats {
+    pub fn new(log: Option<std::fs::File>) -> Self {
+        Stats {
+            started: Instant::now(),
+            frame_ms: 0.0,
+            last_present: None,
+            present_ms: 0.0,
+            log,
+        }
+    }
+
+    /// A frame was presented, its drawing begun at `t0`: updates the
+    /// timings and writes the log line.
+    pub fn presented(&mut self, t0: Instant, p: Presented) {
+        let now = Instant::now();
+        self.present_ms = (now - t0).as_secs_f64() * 1e3;
+        if let Some(prev) = self.last_present {
+            let dt = (now - prev).as_secs_f64() * 1e3;
+            self.frame_ms = if self.frame_ms == 0.0 {
+                dt
+            } else {
+                0.9 * self.frame_ms + 0.1 * dt
+            };
+        }
+        self.last_present = Some(now);
+        if let (Some(log), Some(f)) = (&mut self.log, p.frame) {
+            let line = serde_json::json!({
+                "generation": f.generation,
+                "level": f.stage.label(),
+                "spp": f.spp,
+                "width": f.width,
+                "height": f.height,
+                "x0": p.x0,
+                "ms_since_input": (now - p.input_time).as_secs_f64() * 1e3,
+                "render_ms": f.render_ms,
+                "queued_ms": f.queued_ms,
+                "sent_ms_since_input": f.since_input_ms,
+                "present_ms": self.present_ms,
+                "t": (now - self.started).as_secs_f64(),
+            });
+            let _ = writeln!(log, "{line}");
+        }
+    }
+
+    /// The timing lines of the overlay: the frame's stage and speed, then
+    /// the window's frame rate and present time.
+    pub fn timing_lines(&self, frame: Option<&Frame>, paused: bool) -> Vec<String> {
+        let Some(f) = frame else {
+            return vec!["rendering…".into()];
+        };
+        let fps = if self.frame_ms > 0.0 {
+            1000.0 / self.frame_ms
+        } else {
+            0.0
+        };
+        vec![
+            format!(
+                "{} in {:.0} ms, {:.2} M rays/s",
+                stage_text(f, paused),
+                f.render_ms,
+                f.samples_per_s / 1e6,
+            ),
+            format!(
+                "frame {:.1} ms ({:.0} fps), present {:.1} ms",
+                self.frame_ms, fps, self.present_ms
+            ),
+        ]
+    }
+}
+
+/// `"64 spp (done) (paused)"`: the frame's stage and state.
+pub fn stage_text(f: &Frame, paused: bool) -> String {
+    format!(
+        "{}{}{}",
+        f.stage.label(),
+        if f.last { " (done)" } else { "" },
+        if paused { " (paused)" } else { "" }
+    )
+}
+
+/// The scene lines of the overlay: camera and flight speed, the first
+/// light, the first lens with its paraxial data.
+pub fn scene_lines(doc: &Document, speed: f64) -> Vec<String> {
+    let mut v = Vec::new();
+    let scene = doc.built();
+    let (p, r) = (scene.camera.position, scene.camera.rotation_deg);
+    v.push(format!(
+        "camera ({:.2}, {:.2}, {:.2})  speed {:.1}",
+        p.x, p.y, p.z, speed
+    ));
+    v.push(format!(
+        "  rot x {:.1} y {:.1} z {:.1}  fov {:.0}",
+        r.x, r.y, r.z, scene.camera.fov_y_deg
+    ));
+    if let Some(l) = doc.scene().lights.first() {
+        let p = l.position.or(l.direction).unwrap_or_default();
+        v.push(format!(
+            "light ({:.2}, {:.2}, {:.2})  intensity {:.1}",
+            p[0], p[1], p[2], l.intensity
+        ));
+        v.push(format!(
+            "  colour ({:.2}, {:.2}, {:.2})",
+            l.color[0], l.color[1], l.color[2]
+        ));
+    }
+    if let Some(lens) = scene.objects.iter().find_map(|o| o.lens()) {
+        let n = lens.index.nominal();
+        let px = lens.paraxial(n);
+        v.push(format!(
+            "lens d {:.3}  r1 {:.3}  r2 {:.3}  n {:.4}",
+            lens.d, lens.r1, lens.r2, n
+        ));
+        v.push(format!("  EFL {:.4}  BFD {:.4}", px.efl, px.bfd));
+    }
+    v
+}
+
+/// Every line of the overlay. Lines are at most ~55 characters: at 16 px a
+/// character they fit the picture beside the panel in a 1280-pixel window.
+pub fn overlay_lines(
+    title: String,
+    timing: Vec<String>,
+    doc: &Document,
+    speed: f64,
+    message: &str,
+    help: bool,
+) -> Vec<String> {
+    let mut v = vec![title];
+    v.extend(timing);
+    v.extend(scene_lines(doc, speed));
+    v.push(format!("> {message}"));
+    if help {
+        v.extend(help_lines());
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_overlay_shows_camera_light_lens_message_and_help() {
+        let doc = Document::preset("cubes").unwrap();
+        let stats = Stats::new(None);
+        let timing = stats.timing_lines(None, false);
+        assert_eq!(timing, ["rendering…"]);
+        let lines = overlay_lines("t".into(), timing.clone(), &doc, 3.0, "hello", false);
+        assert_eq!(lines[0], "t");
+        assert_eq!(lines[2], "camera (0.00, 6.00, 10.00)  speed 3.0");
+        assert_eq!(lines[4], "light (5.00, 10.00, 6.00)  intensity 500.0");
+        assert!(
+            lines[6].starts_with("lens d 2.000  r1 5.000  r2 5.000  n 1.5000"),
+            "{lines:?}"
+        );
+        assert_eq!(lines.last().unwrap(), "> hello");
+        let with_help = overlay_lines("t".into(), timing, &doc, 3.0, "hello", true);
+        assert_eq!(with_help.len(), lines.len() + help_lines().len());
+    }
+}
