@@ -83,10 +83,31 @@ fn names_after(code: &str, prefix: &str) -> BTreeSet<String> {
     out
 }
 
-/// Code without comments and without what follows the first `#[cfg(test)]`.
+/// The lines of a file outside its tests: a `#[cfg(test)] mod x;` line pair
+/// is left out, and an inline `#[cfg(test)] mod x { … }` ends the code (test
+/// modules come last in this crate).
+fn non_test_lines(text: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut lines = text.lines().peekable();
+    while let Some(l) = lines.next() {
+        if l.trim() == "#[cfg(test)]" {
+            match lines.peek() {
+                Some(next) if next.trim_end().ends_with(';') => {
+                    lines.next();
+                    continue;
+                }
+                _ => break,
+            }
+        }
+        out.push(l);
+    }
+    out
+}
+
+/// Code without comments and tests.
 fn non_test_code(text: &str) -> String {
-    let body = text.split("#[cfg(test)]").next().unwrap_or("");
-    body.lines()
+    non_test_lines(text)
+        .into_iter()
         .filter(|l| !l.trim_start().starts_with("//"))
         .collect::<Vec<_>>()
         .join("\n")
@@ -179,5 +200,105 @@ fn the_checker_sees_paths_groups_and_cycles() {
     assert_eq!(find_cycle(&g), None);
     g.entry("z".into()).or_default().insert("x".into());
     assert_eq!(find_cycle(&g), Some(vec!["x".into(), "y".into(), "z".into()]));
-    assert_eq!(non_test_code("a\n// crate::q\n#[cfg(test)]\ncrate::r"), "a");
+    assert_eq!(non_test_code("a\n// crate::q\n#[cfg(test)]\nmod t;\nb\n#[cfg(test)]\nmod u {\ncrate::r"), "a\nb");
+}
+
+/// The longest a file of `src/` may grow (the brief's "small rooms").
+const MAX_FILE_LINES: usize = 700;
+/// The longest a function outside tests may be.
+const MAX_FN_LINES: usize = 80;
+/// Functions allowed to be longer, each with its reason: (file, name, why).
+const LONG_FUNCTIONS: &[(&str, &str, &str)] = &[];
+
+/// A line without its string and character literals and its `//` comment,
+/// so that braces in them are not counted.
+fn code_only(line: &str) -> String {
+    let mut out = String::new();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' => {
+                while let Some(d) = chars.next() {
+                    match d {
+                        '\\' => {
+                            chars.next();
+                        }
+                        '"' => break,
+                        _ => {}
+                    }
+                }
+            }
+            '\'' if matches!(chars.clone().nth(1), Some('\'')) || chars.peek() == Some(&'\\') => {
+                for d in chars.by_ref() {
+                    if d == '\'' {
+                        break;
+                    }
+                }
+            }
+            '/' if chars.peek() == Some(&'/') => break,
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// (name, first line, length in lines) of every function with a body.
+fn functions(lines: &[&str]) -> Vec<(String, usize, usize)> {
+    let code: Vec<String> = lines.iter().map(|l| code_only(l)).collect();
+    let mut out = Vec::new();
+    for (i, l) in code.iter().enumerate() {
+        let Some(at) = l.find("fn ").filter(|&at| at == 0 || !l.as_bytes()[at - 1].is_ascii_alphanumeric()) else {
+            continue;
+        };
+        let name: String = l[at + 3..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        let (mut depth, mut opened) = (0i64, false);
+        for (j, m) in code.iter().enumerate().skip(i) {
+            for c in m.chars() {
+                match c {
+                    '{' => (depth, opened) = (depth + 1, true),
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if opened && depth <= 0 {
+                out.push((name.clone(), i + 1, j - i + 1));
+                break;
+            }
+            if !opened && m.trim_end().ends_with(';') {
+                break;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_file_or_function_outgrows_its_room() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rs_files(&src, &mut files);
+    let mut too_long = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("a readable source file");
+        let rel = file.strip_prefix(&src).expect("under src").display().to_string();
+        let n = text.lines().count();
+        if n > MAX_FILE_LINES {
+            too_long.push(format!("src/{rel}: {n} lines"));
+        }
+        for (name, line, len) in functions(&non_test_lines(&text)) {
+            let allowed = LONG_FUNCTIONS.iter().any(|(f, n, _)| *f == rel && *n == name);
+            if len > MAX_FN_LINES && !allowed {
+                too_long.push(format!("src/{rel}:{line}: fn {name}: {len} lines"));
+            }
+        }
+    }
+    assert!(too_long.is_empty(), "over {MAX_FILE_LINES} lines a file or {MAX_FN_LINES} a function: {too_long:#?}");
+}
+
+#[test]
+fn the_room_checker_measures_functions() {
+    let text = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\nfn b();\npub fn c(x: u8) -> u8 {\n    x\n}";
+    let lines: Vec<&str> = text.lines().collect();
+    let got = functions(&lines);
+    assert_eq!(got, vec![("a".to_string(), 1, 5), ("c".to_string(), 7, 3)]);
 }
