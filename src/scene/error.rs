@@ -423,4 +423,17 @@ mod tests {
         assert_eq!(nf.len(), 1);
         assert_eq!(nf[0].path, p);
     }
+
+    #[test]
+    fn control_characters_are_escaped_once() {
+        let raw = "a\u{1b}[2J\t\u{7f}\u{9b}\u{202e}é";
+        let once = escape_controls(raw);
+        assert_eq!(once, "a\\u{1b}[2J\\u{9}\\u{7f}\\u{9b}\\u{202e}é");
+        assert_eq!(escape_controls(&once), once);
+        assert!(matches!(escape_controls("plain é"), Cow::Borrowed(_)));
+        let path = FieldPath::root("materials").key("x\u{1b}");
+        assert_eq!(path.to_string(), "materials.x\\u{1b}");
+        assert_eq!(size_text(16 << 20), "16 MiB");
+        assert_eq!(size_text(1000), "1000 bytes");
+    }
 }

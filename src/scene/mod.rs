@@ -10,7 +10,7 @@ pub mod error;
 pub mod file;
 mod input;
 
-pub use error::{FieldPath, Problem, SceneError};
+pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;
 pub use input::{SCENE_FILE_CAP, check_scene_bytes, read_capped};
 
