@@ -1,9 +1,12 @@
 //! Every shipped scene loads and renders; bad scene files are rejected with
-//! one line naming file, line and field.
+//! one line naming file, line and field. Input hardening (issue 19): exact
+//! array lengths, duplicate keys and tables named with their line, invalid
+//! UTF-8 placed, control characters escaped in every message, and input
+//! files read with a size cap.
 
 use lensview::render::{RenderSettings, render};
-use lensview::scene::{Scene, SceneError};
-use std::path::PathBuf;
+use lensview::scene::{SCENE_FILE_CAP, Scene, SceneError, read_capped};
+use std::path::{Path, PathBuf};
 
 fn scene_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
@@ -101,27 +104,11 @@ r2 = 2
 n = 1.5
 "#;
 
-/// Parses `BASE` with `from` replaced by `to`; returns (line, column, field, message).
+/// Parses `BASE` with `from` replaced by `to`; returns (line, field,
+/// message) of the one-line error ([`placed_error_of`]).
 fn error_of(from: &str, to: &str) -> (usize, String, String) {
-    assert!(BASE.contains(from), "{from}");
-    let text = BASE.replacen(from, to, 1);
-    match Scene::parse("bad.toml", &text) {
-        Ok(_) => panic!("accepted {to}"),
-        Err(SceneError::Invalid {
-            file,
-            line,
-            field,
-            message,
-            ..
-        }) => {
-            assert_eq!(file, "bad.toml");
-            let shown = Scene::parse("bad.toml", &text).unwrap_err().to_string();
-            assert!(!shown.contains('\n'), "not one line: {shown}");
-            assert!(shown.starts_with(&format!("bad.toml:{line}:")), "{shown}");
-            (line, field, message)
-        }
-        Err(e) => panic!("{e}"),
-    }
+    let (line, _, field, message) = placed_error_of(from, to);
+    (line, field, message)
 }
 
 #[test]
@@ -185,4 +172,183 @@ fn scene_file_round_trips_through_toml() {
     let (sf2, scene2) = Scene::parse("again.toml", &text).unwrap();
     assert_eq!(sf, sf2);
     assert_eq!(scene, scene2);
+}
+
+/// The error for `BASE` with `from` replaced by `to`: (line, column,
+/// field, message), after checking that its text is one line that starts
+/// with `bad.toml:line:column: field: `.
+fn placed_error_of(from: &str, to: &str) -> (usize, usize, String, String) {
+    assert!(BASE.contains(from), "{from}");
+    invalid(Scene::parse("bad.toml", &BASE.replacen(from, to, 1)))
+}
+
+fn invalid<T>(r: Result<T, SceneError>) -> (usize, usize, String, String) {
+    let e = match r {
+        Ok(_) => panic!("accepted a bad scene"),
+        Err(e) => e,
+    };
+    let shown = e.to_string();
+    assert!(!shown.contains('\n'), "not one line: {shown}");
+    match e {
+        SceneError::Invalid {
+            line,
+            column,
+            field,
+            message,
+            ..
+        } => {
+            let head = format!("bad.toml:{line}:{column}: {field}: ");
+            assert!(shown.starts_with(&head), "{shown}");
+            (line, column, field, message)
+        }
+        e => panic!("{e}"),
+    }
+}
+
+#[test]
+fn arrays_of_the_wrong_length_are_refused() {
+    Scene::parse("ok.toml", BASE).unwrap();
+    let (line, _, field, msg) = placed_error_of("position = [0, 1, 5]", "position = [0, 1, 6, 7]");
+    assert_eq!((line, field.as_str()), (3, "camera.position"));
+    assert_eq!(msg, "invalid length 4, expected an array of 3 numbers");
+    let (_, _, field, msg) = placed_error_of("position = [0, 1, 5]", "position = [0, 1]");
+    assert_eq!(field, "camera.position");
+    assert_eq!(msg, "invalid length 2, expected an array of 3 numbers");
+    let (line, _, field, msg) = placed_error_of("color = [0.8, 0.1, 0.1]", "color = [0.8, 0.1, 0.1, 1]");
+    assert_eq!((line, field.as_str()), (11, "materials.red.color"));
+    assert!(msg.contains("invalid length 4"), "{msg}");
+    let (line, _, field, msg) = placed_error_of("n = 1.5", "n = { cauchy = [1.5, 0.004, 7] }");
+    assert_eq!((line, field.as_str()), (23, "lenses[0].n.cauchy"));
+    assert_eq!(msg, "invalid length 3, expected an array of 2 numbers");
+    Scene::parse("ok.toml", &BASE.replacen("n = 1.5", "n = { cauchy = [1.5, 0.004] }", 1)).unwrap();
+    // Every array of three: an optional one, one with a default, a lens's.
+    for (from, to, at) in [
+        ("look_at = [0, 0, 0]", "look_at = [0, 0, 0, 0]", "camera.look_at"),
+        (
+            "radius = 1",
+            "radius = 1\nrotation = [1, 2, 3, 4]",
+            "objects[0].rotation",
+        ),
+        ("center = [0, 0, 3]", "center = [0, 0, 3, 0]", "lenses[0].center"),
+        ("d = 1", "d = 1\ntint = [1, 1, 1, 1]", "lenses[0].tint"),
+        (
+            "intensity = 100",
+            "intensity = 100\ncolor = [1, 1, 1, 1, 1]",
+            "lights[0].color",
+        ),
+    ] {
+        assert_eq!(placed_error_of(from, to).2, at, "{to}");
+    }
+}
+
+#[test]
+fn duplicate_keys_and_tables_are_named_with_their_lines() {
+    let (line, col, field, msg) = placed_error_of("radius = 1", "radius = 1\nradius = 2");
+    assert_eq!((line, col, field.as_str()), (16, 1, "objects[0].radius"));
+    assert_eq!(msg, "duplicate key `radius`, first given on line 15");
+    let (line, _, field, msg) = placed_error_of("[[lenses]]", "[camera]\nfov = 30\n\n[[lenses]]");
+    assert_eq!((line, field.as_str()), (18, "camera"));
+    assert_eq!(msg, "duplicate table `camera`, first given on line 2");
+    let (line, _, field, msg) = placed_error_of("[[objects]]", "[materials.red]\n\n[[objects]]");
+    assert_eq!((line, field.as_str()), (13, "materials.red"));
+    assert!(msg.starts_with("duplicate table `red`"), "{msg}");
+    // In the second of two [[lenses]], and in an inline table.
+    let two = "[[lenses]]\ncenter = [0, 0, 9]\nd = 1\nr1 = 2\nr2 = 2\nn = 1.5\nd = 3\n\n[[lenses]]";
+    let (line, _, field, _) = placed_error_of("[[lenses]]", two);
+    assert_eq!((line, field.as_str()), (24, "lenses[0].d"));
+    let (_, _, field, _) = placed_error_of("n = 1.5", "n = { cauchy = [1.5, 0], cauchy = [1.6, 0] }");
+    assert_eq!(field, "lenses[0].n.cauchy");
+}
+
+#[test]
+fn invalid_utf8_is_placed_at_its_first_bad_byte() {
+    let mut bytes = BASE.replacen("material = \"red\"", "name = \"caf\u{e9}!\"\nmaterial = \"red\"", 1);
+    bytes.insert_str(0, "# comment\n");
+    let mut bytes = bytes.into_bytes();
+    // "é" is 0xc3 0xa9; 0xe9 alone (Latin-1) is not UTF-8.
+    let at = bytes.windows(2).position(|w| w == [0xc3, 0xa9]).unwrap();
+    bytes.splice(at..at + 2, [0xe9]);
+    let (line, col, field, msg) = invalid(Scene::from_bytes("bad.toml", &bytes));
+    assert_eq!((line, col), (17, 12));
+    assert_eq!(field, "objects[0].name");
+    assert!(msg.starts_with("invalid UTF-8 (byte 0xe9)"), "{msg}");
+    // A truncated sequence at the very end.
+    let mut cut = BASE.as_bytes().to_vec();
+    cut.push(0xc3);
+    let (line, col, _, msg) = invalid(Scene::from_bytes("bad.toml", &cut));
+    assert_eq!((line, col), (24, 1));
+    assert!(msg.contains("0xc3"), "{msg}");
+}
+
+#[test]
+fn control_characters_are_escaped_in_every_message() {
+    let esc = |s: &str| {
+        assert!(!s.chars().any(|c| c.is_control()), "raw control character in {s:?}");
+        assert!(s.contains("\\u{1b}"), "{s}");
+    };
+    // A validation message quoting a name.
+    let r = Scene::parse("bad.toml", &BASE.replacen("\"red\"\n", "\"\\u001b[2J\"\n", 1));
+    esc(&r.unwrap_err().to_string());
+    // A field path with a quoted key, from the parser.
+    let r = Scene::parse(
+        "bad.toml",
+        &BASE.replacen("color = [0.8", "\"\\u001b]0;x\\u0007\" = 1\ncolor = [0.8", 1),
+    );
+    let e = r.unwrap_err().to_string();
+    esc(&e);
+    assert!(e.contains("\\u{7}"), "{e}");
+    // A C1 control and DEL in a duplicate key, and the file's own name.
+    let text = BASE.replacen("radius = 1", "\"a\\u009b\\u007f\" = 1\n\"a\\u009b\\u007f\" = 2", 1);
+    let e = Scene::parse("bad\u{1b}[2J.toml", &text).unwrap_err().to_string();
+    esc(&e);
+    assert!(e.contains("\\u{9b}\\u{7f}"), "{e}");
+    let e = Scene::load(Path::new("no/such/\u{1b}[2J.toml"))
+        .unwrap_err()
+        .to_string();
+    esc(&e);
+}
+
+fn scratch(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("scenes-{name}"))
+}
+
+#[test]
+fn input_files_are_read_with_a_size_cap() {
+    let path = scratch("cap.toml");
+    std::fs::write(&path, b"12345").unwrap();
+    assert_eq!(read_capped(&path, 5).unwrap(), b"12345");
+    let e = read_capped(&path, 4).unwrap_err();
+    assert!(matches!(e, SceneError::TooLarge { cap: 4, .. }), "{e}");
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: not read: larger than the 4 bytes limit for this input",
+            path.display()
+        )
+    );
+    // A scene file over 16 MiB is refused before it is read.
+    let big = scratch("big.toml");
+    let f = std::fs::File::create(&big).unwrap();
+    f.set_len(SCENE_FILE_CAP + 1).unwrap();
+    let e = Scene::load(&big).unwrap_err().to_string();
+    assert!(
+        e.starts_with(&big.display().to_string()) && e.ends_with("larger than the 16 MiB limit for this input"),
+        "{e}"
+    );
+    std::fs::remove_file(&big).unwrap();
+    // An endless device is read only up to the cap.
+    if Path::new("/dev/zero").exists() {
+        let t = std::time::Instant::now();
+        let e = Scene::load(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert_eq!(e, "/dev/zero: not read: larger than the 16 MiB limit for this input");
+        assert!(t.elapsed().as_secs() < 10, "{:?}", t.elapsed());
+    }
+    // A directory is an I/O error naming it.
+    let e = Scene::load(Path::new(env!("CARGO_TARGET_TMPDIR")))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!("{}: cannot read", env!("CARGO_TARGET_TMPDIR"))),
+        "{e}"
+    );
 }

@@ -4,7 +4,12 @@
 //! field path (`lenses[0].r1`), and [`Located`] finds that path's line in a
 //! span-keeping parse of the same text (`toml_edit`). Parse errors go the
 //! other way: their byte offset is turned back into the innermost field path.
+//!
+//! Text from a file (keys, names, the file's own name) is printed with its
+//! control characters escaped ([`escape_controls`]): an ESC sequence in a
+//! material name must not reach the terminal.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::ops::Range;
 use toml_edit::{Item, TableLike, Value};
@@ -43,8 +48,8 @@ impl fmt::Display for FieldPath {
         }
         for (i, s) in self.0.iter().enumerate() {
             match s {
-                Seg::Key(k) if i == 0 => write!(f, "{k}")?,
-                Seg::Key(k) => write!(f, ".{k}")?,
+                Seg::Key(k) if i == 0 => write!(f, "{}", escape_controls(k))?,
+                Seg::Key(k) => write!(f, ".{}", escape_controls(k))?,
                 Seg::Index(n) => write!(f, "[{n}]")?,
             }
         }
@@ -52,13 +57,50 @@ impl fmt::Display for FieldPath {
     }
 }
 
-/// A scene that cannot be loaded.
+/// Whether `c` is printed escaped: a control character (C0, DEL, C1) or a
+/// bidirectional override, which could reorder what the reader sees.
+fn needs_escape(c: char) -> bool {
+    c.is_control() || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// `s` with each control character written as `\u{1b}` (Rust's escape), so
+/// that text from a file cannot drive the terminal it is printed on.
+/// Escaping twice changes nothing: the escape has no control character.
+pub fn escape_controls(s: &str) -> Cow<'_, str> {
+    if !s.chars().any(needs_escape) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if needs_escape(c) {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// A byte count as a reader states a limit: `16 MiB`, else in bytes.
+pub fn size_text(bytes: u64) -> String {
+    if bytes >= 1 << 20 && bytes % (1 << 20) == 0 {
+        format!("{} MiB", bytes >> 20)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+/// A scene that cannot be loaded. Every message is one line, its text from
+/// the file escaped.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    #[error("{file}: cannot read: {err}")]
+    #[error("{}: cannot read: {err}", escape_controls(.file))]
     Io { file: String, err: std::io::Error },
+    /// The file is longer than the limit for its kind (read no further).
+    #[error("{}: not read: larger than the {} limit for this input", escape_controls(.file), size_text(*.cap))]
+    TooLarge { file: String, cap: u64 },
     /// `file:line:column: field: message`, all on one line.
-    #[error("{file}:{line}:{column}: {field}: {message}")]
+    #[error("{}:{line}:{column}: {}: {}", escape_controls(.file), escape_controls(.field), escape_controls(.message))]
     Invalid {
         file: String,
         line: usize,
@@ -76,10 +118,13 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// A problem whose message, which may quote names from the file, has
+    /// its control characters escaped.
     pub fn new(path: FieldPath, message: impl Into<String>) -> Self {
+        let message = message.into();
         Problem {
             path,
-            message: message.into(),
+            message: escape_controls(&message).into_owned(),
         }
     }
 }
@@ -148,10 +193,17 @@ impl<'a> Located<'a> {
     /// Byte span of the deepest existing prefix of `path` (the key where
     /// there is one, else its table).
     pub fn span_of(&self, path: &FieldPath) -> Option<Range<usize>> {
-        let doc = self.doc.as_ref()?;
+        self.find(path).0
+    }
+
+    /// [`Located::span_of`] and how many segments of `path` exist.
+    fn find(&self, path: &FieldPath) -> (Option<Range<usize>>, usize) {
+        let Some(doc) = self.doc.as_ref() else {
+            return (None, 0);
+        };
         let mut node = Node::Item(doc.as_item());
         let mut span = None;
-        for seg in &path.0 {
+        for (depth, seg) in path.0.iter().enumerate() {
             match node.child(seg) {
                 Some((n, s)) => {
                     node = n;
@@ -159,10 +211,10 @@ impl<'a> Located<'a> {
                         span = s;
                     }
                 }
-                None => break,
+                None => return (span, depth),
             }
         }
-        span
+        (span, path.0.len())
     }
 
     /// The innermost field whose key or value contains byte `offset`.
@@ -242,16 +294,64 @@ impl<'a> Located<'a> {
         }
     }
 
-    /// An error at a byte offset (from a parser), naming the field there.
-    pub fn error_at(&self, offset: usize, message: &str) -> SceneError {
-        let (line, column) = line_col(self.text, offset);
+    /// An error at a byte span (from a parser), naming the field there.
+    pub fn error_at(&self, span: Range<usize>, message: &str) -> SceneError {
+        let (line, column) = line_col(self.text, span.start);
+        let mut message = message.trim().replace('\n', " ");
+        let mut field = self.path_at(span.start);
+        if self.doc.is_none() && message == "duplicate key" {
+            match self.duplicate(span.clone()) {
+                Some((path, why)) => (field, message) = (path, why),
+                None => message = format!("duplicate key `{}`", self.text.get(span).unwrap_or("")),
+            }
+        }
         SceneError::Invalid {
             file: self.file.to_string(),
             line,
             column,
-            field: self.path_at(offset).to_string(),
-            message: message.trim().replace('\n', " "),
+            field: field.to_string(),
+            message: escape_controls(&message).into_owned(),
         }
+    }
+
+    /// A duplicate key or table at `span`, which leaves no parsed document
+    /// to find its path in. The text is parsed again with this second key
+    /// renamed: the renamed key's path is the duplicate's, and the original
+    /// key in that document is where it was first given. Returns the path
+    /// and the message.
+    fn duplicate(&self, span: Range<usize>) -> Option<(FieldPath, String)> {
+        let key: toml_edit::Key = self.text.get(span.clone())?.trim().parse().ok()?;
+        let fresh = (0..)
+            .map(|i| format!("lensview_renamed_{i}"))
+            .find(|n| !self.text.contains(n.as_str()))?;
+        let renamed = format!("{}{fresh}{}", &self.text[..span.start], &self.text[span.end..]);
+        let attempt = |text: &str| {
+            let tmp = Located::new(self.file, text);
+            let mut path = tmp.path_at(span.start);
+            let at = path.0.iter().position(|s| *s == Seg::Key(fresh.clone()))?;
+            path.0.truncate(at + 1);
+            path.0[at] = Seg::Key(key.get().to_string());
+            let first = match tmp.find(&path) {
+                (Some(s), depth) if depth == path.0.len() => {
+                    format!(", first given on line {}", line_col(text, s.start).0)
+                }
+                _ => String::new(),
+            };
+            Some((path, first))
+        };
+        // A later error must not hide this one: else parse up to this line.
+        let line_end = renamed[span.start..]
+            .find('\n')
+            .map_or(renamed.len(), |i| span.start + i);
+        let (path, first) = attempt(&renamed).or_else(|| attempt(&renamed[..line_end]))?;
+        let line = &self.text[self.text[..span.start].rfind('\n').map_or(0, |i| i + 1)..];
+        let what = if line.trim_start().starts_with('[') {
+            "table"
+        } else {
+            "key"
+        };
+        let name = escape_controls(key.get());
+        Some((path, format!("duplicate {what} `{name}`{first}")))
     }
 
     /// Every non-finite float (`nan`, `inf`) in the document.
@@ -322,5 +422,18 @@ mod tests {
         let nf = l.non_finite();
         assert_eq!(nf.len(), 1);
         assert_eq!(nf[0].path, p);
+    }
+
+    #[test]
+    fn control_characters_are_escaped_once() {
+        let raw = "a\u{1b}[2J\t\u{7f}\u{9b}\u{202e}é";
+        let once = escape_controls(raw);
+        assert_eq!(once, "a\\u{1b}[2J\\u{9}\\u{7f}\\u{9b}\\u{202e}é");
+        assert_eq!(escape_controls(&once), once);
+        assert!(matches!(escape_controls("plain é"), Cow::Borrowed(_)));
+        let path = FieldPath::root("materials").key("x\u{1b}");
+        assert_eq!(path.to_string(), "materials.x\\u{1b}");
+        assert_eq!(size_text(16 << 20), "16 MiB");
+        assert_eq!(size_text(1000), "1000 bytes");
     }
 }

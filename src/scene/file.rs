@@ -2,7 +2,7 @@
 //! keys; every default lives here, in one place. See README.md, "Scene file
 //! format", for the meaning of each key.
 
-use serde::de::{self, MapAccess, Visitor};
+use serde::de::{self, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -30,7 +30,7 @@ pub struct SceneFile {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderFile {
-    #[serde(default = "default_background")]
+    #[serde(default = "default_background", deserialize_with = "exact3")]
     pub background: V3,
     #[serde(default = "default_max_depth")]
     pub max_depth: u32,
@@ -55,12 +55,13 @@ impl Default for RenderFile {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
+    #[serde(deserialize_with = "exact3")]
     pub position: V3,
     /// Degrees about x, y, z. Exclusive with `look_at`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub rotation: Option<V3>,
     /// A point to look at (no roll). Exclusive with `rotation`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub look_at: Option<V3>,
     /// Vertical field of view in degrees.
     #[serde(default = "default_fov")]
@@ -70,7 +71,7 @@ pub struct CameraFile {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AmbientFile {
-    #[serde(default = "default_white")]
+    #[serde(default = "default_white", deserialize_with = "exact3")]
     pub color: V3,
     #[serde(default = "default_ambient")]
     pub intensity: f64,
@@ -97,11 +98,11 @@ pub enum LightKind {
 pub struct LightFile {
     #[serde(rename = "type", default = "default_light_kind")]
     pub kind: LightKind,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub position: Option<V3>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub direction: Option<V3>,
-    #[serde(default = "default_white")]
+    #[serde(default = "default_white", deserialize_with = "exact3")]
     pub color: V3,
     pub intensity: f64,
 }
@@ -109,7 +110,7 @@ pub struct LightFile {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialFile {
-    #[serde(default = "default_grey")]
+    #[serde(default = "default_grey", deserialize_with = "exact3")]
     pub color: V3,
     #[serde(default = "default_one")]
     pub ambient: f64,
@@ -172,11 +173,11 @@ pub struct ObjectFile {
     pub kind: ShapeKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact3")]
     pub position: V3,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact3")]
     pub rotation: V3,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub size: Option<V3>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f64>,
@@ -194,15 +195,16 @@ pub struct ObjectFile {
 pub struct LensFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact3")]
     pub center: V3,
-    #[serde(default = "default_axis")]
+    #[serde(default = "default_axis", deserialize_with = "exact3")]
     pub axis: V3,
     pub d: f64,
     pub r1: f64,
     pub r2: f64,
     pub n: IndexFile,
     /// Colour of the glass (1 = clear).
-    #[serde(default = "default_white")]
+    #[serde(default = "default_white", deserialize_with = "exact3")]
     pub tint: V3,
 }
 
@@ -236,7 +238,7 @@ impl<'de> Deserialize<'de> for IndexFile {
                     if key != "cauchy" {
                         return Err(de::Error::unknown_field(&key, &["cauchy"]));
                     }
-                    out = Some(IndexFile::Cauchy(map.next_value()?));
+                    out = Some(IndexFile::Cauchy(map.next_value::<Exact<2>>()?.0));
                 }
                 out.ok_or_else(|| de::Error::missing_field("cauchy"))
             }
@@ -257,6 +259,46 @@ impl Serialize for IndexFile {
             }
         }
     }
+}
+
+/// Exactly `N` numbers. serde's `[f64; N]` stops reading after `N` and the
+/// TOML reader does not complain about the rest, so `[0, 1, 6, 7]` would
+/// pass as `[0, 1, 6]`; this counts what is left and refuses it.
+struct Exact<const N: usize>([f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Exact<N> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for V<N> {
+            type Value = Exact<N>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "an array of {N} numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Exact<N>, A::Error> {
+                let mut out = [0.0; N];
+                for (i, x) in out.iter_mut().enumerate() {
+                    *x = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                let mut len = N;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    len += 1;
+                }
+                if len > N {
+                    return Err(de::Error::invalid_length(len, &self));
+                }
+                Ok(Exact(out))
+            }
+        }
+        d.deserialize_seq(V::<N>)
+    }
+}
+
+fn exact3<'de, D: Deserializer<'de>>(d: D) -> Result<V3, D::Error> {
+    Exact::<3>::deserialize(d).map(|e| e.0)
+}
+
+fn opt_exact3<'de, D: Deserializer<'de>>(d: D) -> Result<Option<V3>, D::Error> {
+    exact3(d).map(Some)
 }
 
 fn default_background() -> V3 {

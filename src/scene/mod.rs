@@ -1,5 +1,6 @@
 //! Scenes: the file model ([`file`]), its validation into the render model
-//! ([`Scene`]), and errors that name file, line and field ([`error`]).
+//! ([`Scene`]), errors that name file, line and field ([`error`]), and
+//! reading a file with a size cap ([`read_capped`]).
 //!
 //! [`Scene::build`] is the only way from a [`SceneFile`] to a [`Scene`]; a
 //! file loaded from disk, the embedded default and (later) an edit made in
@@ -7,9 +8,11 @@
 
 pub mod error;
 pub mod file;
+mod input;
 
-pub use error::{FieldPath, Problem, SceneError};
+pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;
+pub use input::{SCENE_FILE_CAP, check_scene_bytes, read_capped};
 
 use crate::camera::Camera;
 use crate::color::Rgb;
@@ -239,16 +242,6 @@ impl Scene {
         self.others_bounds = others_bounds(&self.objects);
     }
 
-    /// Loads and validates a scene file.
-    pub fn load(path: &std::path::Path) -> Result<(SceneFile, Scene), SceneError> {
-        let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|err| SceneError::Io {
-            file: name.clone(),
-            err,
-        })?;
-        Self::parse(&name, &text)
-    }
-
     /// The embedded default scene.
     pub fn default_scene() -> (SceneFile, Scene) {
         Self::parse(DEFAULT_SCENE_NAME, DEFAULT_SCENE).expect("embedded default scene is valid") // ok: a test fixture (tests/scenes.rs)
@@ -263,8 +256,7 @@ impl Scene {
         let sf: SceneFile = match toml::from_str(text) {
             Ok(sf) => sf,
             Err(e) => {
-                let offset = e.span().map_or(0, |s| s.start);
-                return Err(located.error_at(offset, e.message()));
+                return Err(located.error_at(e.span().unwrap_or(0..0), e.message()));
             }
         };
         match Scene::build(&sf) {

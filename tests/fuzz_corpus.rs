@@ -1,0 +1,39 @@
+//! Replays the fuzz corpus (fuzz/corpus/scene) and any crash inputs kept
+//! (fuzz/artifacts) through the fuzz target's own oracle, so that plain
+//! `cargo test` checks every input the fuzzer has found interesting.
+
+use std::path::{Path, PathBuf};
+
+fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            files_under(&p, out);
+        } else {
+            out.push(p);
+        }
+    }
+}
+
+#[test]
+fn fuzz_corpus_and_artifacts_replay_without_panic() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let mut corpus = Vec::new();
+    files_under(&root.join("corpus/scene"), &mut corpus);
+    assert!(corpus.len() >= 10, "seed corpus missing: {} files", corpus.len());
+    let mut all = corpus;
+    files_under(&root.join("artifacts"), &mut all);
+    all.sort();
+    let mut loaded = 0;
+    for f in &all {
+        let bytes = std::fs::read(f).unwrap();
+        let outcome = std::panic::catch_unwind(|| lensview::scene::check_scene_bytes(&bytes));
+        assert!(outcome.is_ok(), "{} fails the fuzz oracle", f.display());
+        loaded += lensview::scene::Scene::from_bytes("x.toml", &bytes).is_ok() as usize;
+    }
+    // The shipped scenes are in the seed corpus: some inputs load.
+    assert!(loaded >= 3, "only {loaded} of {} inputs load", all.len());
+}
