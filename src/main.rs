@@ -14,7 +14,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let chain: Vec<String> = e.chain().map(|c| c.to_string()).collect();
-            eprintln!("error: {}", chain.join(": "));
+            // Paths and messages may carry user text: no control character
+            // reaches the terminal raw.
+            eprintln!("error: {}", lensview::scene::escape_controls(&chain.join(": ")));
             ExitCode::FAILURE
         }
     }

@@ -200,7 +200,10 @@ fn the_checker_sees_paths_groups_and_cycles() {
     assert_eq!(find_cycle(&g), None);
     g.entry("z".into()).or_default().insert("x".into());
     assert_eq!(find_cycle(&g), Some(vec!["x".into(), "y".into(), "z".into()]));
-    assert_eq!(non_test_code("a\n// crate::q\n#[cfg(test)]\nmod t;\nb\n#[cfg(test)]\nmod u {\ncrate::r"), "a\nb");
+    assert_eq!(
+        non_test_code("a\n// crate::q\n#[cfg(test)]\nmod t;\nb\n#[cfg(test)]\nmod u {\ncrate::r"),
+        "a\nb"
+    );
 }
 
 /// The longest a file of `src/` may grow (the brief's "small rooms").
@@ -247,10 +250,16 @@ fn functions(lines: &[&str]) -> Vec<(String, usize, usize)> {
     let code: Vec<String> = lines.iter().map(|l| code_only(l)).collect();
     let mut out = Vec::new();
     for (i, l) in code.iter().enumerate() {
-        let Some(at) = l.find("fn ").filter(|&at| at == 0 || !l.as_bytes()[at - 1].is_ascii_alphanumeric()) else {
+        let Some(at) = l
+            .find("fn ")
+            .filter(|&at| at == 0 || !l.as_bytes()[at - 1].is_ascii_alphanumeric())
+        else {
             continue;
         };
-        let name: String = l[at + 3..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        let name: String = l[at + 3..]
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
         let (mut depth, mut opened) = (0i64, false);
         for (j, m) in code.iter().enumerate().skip(i) {
             for c in m.chars() {
@@ -292,12 +301,16 @@ fn no_file_or_function_outgrows_its_room() {
             }
         }
     }
-    assert!(too_long.is_empty(), "over {MAX_FILE_LINES} lines a file or {MAX_FN_LINES} a function: {too_long:#?}");
+    assert!(
+        too_long.is_empty(),
+        "over {MAX_FILE_LINES} lines a file or {MAX_FN_LINES} a function: {too_long:#?}"
+    );
 }
 
 #[test]
 fn the_room_checker_measures_functions() {
-    let text = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\nfn b();\npub fn c(x: u8) -> u8 {\n    x\n}";
+    let text =
+        "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\nfn b();\npub fn c(x: u8) -> u8 {\n    x\n}";
     let lines: Vec<&str> = text.lines().collect();
     let got = functions(&lines);
     assert_eq!(got, vec![("a".to_string(), 1, 5), ("c".to_string(), 7, 3)]);

@@ -1,0 +1,342 @@
+//! Validation of the file model: each part of a scene file checked and
+//! turned into its render-model value, every problem recorded with its field
+//! path so that one pass reports them all.
+
+use super::Object;
+use super::error::{FieldPath, Problem};
+use super::file::{IndexFile, LightKind, MaterialFile, ObjectFile, SceneFile, ShapeKind, V3};
+use crate::camera::Camera;
+use crate::color::Rgb;
+use crate::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
+use crate::light::Light;
+use crate::material::Material;
+use crate::math::angles_looking_along;
+use crate::optics::Index;
+use glam::DVec3;
+
+#[derive(Default)]
+pub(super) struct Validator {
+    pub(super) problems: Vec<Problem>,
+}
+
+impl Validator {
+    /// `[render]`: background, max_depth, shadows, spp.
+    pub(super) fn render_settings(&mut self, sf: &SceneFile) -> (Rgb, u32, bool, u32) {
+        let r = &sf.render;
+        let background = self.colour(&FieldPath::root("render").key("background"), r.background);
+        if r.max_depth > 64 {
+            self.problem(
+                FieldPath::root("render").key("max_depth"),
+                format!("{} is more than 64", r.max_depth),
+            );
+        }
+        if r.spp == 0 || r.spp > 65536 {
+            self.problem(
+                FieldPath::root("render").key("spp"),
+                format!("{} is not in 1..=65536", r.spp),
+            );
+        }
+        (background, r.max_depth, r.shadows, r.spp)
+    }
+
+    /// `[ambient]`: its colour times its intensity.
+    pub(super) fn ambient(&mut self, sf: &SceneFile) -> Rgb {
+        let ap = FieldPath::root("ambient");
+        self.colour(&ap.key("color"), sf.ambient.color) * self.non_negative(&ap.key("intensity"), sf.ambient.intensity)
+    }
+
+    /// `[camera]`, with `rotation` or `look_at`.
+    pub(super) fn camera(&mut self, sf: &SceneFile) -> Camera {
+        let cp = FieldPath::root("camera");
+        let c = &sf.camera;
+        let position = self.vec(&cp.key("position"), c.position);
+        if !(c.fov > 0.0 && c.fov < 180.0) {
+            self.problem(
+                cp.key("fov"),
+                format!("field of view {} must be in (0, 180) degrees", c.fov),
+            );
+        }
+        let rotation = match (c.rotation, c.look_at) {
+            (Some(_), Some(_)) => {
+                self.problem(cp.key("look_at"), "give either rotation or look_at, not both");
+                DVec3::ZERO
+            }
+            (Some(r), None) => self.vec(&cp.key("rotation"), r),
+            (None, Some(t)) => {
+                let dir = DVec3::from(t) - position;
+                if dir.length() > 0.0 {
+                    angles_looking_along(dir)
+                } else {
+                    self.problem(cp.key("look_at"), "look_at equals the camera position");
+                    DVec3::ZERO
+                }
+            }
+            (None, None) => DVec3::ZERO,
+        };
+        Camera::new(position, rotation, c.fov)
+    }
+
+    /// `[[lights]]`: point and directional.
+    pub(super) fn lights(&mut self, sf: &SceneFile) -> Vec<Light> {
+        let mut lights = Vec::new();
+        for (i, l) in sf.lights.iter().enumerate() {
+            let p = FieldPath::root("lights").index(i);
+            let color = self.colour(&p.key("color"), l.color);
+            let intensity = self.non_negative(&p.key("intensity"), l.intensity);
+            match l.kind {
+                LightKind::Point => {
+                    if l.direction.is_some() {
+                        self.problem(p.key("direction"), "a point light has a position, not a direction");
+                    }
+                    match l.position {
+                        Some(pos) => lights.push(Light::Point {
+                            position: DVec3::from(pos),
+                            color,
+                            intensity,
+                        }),
+                        None => self.problem(p.clone(), "a point light needs `position`"),
+                    }
+                }
+                LightKind::Directional => {
+                    if l.position.is_some() {
+                        self.problem(p.key("position"), "a directional light has a direction, not a position");
+                    }
+                    match l.direction.map(DVec3::from) {
+                        Some(d) if d.length() > 0.0 => lights.push(Light::Directional {
+                            direction: d.normalize(),
+                            color,
+                            intensity,
+                        }),
+                        Some(_) => self.problem(p.key("direction"), "direction must not be zero"),
+                        None => self.problem(p.clone(), "a directional light needs `direction`"),
+                    }
+                }
+            }
+        }
+        lights
+    }
+
+    /// `[[objects]]` with their materials.
+    pub(super) fn objects(&mut self, sf: &SceneFile) -> Vec<Object> {
+        let mut objects = Vec::new();
+        for (i, o) in sf.objects.iter().enumerate() {
+            let p = FieldPath::root("objects").index(i);
+            let material = match &o.material {
+                None => self.material(&FieldPath::root("materials"), &MaterialFile::default()),
+                Some(name) => match sf.materials.get(name) {
+                    Some(m) => self.material(&FieldPath::root("materials").key(name), m),
+                    None => {
+                        self.problem(p.key("material"), format!("no material named `{name}` in [materials]"));
+                        self.material(&FieldPath::root("materials"), &MaterialFile::default())
+                    }
+                },
+            };
+            let name = o.name.clone().unwrap_or_else(|| format!("{} {}", o.kind.name(), i + 1));
+            if let Some(shape) = self.shape(&p, o) {
+                objects.push(Object::new(
+                    name,
+                    shape,
+                    material,
+                    DVec3::from(o.position),
+                    DVec3::from(o.rotation),
+                ));
+            }
+        }
+        objects
+    }
+
+    /// `[[lenses]]`, as glass objects.
+    pub(super) fn lenses(&mut self, sf: &SceneFile) -> Vec<Object> {
+        let mut objects = Vec::new();
+        for (i, l) in sf.lenses.iter().enumerate() {
+            let p = FieldPath::root("lenses").index(i);
+            let tint = self.colour(&p.key("tint"), l.tint);
+            let index = self.index(&p.key("n"), l.n);
+            match Lens::new(DVec3::from(l.center), DVec3::from(l.axis), l.d, l.r1, l.r2, index) {
+                Ok(lens) => {
+                    let name = l.name.clone().unwrap_or_else(|| format!("lens {}", i + 1));
+                    objects.push(Object::new(
+                        name,
+                        Shape::Lens(lens),
+                        Material::glass(tint, index),
+                        DVec3::ZERO,
+                        DVec3::ZERO,
+                    ));
+                }
+                Err(e) => {
+                    use crate::geometry::LensError as E;
+                    let field = match &e {
+                        E::Diameter(_) => "d",
+                        E::Radius { name, .. } => name,
+                        E::Index(_) => "n",
+                        E::Axis => "axis",
+                        E::Centre => "center",
+                    };
+                    self.problem(p.key(field), e.to_string());
+                }
+            }
+        }
+        objects
+    }
+
+    fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
+        self.problems.push(Problem::new(path, msg));
+    }
+
+    fn vec(&mut self, path: &FieldPath, v: V3) -> DVec3 {
+        for (i, x) in v.iter().enumerate() {
+            if !x.is_finite() {
+                self.problem(path.index(i), format!("{x} is not a finite number"));
+            }
+        }
+        DVec3::from(v)
+    }
+
+    fn colour(&mut self, path: &FieldPath, v: V3) -> Rgb {
+        for (i, x) in v.iter().enumerate() {
+            if !(x.is_finite() && *x >= 0.0) {
+                self.problem(
+                    path.index(i),
+                    format!("colour component {x} must be a finite number ≥ 0"),
+                );
+            }
+        }
+        DVec3::from(v)
+    }
+
+    fn non_negative(&mut self, path: &FieldPath, x: f64) -> f64 {
+        if !(x.is_finite() && x >= 0.0) {
+            self.problem(path.clone(), format!("{x} must be a finite number ≥ 0"));
+        }
+        x
+    }
+
+    fn unit(&mut self, path: &FieldPath, x: f64) -> f64 {
+        if !(0.0..=1.0).contains(&x) {
+            self.problem(path.clone(), format!("{x} must lie in [0, 1]"));
+        }
+        x
+    }
+
+    fn positive(&mut self, path: &FieldPath, x: Option<f64>, kind: &str, key: &str) -> f64 {
+        match x {
+            None => {
+                self.problem(path.clone(), format!("a {kind} needs `{key}`"));
+                1.0
+            }
+            Some(x) if !(x > 0.0 && x.is_finite()) => {
+                self.problem(path.key(key), format!("size {x} must be positive"));
+                1.0
+            }
+            Some(x) => x,
+        }
+    }
+
+    fn index(&mut self, path: &FieldPath, n: IndexFile) -> Index {
+        match n {
+            IndexFile::Constant(n) => {
+                if !(n >= 1.0) {
+                    self.problem(path.clone(), format!("refractive index {n} must be ≥ 1"));
+                }
+                Index::Constant(n)
+            }
+            IndexFile::Cauchy([a, b]) => {
+                let idx = Index::Cauchy { a, b };
+                if !(idx.at(0.38) >= 1.0 && idx.at(0.78) >= 1.0) {
+                    self.problem(
+                        path.key("cauchy"),
+                        format!("Cauchy index A + B/λ² = {a} + {b}/λ² falls below 1 in the visible range"),
+                    );
+                }
+                idx
+            }
+        }
+    }
+
+    fn material(&mut self, path: &FieldPath, m: &MaterialFile) -> Material {
+        let before = self.problems.len();
+        let color = self.colour(&path.key("color"), m.color);
+        let ambient = self.non_negative(&path.key("ambient"), m.ambient);
+        let diffuse = self.non_negative(&path.key("diffuse"), m.diffuse);
+        let specular = self.non_negative(&path.key("specular"), m.specular);
+        let shininess = self.non_negative(&path.key("shininess"), m.shininess);
+        let reflectivity = self.unit(&path.key("reflectivity"), m.reflectivity);
+        let transparency = self.unit(&path.key("transparency"), m.transparency);
+        if reflectivity + transparency > 1.0 {
+            self.problem(
+                path.key("transparency"),
+                "reflectivity + transparency must not exceed 1",
+            );
+        }
+        let ior = self.index(&path.key("ior"), m.ior);
+        // A material used by several objects reports its problems once.
+        let new: Vec<Problem> = self.problems.drain(before..).collect();
+        for p in new {
+            if !self.problems.contains(&p) {
+                self.problems.push(p);
+            }
+        }
+        Material {
+            color,
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            reflectivity,
+            transparency,
+            ior,
+        }
+    }
+
+    fn shape(&mut self, p: &FieldPath, o: &ObjectFile) -> Option<Shape> {
+        let before = self.problems.len();
+        self.vec(&p.key("position"), o.position);
+        self.vec(&p.key("rotation"), o.rotation);
+        let kind = o.kind.name();
+        let allowed: &[&str] = match o.kind {
+            ShapeKind::Cuboid => &["size"],
+            ShapeKind::Sphere => &["radius"],
+            ShapeKind::Prism | ShapeKind::Pyramid => &["side", "height"],
+        };
+        let given = [
+            ("size", o.size.is_some()),
+            ("radius", o.radius.is_some()),
+            ("side", o.side.is_some()),
+            ("height", o.height.is_some()),
+        ];
+        for (key, present) in given {
+            if present && !allowed.contains(&key) {
+                self.problem(
+                    p.key(key),
+                    format!("a {kind} has no `{key}` (it takes {})", allowed.join(", ")),
+                );
+            }
+        }
+        let shape = match o.kind {
+            ShapeKind::Cuboid => match o.size {
+                None => {
+                    self.problem(p.clone(), "a cuboid needs `size = [x, y, z]`");
+                    None
+                }
+                Some(s) => {
+                    for (i, x) in s.iter().enumerate() {
+                        if !(*x > 0.0 && x.is_finite()) {
+                            self.problem(p.key("size").index(i), format!("side length {x} must be positive"));
+                        }
+                    }
+                    Some(Shape::Cuboid(Cuboid::new(DVec3::from(s))))
+                }
+            },
+            ShapeKind::Sphere => Some(Shape::Sphere(Sphere::new(self.positive(p, o.radius, kind, "radius")))),
+            ShapeKind::Prism => Some(Shape::Prism(Prism::new(
+                self.positive(p, o.side, kind, "side"),
+                self.positive(p, o.height, kind, "height"),
+            ))),
+            ShapeKind::Pyramid => Some(Shape::Pyramid(Pyramid::new(
+                self.positive(p, o.side, kind, "side"),
+                self.positive(p, o.height, kind, "height"),
+            ))),
+        };
+        if self.problems.len() > before { None } else { shape }
+    }
+}
