@@ -4,17 +4,58 @@
 //! The library knows nothing of windows; the command line (and the viewer)
 //! are thin front ends over it.
 //!
+//! ## Layers
+//!
+//! Each module uses only those on its own line or below (checked by
+//! `tests/layers.rs`; decisions in `ARCHITECTURE.md`):
+//!
 //! ```text
-//! math · color · sampling · optics      pure functions, no scene
+//! math · color · sampling · optics · simd     pure functions and lane helpers
 //!         ↑
-//! geometry · material · light · camera  one closed set of shapes
+//! geometry · material · light · camera        one closed set of shapes
 //!         ↑
-//! scene  (file model → validated render model)
+//! accel                                       BVH over boxes (knows no Scene)
 //!         ↑
-//! integrator (Whitted radiance)  ←  render (pixels, threads, image)
+//! scene                                       file model → validated render model
 //!         ↑
-//! cli (render, lens)
+//! trace                                       what rays meet: scalar, packets, tiles
+//!         ↑
+//! integrator                                  Whitted radiance, scalar and packets
+//!         ↑
+//! render · edit                               progressive rendering · scene changes
+//!         ↑
+//! bench · lens_tools                          measurements · lens trace / info
 //! ```
+//! The binary adds `cli` (`src/cli/`) and `viewer` (`src/viewer/`) on top.
+//!
+//! ## Where things live
+//!
+//! | what | where |
+//! |---|---|
+//! | the lens: construction, double-double start point | `geometry/lens/mod.rs`, `geometry/lens/dd.rs` |
+//! | the lens: one cap's roots (the quadratic, once) | `geometry/lens/cap.rs` |
+//! | the lens: a ray inside, exits, internal reflection | `geometry/lens/trace.rs` |
+//! | the lens: the same steps over eight lanes | `geometry/lens/lanes.rs` |
+//! | refraction, Fresnel, thick-lens paraxial data | `optics.rs` |
+//! | other shapes, one a file; the box test and its padding | `geometry/{sphere,cuboid,prism,pyramid,polytope,aabb}.rs` |
+//! | the BVH | `accel/mod.rs` |
+//! | scene file model, validation, errors with lines | `scene/{file,validate,error,input}.rs` |
+//! | closest hit and shadow transmittance, one ray | `trace/scalar.rs` |
+//! | the same for packets of eight, BVH walk | `trace/packet.rs` |
+//! | camera packets and frustum tiles | `trace/tile.rs` |
+//! | lanes, masks, the AVX2 twin builds | `simd.rs` |
+//! | hit point data (`Surface`), spawning rays | `integrator/surface.rs` |
+//! | shading both kernels share (ambient, Lambert, Phong, onward rays) | `integrator/shade.rs` |
+//! | the one-ray kernel | `integrator/scalar.rs` |
+//! | the packet kernel | `integrator/packet.rs` |
+//! | the pass through a lens, scalar and in lanes | `integrator/lens_pass.rs` |
+//! | feature dispatch, entry points | `integrator/mod.rs` |
+//! | rendering an image, the progressive schedule, the render thread | `render/{mod,progressive,worker}.rs` |
+//! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
+//! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
+//! | the viewer's shell, flight, refinement, statistics | `viewer/{mod,flight,refine,stats,session,screen,input}.rs` (binary) |
+//! | each panel section | `viewer/panel/{add,objects,material,camera,lens,light,render,menu,file_dialog,confirm}.rs` (binary) |
+//! | each command (`render`, `lens`, `bench`, `converge`, `view`) | `cli/*.rs` (binary) |
 
 // `!(x >= lo)` is written on purpose throughout: unlike `x < lo` it is also
 // true for NaN, so a NaN can never pass a validity check.
