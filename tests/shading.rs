@@ -10,13 +10,17 @@ use lensview::scene::Scene;
 /// along the camera's view direction.
 fn one_pixel(text: &str) -> DVec3 {
     let (_, scene) = Scene::parse("t.toml", text).unwrap();
-    let s = RenderSettings {
-        width: 1,
-        height: 1,
+    render_pixel(&scene, 0, 0, &one_sample(1, 1))
+}
+
+/// One sample a pixel, at its centre.
+fn one_sample(width: u32, height: u32) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
         spp: 1,
         seed: 0,
-    };
-    render_pixel(&scene, 0, 0, &s)
+    }
 }
 
 fn close(got: DVec3, want: DVec3) {
@@ -176,16 +180,7 @@ n = { cauchy = [1.5, 0.05] }
 "#;
     let (_, scene) = Scene::parse("d.toml", text).unwrap();
     let (w, h) = (801, 81);
-    let img = render(
-        &scene,
-        &RenderSettings {
-            width: w,
-            height: h,
-            spp: 1,
-            seed: 0,
-        },
-        None,
-    );
+    let img = render(&scene, &one_sample(w, h), None);
     let row = h / 2;
     let width_in = |ch: usize| (0..w).filter(|&x| img.get(x, row)[ch] > 0.5).count();
     let (r, g, b) = (width_in(0), width_in(1), width_in(2));
