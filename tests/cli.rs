@@ -45,12 +45,28 @@ fn render_writes_a_png_of_the_requested_size() {
 #[test]
 fn render_without_a_scene_uses_the_embedded_default() {
     let out = tmp("default.png");
+    let _ = std::fs::remove_file(&out);
     let o = bin()
         .args(["render", "-o", out.to_str().unwrap(), "--width", "16", "--height", "12"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(out.exists());
+    // The embedded default is the cubes scene: the same picture as rendering
+    // scenes/cubes.toml by name.
+    let img = lensview::render::Image::read_png(&out).unwrap();
+    assert_eq!((img.width, img.height), (16, 12));
+    let (_, cubes) = lensview::scene::Scene::load(&scene("cubes.toml")).unwrap();
+    let want = lensview::render::render(
+        &cubes,
+        &lensview::render::RenderSettings {
+            width: 16,
+            height: 12,
+            spp: cubes.spp,
+            seed: 0,
+        },
+        None,
+    );
+    assert_eq!(img.to_srgb8(), want.to_srgb8());
 }
 
 #[test]

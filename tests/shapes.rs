@@ -181,3 +181,130 @@ fn shape_sizes_match_their_definitions() {
     assert!(pyr.contains(DVec3::new(0.999_999, -1.5 + 1e-9, 0.999_999)));
     assert!(!pyr.contains(DVec3::new(0.5, 0.1, 0.0)) || 0.5 <= (1.5 - 0.1) / 3.0);
 }
+
+/// The README's rotation, written out here: `R = Ry·Rx·Rz`, degrees.
+fn rotate(deg: [f64; 3], v: DVec3) -> DVec3 {
+    let [x, y, z] = deg.map(f64::to_radians);
+    let rz = DVec3::new(v.x * z.cos() - v.y * z.sin(), v.x * z.sin() + v.y * z.cos(), v.z);
+    let rx = DVec3::new(rz.x, rz.y * x.cos() - rz.z * x.sin(), rz.y * x.sin() + rz.z * x.cos());
+    DVec3::new(rx.x * y.cos() + rx.z * y.sin(), rx.y, -rx.x * y.sin() + rx.z * y.cos())
+}
+
+/// The solid as half-spaces made from its vertices (the README's
+/// definitions, not the library's planes): each face is given by three of
+/// its vertices, and its outward normal is the one pointing away from the
+/// centroid of all vertices. Returns (unit normal, offset) pairs.
+fn half_spaces(vertices: &[DVec3], faces: &[[usize; 3]]) -> Vec<(DVec3, f64)> {
+    let centroid = vertices.iter().sum::<DVec3>() / vertices.len() as f64;
+    faces
+        .iter()
+        .map(|&[a, b, c]| {
+            let (a, b, c) = (vertices[a], vertices[b], vertices[c]);
+            let mut n = (b - a).cross(c - a).normalize();
+            if n.dot(centroid - a) > 0.0 {
+                n = -n;
+            }
+            (n, n.dot(a))
+        })
+        .collect()
+}
+
+/// Cyrus–Beck: the interval of `t ≥ 0` where the ray is inside every half-space.
+fn clip(planes: &[(DVec3, f64)], ray: &Ray) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    for &(n, d) in planes {
+        let (dn, s) = (ray.dir.dot(n), d - ray.origin.dot(n));
+        if dn.abs() < 1e-300 {
+            if s < 0.0 {
+                return None;
+            }
+        } else if dn > 0.0 {
+            hi = hi.min(s / dn);
+        } else {
+            lo = lo.max(s / dn);
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// One prism or pyramid placed by the scene file (position and rotation),
+/// hit by seeded random rays; the library's first hit must be where the
+/// independent half-space clip enters, and a miss must be a miss there.
+fn check_against_half_spaces(kind: &str, side: f64, height: f64, pos: [f64; 3], rot: [f64; 3]) {
+    let (h, s) = (0.5 * height, side);
+    let (verts, faces): (Vec<DVec3>, Vec<[usize; 3]>) = if kind == "prism" {
+        // Equilateral base, one vertex on the circumcircle toward −z.
+        let (r, x) = (s / 3f64.sqrt(), 0.5 * s);
+        let base = [
+            DVec3::new(0.0, 0.0, -r),
+            DVec3::new(x, 0.0, 0.5 * r),
+            DVec3::new(-x, 0.0, 0.5 * r),
+        ];
+        let v: Vec<DVec3> = [-h, h].iter().flat_map(|&y| base.map(|b| b + DVec3::Y * y)).collect();
+        (v, vec![[0, 1, 2], [3, 4, 5], [0, 1, 3], [1, 2, 4], [2, 0, 5]])
+    } else {
+        // Square base at y = −h/2, apex at y = +h/2.
+        let x = 0.5 * s;
+        let v = vec![
+            DVec3::new(-x, -h, -x),
+            DVec3::new(x, -h, -x),
+            DVec3::new(x, -h, x),
+            DVec3::new(-x, -h, x),
+            DVec3::new(0.0, h, 0.0),
+        ];
+        (v, vec![[0, 1, 2], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    };
+    let p = DVec3::from(pos);
+    let world: Vec<DVec3> = verts.iter().map(|&v| p + rotate(rot, v)).collect();
+    let planes = half_spaces(&world, &faces);
+    let text = format!(
+        "[camera]\nposition = [0, 0, 50]\n[[objects]]\ntype = \"{kind}\"\nside = {side}\nheight = {height}\n\
+         position = {pos:?}\nrotation = {rot:?}\n"
+    );
+    let (_, scene) = lensview::scene::Scene::parse("solid.toml", &text).unwrap();
+    // SplitMix64, uniform in [−1, 1).
+    let mut state = 0x9e37_79b9_7f4a_7c15u64 ^ side.to_bits();
+    let mut unit = || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let (mut hits, mut misses) = (0, 0);
+    for _ in 0..4000 {
+        let from = p + 4.0 * side.max(height) * DVec3::new(unit(), unit(), unit()).normalize();
+        let to = p + side.max(height) * 0.6 * DVec3::new(unit(), unit(), unit());
+        let ray = Ray::new(from, (to - from).normalize());
+        let want = clip(&planes, &ray);
+        let got = lensview::trace::closest_hit(&scene, &ray, f64::INFINITY).map(|(_, hit)| hit.t);
+        match (want, got) {
+            (Some((t0, t1)), Some(t)) => {
+                assert!(
+                    (t - t0).abs() < 1e-9,
+                    "{kind} {rot:?}: hit at {t}, half-spaces enter at {t0}"
+                );
+                hits += usize::from(t1 - t0 > 1e-6);
+            }
+            // Grazing an edge or corner: either answer is right.
+            (Some((t0, t1)), None) => assert!(t1 - t0 < 1e-9, "{kind} {rot:?}: missed a chord {t0}..{t1}"),
+            (None, Some(t)) => {
+                let q = ray.at(t);
+                let out = planes.iter().map(|&(n, d)| q.dot(n) - d).fold(f64::MIN, f64::max);
+                assert!(out < 1e-9, "{kind} {rot:?}: hit at {q}, {out} outside the solid");
+            }
+            (None, None) => misses += 1,
+        }
+    }
+    assert!(hits > 500 && misses > 200, "{kind}: {hits} hits, {misses} misses");
+}
+
+#[test]
+fn prisms_and_pyramids_match_half_spaces_made_from_their_vertices() {
+    for kind in ["prism", "pyramid"] {
+        check_against_half_spaces(kind, 1.4, 0.8, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+        check_against_half_spaces(kind, 2.0, 3.0, [1.5, -2.0, 0.5], [30.0, 0.0, 0.0]);
+        check_against_half_spaces(kind, 0.7, 1.9, [-3.0, 1.0, 2.0], [17.0, -63.0, 41.0]);
+        check_against_half_spaces(kind, 1.2, 1.5, [0.0, 4.0, -1.0], [90.0, 45.0, -120.0]);
+    }
+}

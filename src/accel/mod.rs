@@ -441,14 +441,32 @@ mod tests {
 
     #[test]
     fn any_hit_stops_early() {
-        let b = boxes(100, 4);
+        let b = boxes(1000, 4);
         let bvh = Bvh::build(&b);
-        let ray = Ray::new(DVec3::new(-30.0, 0.0, 0.0), DVec3::X);
+        // A ray along x that meets at least three boxes, so a walk that went
+        // on after the first visit would visit more.
+        let hits = |ray: &Ray| (0..b.len()).filter(|&i| brute(&b[i..=i], ray).is_some()).count();
+        let ray = (0..400)
+            .map(|k| {
+                Ray::new(
+                    DVec3::new(-30.0, (k / 20) as f64 - 10.0, (k % 20) as f64 - 10.0),
+                    DVec3::X,
+                )
+            })
+            .find(|r| hits(r) >= 3)
+            .unwrap();
+        let mut all = 0;
+        bvh.traverse(&ray, f64::INFINITY, |_, _| {
+            all += 1;
+            Ok(None)
+        });
+        let hit = hits(&ray);
+        assert!(all >= hit, "{hit} boxes hit, {all} visited");
         let mut visits = 0;
         bvh.traverse(&ray, f64::INFINITY, |_, _| {
             visits += 1;
             Err(())
         });
-        assert!(visits <= 1);
+        assert_eq!(visits, 1);
     }
 }

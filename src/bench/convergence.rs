@@ -85,11 +85,40 @@ mod tests {
         let r = reference(&s, 48, 36, 64, 1);
         let rows = converge(&s, &r, 16);
         assert_eq!(rows.len(), schedule(16).len());
-        assert!(rows.windows(2).all(|w| w[1].elapsed_ms >= w[0].elapsed_ms));
+        // Each row is its stage of the schedule, with the samples it leaves.
+        for (row, stage) in rows.iter().zip(schedule(16)) {
+            assert_eq!(row.stage, stage.label());
+            let spp = match stage {
+                Stage::Blocks(_) => 0,
+                Stage::Samples(s) => s,
+            };
+            assert_eq!(row.spp, spp);
+        }
+        // Elapsed time is the running sum of the stages' times, each spent.
+        let mut sum = 0.0;
+        for row in &rows {
+            sum += row.stage_ms;
+            assert!(row.stage_ms > 0.0, "{row:?}");
+            assert_eq!(row.elapsed_ms, sum, "{row:?}");
+        }
+        // The error is the RMSE of that stage's picture, and PSNR follows it.
+        let mut p = Progressive::new(48, 36, 0);
+        for (row, stage) in rows.iter().zip(schedule(16)) {
+            p.run(&s, stage, &|| false);
+            assert_eq!(row.rmse, rmse(&p.image(), &r));
+            assert!((row.psnr_db - 10.0 * (1.0 / (row.rmse * row.rmse)).log10()).abs() < 1e-9);
+        }
         let first = rows[0].rmse;
         let last = rows.last().unwrap().rmse;
         assert!(last < 0.5 * first, "{first} → {last}");
-        assert!(rows.iter().all(|r| r.psnr_db.is_finite() && r.rmse >= 0.0));
         assert_eq!(rmse(&r, &r), 0.0);
+        // RMSE by hand on two 1×2 images: channel errors 0.5 and 0 (clamped).
+        let img = |a: Rgb, b: Rgb| Image {
+            width: 2,
+            height: 1,
+            pixels: vec![a, b],
+        };
+        let e = rmse(&img(Rgb::splat(0.5), Rgb::splat(2.0)), &img(Rgb::ZERO, Rgb::ONE));
+        assert!((e - (0.25f64 * 3.0 / 6.0).sqrt()).abs() < 1e-15, "{e}");
     }
 }

@@ -371,6 +371,48 @@ mod tests {
     }
 
     #[test]
+    fn the_schedule_gives_the_same_bits_on_one_two_and_three_threads() {
+        let s = Scene::load(&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/primitives.toml"))
+            .unwrap()
+            .1;
+        // Taller than one band per thread, and not a whole number of bands.
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let mut p = Progressive::new(45, 7 * BAND as u32 + 3, 11);
+                    let mut frames = Vec::new();
+                    for st in schedule(6) {
+                        assert!(p.run(&s, st, &|| false));
+                        let mut rgba = Vec::new();
+                        p.write_rgba8(&mut rgba);
+                        frames.push((p.image(), rgba));
+                    }
+                    frames
+                })
+        };
+        let bits = |frames: &[(crate::render::Image, Vec<u8>)]| -> Vec<(Vec<u64>, Vec<u8>)> {
+            frames
+                .iter()
+                .map(|(img, rgba)| {
+                    (
+                        img.pixels.iter().flat_map(|c| c.to_array().map(f64::to_bits)).collect(),
+                        rgba.clone(),
+                    )
+                })
+                .collect()
+        };
+        let one = bits(&run(1));
+        assert_eq!(one.len(), schedule(6).len());
+        // Every stage changed the picture (the comparison is not of blanks).
+        assert!(one.windows(2).all(|w| w[0].0 != w[1].0));
+        assert_eq!(one, bits(&run(2)));
+        assert_eq!(one, bits(&run(3)));
+    }
+
+    #[test]
     fn block_preview_fills_every_pixel() {
         let s = scene();
         let mut p = Progressive::new(37, 23, 0);

@@ -216,25 +216,50 @@ mod tests {
         assert!(spp.windows(2).all(|p| p[0] <= p[1]), "{spp:?}");
     }
 
-    #[test]
-    fn a_newer_job_cancels_the_older_one() {
-        let w = Worker::spawn(|| {});
-        // A big job with a high cap, then at once a small one.
-        w.submit(job(1, 640, 480, 4096));
-        w.submit(job(2, 16, 16, 2));
-        let mut last_gen2 = false;
-        let deadline = Instant::now() + Duration::from_secs(60);
-        while Instant::now() < deadline {
-            let f = w.frames.recv_timeout(Duration::from_secs(30)).unwrap();
-            assert!(f.generation <= 2);
-            if f.generation == 2 && f.last {
-                last_gen2 = true;
-                break;
+    /// A worker whose wake-up waits for the test: after sending each frame
+    /// the render thread reports on `sent` and then blocks until a token
+    /// arrives on `gate` (or `gate` is dropped). A job whose frame was
+    /// reported is therefore provably running, between two stages.
+    fn gated() -> (Worker, Receiver<()>, Sender<()>) {
+        let (sent_tx, sent_rx) = unbounded();
+        let (gate_tx, gate_rx) = unbounded::<()>();
+        let w = Worker::spawn(move || {
+            let _ = sent_tx.send(());
+            let _ = gate_rx.recv();
+        });
+        (w, sent_rx, gate_tx)
+    }
+
+    /// Collects frames until generation `g` sends its last one (30 s at most).
+    fn frames_until_last_of(w: &Worker, g: u64) -> Vec<Frame> {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        let mut got = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            let f = w.frames.recv_timeout(left).expect("generation never finished");
+            let done = f.generation == g && f.last;
+            got.push(f);
+            if done {
+                return got;
             }
         }
-        assert!(last_gen2, "the newer job never finished");
-        // Nothing more of generation 1 arrives after generation 2 finished.
-        assert!(w.frames.recv_timeout(Duration::from_millis(300)).is_err());
+    }
+
+    #[test]
+    fn a_newer_job_cancels_the_older_one() {
+        let (w, sent, gate) = gated();
+        // A job far too long to finish: 4096 samples at 320×240.
+        w.submit(job(1, 320, 240, 4096));
+        sent.recv_timeout(Duration::from_secs(30)).unwrap();
+        let first = w.frames.try_recv().unwrap();
+        assert_eq!((first.generation, first.last), (1, false));
+        // Job 1 is running (its thread waits in the wake-up); replace it.
+        w.submit(job(2, 16, 16, 2));
+        drop(gate);
+        let after = frames_until_last_of(&w, 2);
+        let gens: Vec<u64> = after.iter().map(|f| f.generation).collect();
+        assert!(gens.iter().all(|&g| g == 2), "job 1 went on after job 2 came: {gens:?}");
+        assert_eq!(after.last().map(|f| f.spp), Some(2));
     }
 
     /// Waits (up to 30 s) until the render thread has sent something.
@@ -248,31 +273,26 @@ mod tests {
 
     #[test]
     fn cancel_stops_the_job_and_drops_what_it_sent() {
-        let w = Worker::spawn(|| {});
-        // Small and with a huge cap: many quick stages, each a frame.
+        let (w, sent, gate) = gated();
         w.submit(job(1, 64, 48, 1 << 16));
-        wait_for_a_frame(&w);
+        sent.recv_timeout(Duration::from_secs(30)).unwrap();
+        // Job 1 is running and its first frame waits in the channel.
         w.cancel();
         assert!(
             w.newest_frame().is_none(),
             "a frame of the cancelled job was handed out"
         );
-        // One row band may still finish; after that the thread is quiet.
-        std::thread::sleep(Duration::from_millis(200));
-        let _ = w.frames.try_iter().count();
-        assert!(
-            w.frames.recv_timeout(Duration::from_secs(1)).is_err(),
-            "the cancelled job kept rendering"
-        );
-        // The thread takes the next job as usual.
+        drop(gate);
+        // The thread takes the next job, and nothing of job 1 comes between:
+        // frames arrive in order, so a job that went on would show here.
         w.submit(job(2, 16, 16, 2));
-        let deadline = Instant::now() + Duration::from_secs(30);
-        let mut last = None;
-        while Instant::now() < deadline && last.is_none() {
-            last = w.newest_frame().filter(|f| f.last);
-            std::thread::sleep(Duration::from_millis(2));
-        }
-        assert_eq!(last.map(|f| (f.generation, f.spp)), Some((2, 2)));
+        let after = frames_until_last_of(&w, 2);
+        let gens: Vec<u64> = after.iter().map(|f| f.generation).collect();
+        assert!(
+            gens.iter().all(|&g| g == 2),
+            "the cancelled job kept rendering: {gens:?}"
+        );
+        assert_eq!(after.last().map(|f| f.spp), Some(2));
     }
 
     #[test]

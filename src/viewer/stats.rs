@@ -187,4 +187,90 @@ mod tests {
         let with_help = overlay_lines("t".into(), timing, &doc, 3.0, "hello", true);
         assert_eq!(with_help.len(), lines.len() + help_lines().len());
     }
+
+    /// Every field of a frame-log line, from a frame whose figures are known.
+    #[test]
+    fn the_frame_log_writes_every_field_of_every_presented_frame() {
+        use lensview::render::progressive::Stage;
+        use std::time::Duration;
+        let path = std::env::temp_dir().join(format!("lensview-frames-{}.jsonl", std::process::id()));
+        let mut stats = Stats::new(Some(std::fs::File::create(&path).unwrap()));
+        let frame = |generation, spp| Frame {
+            generation,
+            stage: Stage::Samples(spp),
+            spp,
+            width: 320,
+            height: 200,
+            rgba: Vec::new(),
+            render_ms: 12.5,
+            queued_ms: 1.25,
+            since_input_ms: 20.0,
+            samples_per_s: 1e6,
+            last: false,
+        };
+        let input_time = Instant::now() - Duration::from_millis(80);
+        let t0 = Instant::now();
+        std::thread::sleep(Duration::from_millis(30));
+        let f = frame(7, 4);
+        stats.presented(
+            t0,
+            Presented {
+                frame: Some(&f),
+                x0: 360,
+                input_time,
+            },
+        );
+        // A redraw with no frame writes no line; a second frame does.
+        stats.presented(
+            Instant::now(),
+            Presented {
+                frame: None,
+                x0: 0,
+                input_time,
+            },
+        );
+        let g = frame(8, 0);
+        let g = Frame {
+            stage: Stage::Blocks(4),
+            ..g
+        };
+        stats.presented(
+            Instant::now(),
+            Presented {
+                frame: Some(&g),
+                x0: 0,
+                input_time,
+            },
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+        assert_eq!(lines.len(), 2, "{text}");
+        let l = &lines[0];
+        let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        assert_eq!(keys.len(), 12, "{keys:?}");
+        assert_eq!(l["generation"], 7);
+        assert_eq!(l["level"], "4 spp");
+        assert_eq!(l["spp"], 4);
+        assert_eq!(
+            (l["width"].as_u64(), l["height"].as_u64(), l["x0"].as_u64()),
+            (Some(320), Some(200), Some(360))
+        );
+        assert_eq!(l["render_ms"], 12.5);
+        assert_eq!(l["queued_ms"], 1.25);
+        assert_eq!(l["sent_ms_since_input"], 20.0);
+        let num = |l: &serde_json::Value, k: &str| l[k].as_f64().unwrap();
+        // The input was 80 ms before t0, and presenting took the 30 ms slept.
+        assert!(
+            num(l, "ms_since_input") >= 110.0 && num(l, "ms_since_input") < 10_000.0,
+            "{l}"
+        );
+        assert!(num(l, "present_ms") >= 30.0 && num(l, "present_ms") < 10_000.0, "{l}");
+        assert!(num(l, "t") >= 0.03 && num(l, "t") < num(&lines[1], "t"), "{text}");
+        assert_eq!(
+            (lines[1]["generation"].as_u64(), lines[1]["level"].as_str()),
+            (Some(8), Some("4×4 blocks"))
+        );
+        assert!(num(&lines[1], "present_ms") < num(l, "present_ms"), "{text}");
+    }
 }

@@ -330,3 +330,52 @@ fn lens_axis_angles_round_trip() {
     let unique = cubes().unique_name("cube 1");
     assert_eq!(unique, "cube 1 2");
 }
+
+/// F5 on a file that was broken on disk (bad TOML, then a valid TOML with an
+/// impossible lens): an error naming the file, line and field, and the
+/// document, its dirty state and its undo history exactly as they were;
+/// once the file is fixed, the reload goes through.
+#[test]
+fn reload_of_a_broken_file_says_where_and_keeps_everything() {
+    let path = tmp("reload-broken.toml");
+    let mut doc = cubes();
+    doc.save_as(&path).unwrap();
+    let home = doc.camera_pose();
+    doc.edit("fly", |sf| set_camera_pose(sf, DVec3::new(1.0, 2.0, 3.0), DVec3::ZERO))
+        .unwrap();
+    let good = std::fs::read_to_string(&path).unwrap();
+    let r1 = good.lines().position(|l| l.trim_start().starts_with("r1 =")).unwrap() + 1;
+    let bad_lens = good
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("r1 =") {
+                "r1 = 0.5"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let bad_toml = format!("{good}\n[camera\n");
+    let bad_toml_line = good.lines().count() + 2;
+    for (text, line, field) in [(bad_toml, bad_toml_line, ""), (bad_lens, r1, "lenses[0].r1")] {
+        std::fs::write(&path, &text).unwrap();
+        let before = (doc.scene().clone(), doc.is_dirty(), doc.camera_pose());
+        let msg = doc.reload(true).unwrap_err().to_string();
+        let at = format!("{}:{line}:", path.display());
+        assert!(
+            msg.contains(&at) && msg.contains(field),
+            "{msg} (want {at} and {field})"
+        );
+        assert_eq!(msg.lines().count(), 1, "{msg}");
+        assert_eq!((doc.scene().clone(), doc.is_dirty(), doc.camera_pose()), before);
+    }
+    // The history holds the flight and nothing from the failed reloads.
+    doc.undo();
+    assert_eq!(doc.camera_pose(), home);
+    assert!(!doc.is_dirty());
+    doc.redo();
+    std::fs::write(&path, good.replace("intensity = 500.0", "intensity = 250.0")).unwrap();
+    assert_eq!(doc.reload(true).unwrap(), Change::Picture);
+    assert_eq!(doc.scene().lights[0].intensity, 250.0);
+}
