@@ -11,6 +11,7 @@
 //!
 //! ```text
 //! math · color · sampling · optics · simd     pure functions and lane helpers
+//! limits · output                             size/work limits · atomic file writes
 //!         ↑
 //! geometry · material · light · camera        one closed set of shapes
 //!         ↑
@@ -55,6 +56,7 @@
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
 //! | the viewer's shell, flight, refinement, statistics | `viewer/{mod,flight,refine,stats,session,screen,input}.rs` (binary) |
 //! | each panel section | `viewer/panel/{add,objects,material,camera,lens,light,render,menu,file_dialog,confirm}.rs` (binary) |
+//! | the limits of every command; atomic, safe file writes | `limits.rs`, `output.rs` |
 //! | each command (`render`, `lens`, `bench`, `converge`, `view`) | `cli/*.rs` (binary) |
 
 // `!(x >= lo)` is written on purpose throughout: unlike `x < lo` it is also
@@ -70,9 +72,11 @@ pub mod geometry;
 pub mod integrator;
 pub mod lens_tools;
 pub mod light;
+pub mod limits;
 pub mod material;
 pub mod math;
 pub mod optics;
+pub mod output;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -10,6 +10,12 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let cli = cli::Cli::parse();
+    // Headless commands: Ctrl-C removes the temporary file of a write in
+    // progress and exits 130. The window keeps the default (it only writes
+    // small files, from its own event loop).
+    if !matches!(cli.command, None | Some(cli::Command::View(_))) {
+        lensview::output::remove_temp_files_on_interrupt();
+    }
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

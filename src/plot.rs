@@ -3,6 +3,7 @@
 //! system font library is needed.
 
 use anyhow::{Result, anyhow};
+use lensview::output::write_with;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -24,8 +25,29 @@ pub struct Series {
     pub labels: Vec<String>,
 }
 
-/// A log–log line plot with points.
+/// The plot's size in pixels.
+const SIZE: (u32, u32) = (960, 640);
+
+/// A log–log line plot with points, written as a PNG atomically
+/// (`lensview::output`: no half file, no temporary left, only a regular file
+/// replaced).
 pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<()> {
+    let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+    draw(&mut rgb, title, x_label, y_label, series)
+        .map_err(|e| anyhow!("cannot draw the plot for {}: {e}", path.display()))?;
+    write_with(path, |out| {
+        let mut enc = png::Encoder::new(out, SIZE.0, SIZE.1);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc.write_header().map_err(std::io::Error::other)?;
+        w.write_image_data(&rgb).map_err(std::io::Error::other)?;
+        w.finish().map_err(std::io::Error::other)
+    })?;
+    Ok(())
+}
+
+/// Draws the plot into `rgb` (8-bit RGB, [`SIZE`]).
+fn draw(rgb: &mut [u8], title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<()> {
     register_font();
     let pts = series
         .iter()
@@ -46,8 +68,8 @@ pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &
     let decade_above = |v: f64| 10f64.powf(v.log10().ceil());
     let (x0, x1) = ((x0 / 1.5).min(decade_below(x0)), (x1 * 1.5).max(decade_above(x1)));
     let (y0, y1) = ((y0 / 1.5).min(decade_below(y0)), (y1 * 1.5).max(decade_above(y1)));
-    let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
-    let e = |e: DrawingAreaErrorKind<_>| anyhow!("plot {}: {e:?}", path.display());
+    let root = BitMapBackend::with_buffer(rgb, SIZE).into_drawing_area();
+    let e = |e: DrawingAreaErrorKind<_>| anyhow!("{e:?}");
     root.fill(&WHITE).map_err(e)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 24))

@@ -128,7 +128,7 @@ fn bad_input_gives_one_line_and_a_failure_code() {
         "lights[0].intensity: NaN is not a finite number",
     );
 
-    fails_with(&["render", "--width", "0"], "--width and --height must be at least 1");
+    fails_with(&["render", "--width", "0"], "--width × --height 0×600 is out of range");
     fails_with(&["render", "no-such-file.toml"], "no-such-file.toml: cannot read");
 }
 
@@ -356,4 +356,256 @@ fn converge_writes_its_table_and_plot() {
     let rmse = |r: &Vec<&str>| r[4].parse::<f64>().unwrap();
     assert!(rmse(&rows[5]) < rmse(&rows[0]), "{text}");
     assert!(String::from_utf8_lossy(&o.stdout).contains("PSNR dB"));
+}
+
+// ---- Atomic, safe writes (lensview::output) and the shared limits ----
+
+/// A fresh, empty directory for one test.
+fn fresh_dir(name: &str) -> PathBuf {
+    let d = tmp(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The names in `d`, sorted.
+fn listing(d: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn render_to(out: &std::path::Path, size: &str) -> std::process::Output {
+    let (w, h) = size.split_once('x').unwrap();
+    bin()
+        .args([
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            w,
+            "--height",
+            h,
+            "--spp",
+            "1",
+        ])
+        .output()
+        .unwrap()
+}
+
+/// One line on stderr, exit status 1, and the line contains each of `words`.
+fn refused(o: &std::process::Output, words: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    for w in words {
+        assert!(err.contains(w), "{w:?} not in {err}");
+    }
+}
+
+#[test]
+fn old_temporary_names_are_neither_followed_nor_clobbered() {
+    let d = fresh_dir("old-tmp-names");
+    let victim = d.join("victim.txt");
+    std::fs::write(&victim, "precious").unwrap();
+    // The old fixed names: OUT.png.tmp and OUT.tmp, as links to the victim.
+    std::os::unix::fs::symlink(&victim, d.join("out.png.tmp")).unwrap();
+    std::os::unix::fs::symlink(&victim, d.join("out.tmp")).unwrap();
+    // An unrelated file of the user's at the old name of another output.
+    std::fs::write(d.join("mine.png.tmp"), "mine").unwrap();
+    for out in ["out.png", "mine.png"] {
+        let o = render_to(&d.join(out), "8x6");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(lensview::render::Image::read_png(&d.join(out)).unwrap().width, 8);
+    }
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    assert_eq!(std::fs::read_to_string(d.join("mine.png.tmp")).unwrap(), "mine");
+    assert!(
+        std::fs::symlink_metadata(d.join("out.png.tmp"))
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(
+        listing(&d),
+        [
+            "mine.png",
+            "mine.png.tmp",
+            "out.png",
+            "out.png.tmp",
+            "out.tmp",
+            "victim.txt"
+        ]
+    );
+}
+
+#[test]
+fn only_a_regular_file_is_replaced() {
+    let d = fresh_dir("non-regular");
+    let sub = d.join("a-directory");
+    std::fs::create_dir(&sub).unwrap();
+    refused(
+        &render_to(&sub, "4x4"),
+        &["a-directory", "it is a directory, not a regular file"],
+    );
+    assert!(listing(&sub).is_empty());
+    let fifo = d.join("a-fifo");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    refused(&render_to(&fifo, "4x4"), &["a-fifo", "it is a FIFO"]);
+    let link = d.join("to-dev-null");
+    std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+    refused(
+        &render_to(&link, "4x4"),
+        &["to-dev-null", "a symbolic link to a character device"],
+    );
+    let missing = d.join("no-such-dir").join("x.png");
+    refused(
+        &render_to(&missing, "4x4"),
+        &["no-such-dir", "cannot create a temporary file"],
+    );
+    // Nothing replaced, nothing left behind.
+    assert_eq!(listing(&d), ["a-directory", "a-fifo", "to-dev-null"]);
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    // A link to a regular file writes its target and stays a link.
+    let real = d.join("real.png");
+    std::fs::write(&real, "old").unwrap();
+    let link = d.join("link.png");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    assert!(render_to(&link, "4x4").status.success());
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert_eq!(lensview::render::Image::read_png(&real).unwrap().width, 4);
+}
+
+use std::os::unix::fs::FileTypeExt as _;
+
+#[test]
+fn ctrl_c_during_the_write_leaves_no_temporary_file() {
+    let d = fresh_dir("ctrl-c");
+    let out = d.join("big.png");
+    let mut child = bin()
+        .env("RAYON_NUM_THREADS", "2")
+        .args([
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "4000",
+            "--height",
+            "3000",
+            "--spp",
+            "1",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    // Wait (bounded) for the temporary file to appear, then interrupt.
+    let mut seen = false;
+    while start.elapsed() < std::time::Duration::from_secs(120) {
+        if listing(&d).iter().any(|n| n.ends_with(".tmp")) {
+            seen = true;
+            break;
+        }
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let pid = child.id().to_string();
+    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success() || !seen);
+    let status = child.wait().unwrap();
+    assert!(seen, "the temporary file never appeared");
+    // Interrupted mid-write (130) or, rarely, finished first (0): either
+    // way no temporary file and never half a PNG.
+    match status.code() {
+        Some(130) => assert!(listing(&d).is_empty(), "{:?}", listing(&d)),
+        Some(0) => assert_eq!(listing(&d), ["big.png"]),
+        other => panic!("exit {other:?}"),
+    }
+}
+
+#[test]
+fn every_command_obeys_the_same_limits_at_once() {
+    let d = fresh_dir("limits");
+    let px = d.join("px.png");
+    let p = px.to_str().unwrap();
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &["converge", "--width", "100000", "--height", "100000"],
+            &["100000×100000", "1..=16384"],
+        ),
+        (
+            &["converge", "--max-spp", "4294967295"],
+            &["--max-spp is 4294967295", "1..=65536"],
+        ),
+        (&["converge", "--reference-spp", "4294967295"], &["--reference-spp"]),
+        // Legal values, absurd work: 400×300 × 65536 reference samples.
+        (
+            &["converge", "--reference-spp", "65536"],
+            &["camera samples; the limit is"],
+        ),
+        (
+            &["bench", "--primary-only", "--width", "100000", "--height", "100000"],
+            &["100000×100000"],
+        ),
+        (
+            &["bench", "--primary-only", "--runs", "1000000"],
+            &["--runs is 1000000"],
+        ),
+        (
+            &[
+                "render",
+                "--spp",
+                "4294967295",
+                "--width",
+                "1",
+                "--height",
+                "1",
+                "-o",
+                p,
+            ],
+            &["--spp is 4294967295"],
+        ),
+        (
+            &["render", "--spp", "65537", "--width", "1", "--height", "1", "-o", p],
+            &["1..=65536"],
+        ),
+        (
+            &["render", "--width", "16384", "--height", "16384", "-o", p],
+            &["needs 6.8 GiB", "the limit is 4.0 GiB"],
+        ),
+        (&["view", "--width", "20000"], &["window --width × --height 20000×720"]),
+        (&["view", "--max-spp", "70000"], &["--max-spp is 70000"]),
+    ];
+    for (args, words) in cases {
+        let start = std::time::Instant::now();
+        let o = bin().current_dir(&d).args(*args).output().unwrap();
+        refused(&o, words);
+        assert!(start.elapsed().as_secs() < 5, "{args:?} took {:?}", start.elapsed());
+    }
+    assert!(listing(&d).is_empty(), "{:?}", listing(&d));
+}
+
+#[test]
+fn bench_refuses_an_unwritable_out_dir_before_measuring() {
+    let d = fresh_dir("bench-out");
+    std::fs::create_dir(d.join("bench-size.csv")).unwrap();
+    let start = std::time::Instant::now();
+    let o = bin()
+        .args(["bench", "--quick", "--out-dir", d.to_str().unwrap()])
+        .output()
+        .unwrap();
+    refused(&o, &["bench-size.csv", "it is a directory"]);
+    assert!(start.elapsed().as_secs() < 5);
+    let file = d.join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let o = bin()
+        .args(["bench", "--quick", "--out-dir", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    refused(&o, &["cannot create", "a-file"]);
 }

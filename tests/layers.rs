@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// Top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers").
 const LAYERS: &[&[&str]] = &[
-    &["math", "color", "sampling", "optics", "simd"],
+    &["math", "color", "sampling", "optics", "simd", "limits", "output"],
     &["geometry", "material", "light", "camera"],
     &["accel"],
     &["scene"],

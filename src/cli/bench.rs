@@ -14,6 +14,7 @@ use lensview::bench::{
     median_time, primary_rays_per_second, primary_rays_per_second_scalar, unused_feature_frame,
 };
 use lensview::scene::{Scene, SceneFile};
+use lensview::{limits, output};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -98,10 +99,8 @@ impl BenchArgs {
 }
 
 pub fn bench(a: &BenchArgs) -> Result<()> {
+    check_limits(a)?;
     let (sf, scene) = load_scene(a.scene.as_deref())?;
-    if a.width == 0 || a.height == 0 || a.runs == 0 {
-        bail!("--width, --height and --runs must be at least 1");
-    }
     match a.mode() {
         BenchMode::UnusedFeature {
             feature,
@@ -136,6 +135,31 @@ pub fn bench(a: &BenchArgs) -> Result<()> {
             &a.out_dir,
         ),
     }
+}
+
+/// The shared limits ([`limits`]) for this run's size, runs, frames and
+/// work, and a writable `--out-dir` for the study, checked before anything
+/// is measured.
+fn check_limits(a: &BenchArgs) -> Result<()> {
+    limits::check_image("--width × --height", a.width, a.height, limits::IMAGE_BYTES_PER_PIXEL)?;
+    limits::check_count("--runs", a.runs as u64, limits::MAX_RUNS as u64)?;
+    let passes = match a.mode() {
+        BenchMode::UnusedFeature { frames, .. } => {
+            limits::check_count("--frames", frames as u64, limits::MAX_RUNS as u64)?;
+            frames as u64
+        }
+        // Three ways of casting, `runs` times each.
+        BenchMode::PrimaryOnly => 3 * a.runs as u64,
+        // WIDTH×HEIGHT and 400×400, `runs` times each.
+        BenchMode::FrameOnly => 2 * a.runs as u64,
+        BenchMode::Study => {
+            std::fs::create_dir_all(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;
+            output::check_target(&a.out_dir.join("bench-size.csv"))?;
+            return Ok(());
+        }
+    };
+    limits::check_work("the benchmark", a.width.max(400), a.height.max(400), 1, passes)?;
+    Ok(())
 }
 
 /// Closest-hit primary rays per second at one size, cast three ways.
@@ -222,7 +246,6 @@ const REPORTS: [(&str, Report); 4] = [
 ];
 
 fn study(s: &Study, out_dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
     println!(
         "lensview bench: median of {} runs (the points of a sweep timed round-robin), {} threads, \
          1 sample per pixel, full Whitted shading",

@@ -4,9 +4,10 @@
 use super::load_scene;
 use super::table::{Column, Plot, Table, num};
 use crate::plot::Series;
-use anyhow::{Result, bail};
+use anyhow::Result;
 use clap::Args;
 use lensview::bench::convergence::{converge as converge_rows, reference};
+use lensview::{limits, output};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -35,10 +36,17 @@ pub struct ConvergeArgs {
 /// Renders the reference, runs the schedule against it, and reports one
 /// table (printed, `--csv`, plotted to `--plot`).
 pub fn converge(a: &ConvergeArgs) -> Result<()> {
+    // The reference's image and the schedule's planes and stage images.
+    let bpp = limits::PROGRESSIVE_BYTES_PER_PIXEL + 2 * 24;
+    limits::check_image("--width × --height", a.width, a.height, bpp)?;
+    limits::check_spp("--max-spp", a.max_spp)?;
+    limits::check_spp("--reference-spp", a.reference_spp)?;
+    // The schedule renders about 2 × max-spp samples a pixel in all.
+    let spp = a.reference_spp as u64 + 2 * a.max_spp as u64 + 1;
+    limits::check_work("the reference and the schedule", a.width, a.height, spp, 1)?;
+    output::check_target(&a.csv)?;
+    output::check_target(&a.plot)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
-    if a.width == 0 || a.height == 0 || a.max_spp == 0 || a.reference_spp == 0 {
-        bail!("--width, --height, --max-spp and --reference-spp must be at least 1");
-    }
     eprintln!("rendering the reference at {} spp…", a.reference_spp);
     let t = Instant::now();
     let reference = reference(&scene, a.width, a.height, a.reference_spp, 1);

@@ -1,9 +1,10 @@
 //! `lensview render`: one image, headless, to a PNG file.
 
 use super::load_scene;
-use anyhow::{Context, Result, bail};
+use anyhow::Result;
 use clap::Args;
 use lensview::render::{RenderSettings, render};
+use lensview::{limits, output};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -21,7 +22,7 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 600)]
     pub height: u32,
-    /// Samples per pixel (default: the scene's `render.spp`).
+    /// Samples per pixel, 1..=65536 (default: the scene's `render.spp`).
     #[arg(long)]
     pub spp: Option<u32>,
     /// Seed of the sample pattern.
@@ -30,21 +31,15 @@ pub struct RenderArgs {
 }
 
 pub fn render_cmd(a: RenderArgs) -> Result<()> {
+    limits::check_image("--width × --height", a.width, a.height, limits::IMAGE_BYTES_PER_PIXEL)?;
+    if let Some(spp) = a.spp {
+        limits::check_spp("--spp", spp)?;
+    }
+    // A directory, device or FIFO at -o is refused before rendering.
+    output::check_target(&a.output)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
-    if a.width == 0 || a.height == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
-    }
-    if a.width > 16384 || a.height > 16384 {
-        bail!(
-            "--width and --height must be at most 16384 (got {}×{})",
-            a.width,
-            a.height
-        );
-    }
     let spp = a.spp.unwrap_or(scene.spp);
-    if spp == 0 {
-        bail!("--spp must be at least 1");
-    }
+    limits::check_work("the render", a.width, a.height, spp as u64, 1)?;
     let settings = RenderSettings {
         width: a.width,
         height: a.height,
@@ -59,8 +54,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     if tty {
         eprint!("\r");
     }
-    img.write_png(&a.output)
-        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    img.write_png(&a.output)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     println!(
         "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",

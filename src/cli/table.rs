@@ -5,7 +5,8 @@
 //! table's CSV columns are a contract; printed-only columns are not.
 
 use crate::plot::{Series, log_log};
-use anyhow::{Context, Result};
+use anyhow::Result;
+use lensview::output::write_file;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -121,7 +122,7 @@ impl Table {
     /// to `png`.
     pub fn emit(&self, csv: &Path, png: &Path) -> Result<()> {
         print!("{}", self.text());
-        std::fs::write(csv, self.csv()).with_context(|| format!("cannot write {}", csv.display()))?;
+        write_file(csv, self.csv().as_bytes())?;
         if let Some(p) = &self.plot {
             log_log(png, &p.title, &p.x_label, &p.y_label, &p.series)?;
         }

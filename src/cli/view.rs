@@ -4,6 +4,7 @@
 use super::load_scene;
 use anyhow::{Result, bail};
 use clap::Args;
+use lensview::limits;
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Default)]
@@ -35,12 +36,14 @@ pub struct ViewArgs {
 
 pub fn view(a: ViewArgs) -> Result<()> {
     let (scene_file, _) = load_scene(a.scene.as_deref())?;
-    if a.width == 0 || a.height == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", a.width, a.height);
-    }
-    if a.max_spp == 0 {
-        bail!("--max-spp must be at least 1");
-    }
+    // The window's own buffers: the progressive planes and the RGBA frame.
+    limits::check_image(
+        "window --width × --height",
+        a.width,
+        a.height,
+        limits::PROGRESSIVE_BYTES_PER_PIXEL + 4,
+    )?;
+    limits::check_spp("--max-spp", a.max_spp)?;
     if let Some(t) = a.exit_after
         && !(t >= 0.0 && t.is_finite())
     {

@@ -1,7 +1,7 @@
 //! A linear-light image and its 8-bit sRGB PNG encoding.
 
 use crate::color::{Rgb, to_srgb8};
-use std::io::BufWriter;
+use crate::output::{WriteError, write_with};
 use std::path::Path;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -30,21 +30,19 @@ impl Image {
         self.pixels.iter().flat_map(|&c| to_srgb8(c)).collect()
     }
 
-    /// Writes an 8-bit sRGB PNG, through a temporary file so that a failed
-    /// write never leaves half a picture under the user's name.
-    pub fn write_png(&self, path: &Path) -> std::io::Result<()> {
-        let tmp = path.with_extension("png.tmp");
-        {
-            let file = std::fs::File::create(&tmp)?;
-            let mut enc = png::Encoder::new(BufWriter::new(file), self.width, self.height);
+    /// Writes an 8-bit sRGB PNG atomically ([`crate::output`]): a failed
+    /// write never leaves half a picture, a temporary file, or anything but
+    /// a regular file replaced. The error names the path.
+    pub fn write_png(&self, path: &Path) -> Result<(), WriteError> {
+        write_with(path, |out| {
+            let mut enc = png::Encoder::new(out, self.width, self.height);
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
             enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
             let mut w = enc.write_header().map_err(std::io::Error::other)?;
             w.write_image_data(&self.to_srgb8()).map_err(std::io::Error::other)?;
-            w.finish().map_err(std::io::Error::other)?;
-        }
-        std::fs::rename(&tmp, path)
+            w.finish().map_err(std::io::Error::other)
+        })
     }
 
     /// Reads an 8-bit RGB or RGBA PNG back into linear light.

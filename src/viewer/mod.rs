@@ -107,13 +107,15 @@ pub fn run(opts: ViewOptions) -> Result<()> {
     };
     let doc = Document::new(opts.scene_file.clone(), source).map_err(|e| anyhow!("invalid scene: {e}"))?;
     let log = match &opts.frame_log {
-        Some(p) => Some(
+        Some(p) => Some({
+            // Appended to, not replaced: still never a device, FIFO or directory.
+            lensview::output::check_regular(p).context("--frame-log")?;
             std::fs::OpenOptions::new()
                 .create(true)
                 .append(true)
                 .open(p)
-                .with_context(|| format!("cannot open frame log {}", p.display()))?,
-        ),
+                .with_context(|| format!("cannot open frame log {}", p.display()))?
+        }),
         None => None,
     };
     let mut app = Viewer {

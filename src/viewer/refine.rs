@@ -5,6 +5,7 @@
 //! sample per pixel. The full-resolution screenshot renders here too, on a
 //! thread of its own.
 
+use lensview::limits;
 use lensview::render::progressive::{Progressive, Stage};
 use lensview::render::worker::{Frame, Job, Worker};
 use lensview::scene::Scene;
@@ -110,6 +111,13 @@ impl Refine {
     /// Returns the line for the message bar.
     pub fn screenshot(&mut self, scene: Arc<Scene>, (w, h): (u32, u32)) -> String {
         let spp = self.frame.as_ref().map_or(1, |f| f.spp.max(1));
+        // The same limits as `render`: refused before anything is allocated.
+        let bpp = limits::PROGRESSIVE_BYTES_PER_PIXEL + 3;
+        if let Err(e) =
+            limits::check_image("screenshot", w, h, bpp).and(limits::check_work("screenshot", w, h, spp as u64, 1))
+        {
+            return format!("cannot save a screenshot: {e}");
+        }
         self.screenshots += 1;
         let name = PathBuf::from(format!(
             "lensview-{}-{}.png",
@@ -124,7 +132,7 @@ impl Refine {
             p.run(&scene, Stage::Samples(spp), &|| false);
             match p.image().write_png(&name) {
                 Ok(()) => eprintln!("saved {}", name.display()),
-                Err(e) => eprintln!("error: cannot write {}: {e}", name.display()),
+                Err(e) => eprintln!("error: {e}"),
             }
         });
         msg

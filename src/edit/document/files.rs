@@ -1,8 +1,9 @@
 //! Saving and reloading a [`Document`]: TOML text that reads back to the
-//! identical scene, written through a temporary file so a failed save
+//! identical scene, written atomically (`crate::output`) so a failed save
 //! never leaves half a file.
 
 use super::{Change, Document, Rejected, Source};
+use crate::output::{WriteError, write_file};
 use crate::scene::{Scene, SceneError, SceneFile};
 use std::path::{Path, PathBuf};
 
@@ -16,16 +17,13 @@ impl Document {
         }
     }
 
-    /// Writes the scene as TOML to `path` (through a temporary file and a
-    /// rename, so a failed save never leaves half a file), checks that the
+    /// Writes the scene as TOML to `path` (atomically, [`crate::output`]: a
+    /// failed save never leaves half a file or a temporary one), checks that the
     /// text reads back to the identical scene, and makes `path` the
     /// document's file.
     pub fn save_as(&mut self, path: &Path) -> Result<PathBuf, SaveError> {
         let text = to_toml(&self.scene).map_err(SaveError::Serialize)?;
-        write_atomically(path, &text).map_err(|err| SaveError::Io {
-            path: path.to_path_buf(),
-            err,
-        })?;
+        write_file(path, text.as_bytes()).map_err(SaveError::Io)?;
         self.source = Source::File(path.to_path_buf());
         self.saved = self.scene.clone();
         Ok(path.to_path_buf())
@@ -62,26 +60,11 @@ pub fn to_toml(sf: &SceneFile) -> Result<String, String> {
     Ok(text)
 }
 
-fn write_atomically(path: &Path, text: &str) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
-    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
-}
-
 /// Why a save failed (the document is unchanged and still dirty).
 #[derive(Debug, thiserror::Error)]
 pub enum SaveError {
-    #[error("cannot write {}: {err}", path.display())]
-    Io { path: PathBuf, err: std::io::Error },
+    #[error("{0}")]
+    Io(WriteError),
     #[error("cannot write the scene as TOML: {0}")]
     Serialize(String),
 }

@@ -176,11 +176,8 @@ impl UiState {
     pub fn write_rects(&mut self, path: Option<&Path>) {
         let Some(path) = path else { return };
         let text = serde_json::to_string(&self.rects.rects).unwrap_or_default();
-        if text != self.rects.written {
-            let tmp = path.with_extension("tmp");
-            if std::fs::write(&tmp, &text).is_ok() && std::fs::rename(&tmp, path).is_ok() {
-                self.rects.written = text;
-            }
+        if text != self.rects.written && lensview::output::write_file(path, text.as_bytes()).is_ok() {
+            self.rects.written = text;
         }
     }
 }

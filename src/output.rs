@@ -1,0 +1,282 @@
+//! Every file lensview writes (PNG renders, plots and screenshots, CSV
+//! tables, saved scenes) goes through [`write_with`] / [`write_file`]:
+//!
+//! - the bytes go to a temporary file with a unique random name
+//!   (`.NAME.XXXXXX.tmp`), created exclusively (`O_EXCL`) in the target's
+//!   directory, so no existing file or symbolic link at any name is followed
+//!   or overwritten on the way;
+//! - it is flushed to disk and renamed over the target only when complete,
+//!   so the target holds either its old content or the whole new one;
+//! - it is removed on every failure, on unwinding, and on Ctrl-C (when the
+//!   command installed [`remove_temp_files_on_interrupt`]);
+//! - only a regular file (or nothing) is replaced: a directory, a device, a
+//!   FIFO or a socket at the path is refused with an error naming it.
+//!   A symbolic link whose final target is a regular file writes that
+//!   target (the link stays a link, as editors do); a link to anything else,
+//!   or to nothing, is refused.
+//!
+//! A replaced file keeps its permissions; a new one gets 0666 less the umask,
+//! as a plain create would.
+
+use std::fs::Permissions;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Temporary files being written now, for the Ctrl-C handler.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn pending() -> MutexGuard<'static, Vec<PathBuf>> {
+    PENDING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Why a write failed: one line naming the path. Nothing was left behind and
+/// the target (if any) is as it was.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {err}", path.display())]
+pub struct WriteError {
+    pub path: PathBuf,
+    pub err: io::Error,
+}
+
+/// Writes `bytes` to `path` atomically (see the module documentation).
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    write_with(path, |w| w.write_all(bytes))
+}
+
+/// Writes what `fill` produces to `path` atomically (see the module
+/// documentation). `fill` gets a buffered writer.
+pub fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), WriteError> {
+    let fail = |err| WriteError {
+        path: path.to_path_buf(),
+        err,
+    };
+    let (target, perms) = target(path).map_err(fail)?;
+    let tmp = temp_beside(&target, perms).map_err(fail)?;
+    let tmp_path = tmp.path().to_path_buf();
+    pending().push(tmp_path.clone());
+    let filled = (|| {
+        let mut w = BufWriter::new(tmp.as_file());
+        fill(&mut w)?;
+        w.flush()?;
+        drop(w);
+        tmp.as_file().sync_all()
+    })();
+    // Renaming (or removing) happens under the lock, so the Ctrl-C handler
+    // sees the temporary file either still there or gone, never half-way.
+    let mut list = pending();
+    let result = match filled {
+        Ok(()) => tmp.persist(&target).map(drop).map_err(|e| e.error),
+        Err(e) => Err(e), // dropping `tmp` removes it
+    };
+    list.retain(|p| *p != tmp_path);
+    drop(list);
+    result.map_err(fail)
+}
+
+/// A new, empty temporary file in `target`'s directory, named after it.
+fn temp_beside(target: &Path, perms: Option<Permissions>) -> io::Result<tempfile::NamedTempFile> {
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = target.file_name().unwrap_or_default().to_string_lossy();
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    if let Some(p) = perms.or_else(new_file_permissions) {
+        builder.permissions(p);
+    }
+    builder.tempfile_in(dir).map_err(|e| {
+        // The OS error alone: tempfile adds the random name, which means nothing to the user.
+        let why = e
+            .raw_os_error()
+            .map_or_else(|| e.to_string(), |c| io::Error::from_raw_os_error(c).to_string());
+        io::Error::new(
+            e.kind(),
+            format!("cannot create a temporary file in {}: {why}", dir.display()),
+        )
+    })
+}
+
+/// Checks, before long work, that [`write_with`] could write `path`: it is
+/// a regular file or nothing (see [`check_regular`]) and a temporary file
+/// can be created (and is at once removed) in its directory.
+pub fn check_target(path: &Path) -> Result<(), WriteError> {
+    let fail = |err| WriteError {
+        path: path.to_path_buf(),
+        err,
+    };
+    let (target, _) = target(path).map_err(fail)?;
+    temp_beside(&target, None).map(drop).map_err(fail)
+}
+
+/// Where to write for `path`, and the permissions of the file replaced (if
+/// any); an error when `path` is something that must not be replaced.
+fn target(path: &Path) -> io::Result<(PathBuf, Option<Permissions>)> {
+    let meta = match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok((path.to_path_buf(), None)),
+        other => other?,
+    };
+    if meta.is_file() {
+        return Ok((path.to_path_buf(), Some(meta.permissions())));
+    }
+    if !meta.file_type().is_symlink() {
+        return Err(refused(&format!("it is {}", kind(&meta))));
+    }
+    let real = std::fs::canonicalize(path).map_err(|_| refused("it is a symbolic link to nothing"))?;
+    let meta = std::fs::metadata(&real)?;
+    if !meta.is_file() {
+        return Err(refused(&format!("it is a symbolic link to {}", kind(&meta))));
+    }
+    Ok((real, Some(meta.permissions())))
+}
+
+fn refused(why: &str) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("{why}, not a regular file (refusing to replace it)"),
+    )
+}
+
+/// Checks that `path` is a regular file, a symbolic link to one, or
+/// nothing: for files that are appended to rather than replaced (the
+/// viewer's frame log), which must not be a device, FIFO or directory.
+pub fn check_regular(path: &Path) -> Result<(), WriteError> {
+    target(path).map(drop).map_err(|err| WriteError {
+        path: path.to_path_buf(),
+        err,
+    })
+}
+
+fn kind(meta: &std::fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    if t.is_dir() {
+        return "a directory";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    "a special file"
+}
+
+/// The mode for a new file: passed to open(2), so the umask applies as for
+/// any new file (tempfile's own default is 0600).
+fn new_file_permissions() -> Option<Permissions> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        Some(Permissions::from_mode(0o666))
+    }
+    #[cfg(not(unix))]
+    None
+}
+
+/// Installs a Ctrl-C (SIGINT) handler that removes the temporary files being
+/// written and exits with status 130. For the headless commands; without it
+/// SIGINT kills the process before any clean-up.
+pub fn remove_temp_files_on_interrupt() {
+    // It fails only when a handler is already installed: then that one rules.
+    let _ = ctrlc::set_handler(|| {
+        for p in pending().drain(..) {
+            let _ = std::fs::remove_file(p);
+        }
+        std::process::exit(130);
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("lensview-output-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn names(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn writes_replaces_and_keeps_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = dir("replace");
+        let p = d.join("a.txt");
+        write_file(&p, b"one").unwrap();
+        std::fs::set_permissions(&p, Permissions::from_mode(0o640)).unwrap();
+        write_file(&p, b"two").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"two");
+        assert_eq!(std::fs::metadata(&p).unwrap().permissions().mode() & 0o777, 0o640);
+        assert_eq!(names(&d), ["a.txt"]);
+    }
+
+    #[test]
+    fn a_failed_fill_leaves_the_old_file_and_no_temporary() {
+        let d = dir("fail");
+        let p = d.join("a.txt");
+        std::fs::write(&p, "old").unwrap();
+        let e = write_with(&p, |w| {
+            w.write_all(b"half")?;
+            Err(io::Error::other("disk full"))
+        })
+        .unwrap_err();
+        assert_eq!(e.to_string(), format!("cannot write {}: disk full", p.display()));
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        assert_eq!(names(&d), ["a.txt"]);
+        assert!(pending().is_empty());
+    }
+
+    #[test]
+    fn refuses_what_is_not_a_regular_file() {
+        let d = dir("refuse");
+        let sub = d.join("sub");
+        std::fs::create_dir(&sub).unwrap();
+        let e = write_file(&sub, b"x").unwrap_err().to_string();
+        assert!(e.contains("it is a directory, not a regular file"), "{e}");
+        assert!(e.contains(&*sub.to_string_lossy()), "{e}");
+        let link = d.join("null");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        let e = write_file(&link, b"x").unwrap_err().to_string();
+        assert!(e.contains("a symbolic link to a character device"), "{e}");
+        let dangling = d.join("dangling");
+        std::os::unix::fs::symlink(d.join("missing"), &dangling).unwrap();
+        assert!(write_file(&dangling, b"x").is_err());
+        assert!(check_regular(&sub).is_err() && check_regular(&d.join("new")).is_ok());
+        assert!(check_target(&sub).is_err() && check_target(&d.join("new")).is_ok());
+        assert!(check_target(&d.join("no-such-dir/new")).is_err());
+        assert_eq!(names(&d), ["dangling", "null", "sub"]);
+    }
+
+    #[test]
+    fn a_link_to_a_regular_file_writes_its_target() {
+        let d = dir("link");
+        let real = d.join("real.txt");
+        std::fs::write(&real, "old").unwrap();
+        let link = d.join("link.txt");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_file(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+    }
+}
