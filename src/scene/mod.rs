@@ -222,6 +222,23 @@ fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
     out
 }
 
+/// Whether every float in `table` is finite: written neither `inf` nor
+/// `nan` nor too large for an f64 (what [`Located::non_finite`] refuses).
+/// A float that does not read back as an f64 counts as not finite, so
+/// that the careful path decides.
+fn all_finite(table: &toml::de::DeTable) -> bool {
+    fn value(v: &toml::de::DeValue) -> bool {
+        use toml::de::DeValue;
+        match v {
+            DeValue::Float(f) => f.as_str().parse::<f64>().is_ok_and(f64::is_finite),
+            DeValue::Array(a) => a.iter().all(|v| value(v.get_ref())),
+            DeValue::Table(t) => all_finite(t),
+            _ => true,
+        }
+    }
+    table.values().all(|v| value(v.get_ref()))
+}
+
 impl Scene {
     /// Decides [`Features`] and builds the BVH; call again after changing
     /// `objects`, `lights` or `shadows` directly.
@@ -248,7 +265,16 @@ impl Scene {
     }
 
     /// Parses and validates scene text; `file` names it in errors.
+    ///
+    /// A valid scene is read once, by `toml`; the span-keeping `toml_edit`
+    /// parse that [`Located`] needs (about 4 KB an object) is made only
+    /// when something is wrong, and the refusal is then decided exactly as
+    /// before: a non-finite number first, then the parse error, then the
+    /// first validation problem.
     pub fn parse(file: &str, text: &str) -> Result<(SceneFile, Scene), SceneError> {
+        if let Some(ok) = Self::parse_valid(text) {
+            return Ok(ok);
+        }
         let located = Located::new(file, text);
         if let Some(p) = located.non_finite().first() {
             return Err(located.error(p));
@@ -263,6 +289,19 @@ impl Scene {
             Ok(scene) => Ok((sf, scene)),
             Err(problems) => Err(located.error(&problems[0])),
         }
+    }
+
+    /// The scene in `text` when it parses, holds no non-finite number and
+    /// validates; `None` for anything else (the caller then finds where).
+    fn parse_valid(text: &str) -> Option<(SceneFile, Scene)> {
+        use serde::Deserialize;
+        let table = toml::de::DeTable::parse(text).ok()?;
+        if !all_finite(table.get_ref()) {
+            return None;
+        }
+        let sf = SceneFile::deserialize(toml::de::Deserializer::from(table)).ok()?;
+        let scene = Scene::build(&sf).ok()?;
+        Some((sf, scene))
     }
 
     /// Validates the file model and precomputes the render model. Returns
