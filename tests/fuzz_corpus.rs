@@ -1,5 +1,5 @@
-//! Replays the fuzz corpus (fuzz/corpus/scene) and any crash inputs kept
-//! (fuzz/artifacts) through the fuzz target's own oracle, so that plain
+//! Replays the fuzz corpora (fuzz/corpus/scene, fuzz/corpus/lens_trace) and
+//! any crash inputs kept (fuzz/artifacts/TARGET) through the fuzz target's own oracle, so that plain
 //! `cargo test` checks every input the fuzzer has found interesting.
 
 use std::path::{Path, PathBuf};
@@ -25,7 +25,7 @@ fn fuzz_corpus_and_artifacts_replay_without_panic() {
     files_under(&root.join("corpus/scene"), &mut corpus);
     assert!(corpus.len() >= 10, "seed corpus missing: {} files", corpus.len());
     let mut all = corpus;
-    files_under(&root.join("artifacts"), &mut all);
+    files_under(&root.join("artifacts/scene"), &mut all);
     all.sort();
     let mut loaded = 0;
     for f in &all {
@@ -36,4 +36,36 @@ fn fuzz_corpus_and_artifacts_replay_without_panic() {
     }
     // The shipped scenes are in the seed corpus: some inputs load.
     assert!(loaded >= 3, "only {loaded} of {} inputs load", all.len());
+}
+
+/// The `lens trace` corpus (fuzz/corpus/lens_trace) and its crash inputs
+/// (fuzz/artifacts/lens_trace) through `check_trace_bytes`, the oracle of
+/// fuzz/fuzz_targets/lens_trace.rs.
+#[test]
+fn lens_trace_corpus_and_artifacts_replay_without_panic() {
+    use lensview::lens_tools::{TraceInput, check_cases};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let mut all = Vec::new();
+    files_under(&root.join("corpus/lens_trace"), &mut all);
+    assert!(all.len() >= 8, "seed corpus missing: {} files", all.len());
+    files_under(&root.join("artifacts/lens_trace"), &mut all);
+    all.sort();
+    let (mut traced, mut refused) = (0, 0);
+    for f in &all {
+        let bytes = std::fs::read(f).unwrap();
+        let outcome = std::panic::catch_unwind(|| lensview::lens_tools::check_trace_bytes(&bytes));
+        assert!(outcome.is_ok(), "{} fails the fuzz oracle", f.display());
+        if let Ok(input) = serde_json::from_slice::<TraceInput>(&bytes) {
+            match check_cases(&input) {
+                Ok(()) => traced += 1,
+                Err(_) => refused += 1,
+            }
+        }
+    }
+    // The seeds hold inputs of both kinds: the oracle's two halves both run.
+    assert!(
+        traced >= 3 && refused >= 3,
+        "{traced} traced, {refused} refused of {}",
+        all.len()
+    );
 }
