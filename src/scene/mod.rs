@@ -314,6 +314,9 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
+        // Pushed one by one, the vector may have room for nearly as many
+        // again (760 bytes each): give it back (tests/memory.rs).
+        objects.shrink_to_fit();
         if !v.problems.is_empty() {
             return Err(v.problems);
         }
