@@ -348,6 +348,18 @@ mod tests {
     use crate::geometry::{Cuboid, Prism, Pyramid, Sphere};
     use crate::optics::Index;
 
+    /// A valid scene skips the span-keeping parse only when every float is
+    /// finite, however deeply it is nested; anything else takes the careful
+    /// path, which refuses it with its line.
+    #[test]
+    fn only_finite_floats_skip_the_careful_path() {
+        let finite = |t: &str| all_finite(toml::de::DeTable::parse(t).unwrap().get_ref());
+        assert!(finite("a = 1.5\nb = [1, 2.0e300, { c = -0.0 }]\n[t]\nd = 1_000.5"));
+        for t in ["a = inf", "a = -nan", "a = [1, [2, +inf]]", "a = { b = { c = nan } }", "[t]\nd = 1e400"] {
+            assert!(!finite(t), "{t}");
+        }
+    }
+
     /// The face normals looked up for flat shapes are, bit for bit, the
     /// normal transformed from object space at points on each face, for
     /// rotated and shifted cuboids, prisms and pyramids.
