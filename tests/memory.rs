@@ -39,7 +39,11 @@ static COUNTING: Counting = Counting;
 fn cuboids(n: usize) -> String {
     let mut s = String::from("objects = [\n");
     for i in 0..n {
-        s += &format!("{{type=\"cuboid\",position=[{},0,{}],size=[0.8,0.8,0.8],material=\"m\"}},\n", i % 100, i / 100);
+        s += &format!(
+            "{{type=\"cuboid\",position=[{},0,{}],size=[0.8,0.8,0.8],material=\"m\"}},\n",
+            i % 100,
+            i / 100
+        );
     }
     s + "]\n[camera]\nposition = [0, 50, 50]\nlook_at = [0, 0, 0]\n[[lights]]\ntype = \"point\"\nposition = [0, 50, 0]\nintensity = 100\n[materials.m]\n"
 }
@@ -63,4 +67,3 @@ fn loading_a_scene_takes_under_4_kb_an_object_at_the_peak_and_keeps_under_1_3_kb
     // the others: 1174 bytes; 1659 before the object vector was trimmed.
     assert!(kept <= 1280, "{kept} bytes an object kept after loading");
 }
-

@@ -355,7 +355,13 @@ mod tests {
     fn only_finite_floats_skip_the_careful_path() {
         let finite = |t: &str| all_finite(toml::de::DeTable::parse(t).unwrap().get_ref());
         assert!(finite("a = 1.5\nb = [1, 2.0e300, { c = -0.0 }]\n[t]\nd = 1_000.5"));
-        for t in ["a = inf", "a = -nan", "a = [1, [2, +inf]]", "a = { b = { c = nan } }", "[t]\nd = 1e400"] {
+        for t in [
+            "a = inf",
+            "a = -nan",
+            "a = [1, [2, +inf]]",
+            "a = { b = { c = nan } }",
+            "[t]\nd = 1e400",
+        ] {
             assert!(!finite(t), "{t}");
         }
     }
