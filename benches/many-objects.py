@@ -7,8 +7,8 @@
 
 N = 0 gives the same scene with no object (the fixed cost). Each object is
 written in the short inline form, about 70 bytes, so 10^5 objects fit well
-under the 16 MiB scene-file cap; 10^6 do not (benches/many_objects.rs
-measures that size in-process).
+under the 16 MiB scene-file cap; 10^6 (70 MB) are refused by it at once.
+tests/memory.rs counts the heap bytes per object in-process.
 """
 import math
 import sys
