@@ -111,73 +111,169 @@ fn lens_field(e: &LensError) -> &'static str {
 pub fn trace_cases(input: &TraceInput) -> Result<TraceOutput, TraceError> {
     let mut cases = Vec::with_capacity(input.cases.len());
     for (ci, case) in input.cases.iter().enumerate() {
-        let place = format!("cases[{ci}] (id {})", case.id);
-        let l = &case.lens;
-        let index = index_of(l.n);
-        let lens =
-            Lens::new(DVec3::from(l.center), DVec3::from(l.axis), l.d, l.r1, l.r2, index).map_err(|e| TraceError {
-                place: format!("{place}.lens.{}", lens_field(&e)),
-                message: e.to_string(),
-            })?;
-        let mut rays = Vec::with_capacity(case.rays.len());
-        for (ri, r) in case.rays.iter().enumerate() {
-            let rplace = || format!("{place}.rays[{ri}] (id {})", r.id);
-            let origin = DVec3::from(r.origin);
-            let dir = DVec3::from(r.direction);
-            if !origin.is_finite() {
-                return Err(TraceError {
-                    place: rplace() + ".origin",
-                    message: "must be finite".into(),
-                });
-            }
-            if !(dir.is_finite() && dir.length() > 0.0) {
-                return Err(TraceError {
-                    place: rplace() + ".direction",
-                    message: "must be a finite non-zero vector".into(),
-                });
-            }
-            let lambda = r.wavelength_um.unwrap_or(WAVELENGTH_D_UM);
-            if !(lambda > 0.0 && lambda.is_finite()) {
-                return Err(TraceError {
-                    place: rplace() + ".wavelength_um",
-                    message: format!("{lambda} must be positive"),
-                });
-            }
-            let n = index.at(lambda);
-            if !(n >= 1.0 && n.is_finite()) {
-                return Err(TraceError {
-                    place: rplace() + ".wavelength_um",
-                    message: format!("index {n} at {lambda} µm is below 1"),
-                });
-            }
-            let p = lens.trace(origin, dir, n);
-            let side =
-                |x: Option<(LensSurface, DVec3, DVec3)>| x.map(|(s, p, d)| (s.name(), p.to_array(), d.to_array()));
-            let entry = side(p.entry);
-            let exit = side(p.exit);
-            rays.push(RayOutput {
-                id: r.id.clone(),
-                status: match p.status {
-                    LensTraceStatus::Transmitted => "transmitted",
-                    LensTraceStatus::Miss => "miss",
-                    LensTraceStatus::Trapped => "trapped",
-                },
-                entry_surface: entry.map(|e| e.0),
-                entry_point: entry.map(|e| e.1),
-                entry_direction: entry.map(|e| e.2),
-                exit_surface: exit.map(|e| e.0),
-                exit_point: exit.map(|e| e.1),
-                exit_direction: exit.map(|e| e.2),
-                n_internal_reflections: p.internal_reflections,
-                n,
-            });
-        }
+        let lens = case_lens(ci, case)?;
+        let rays = (case.rays.iter().enumerate())
+            .map(|(ri, r)| trace_ray(&lens, ci, case, ri, r))
+            .collect::<Result<_, _>>()?;
         cases.push(CaseOutput {
             id: case.id.clone(),
             rays,
         });
     }
     Ok(TraceOutput { cases })
+}
+
+/// Checks every case's lens and every ray, tracing nothing: the first
+/// problem that [`trace_cases`] would meet, or none.
+pub fn check_cases(input: &TraceInput) -> Result<(), TraceError> {
+    for (ci, case) in input.cases.iter().enumerate() {
+        case_lens(ci, case)?;
+        let index = index_of(case.lens.n);
+        for (ri, r) in case.rays.iter().enumerate() {
+            ray_index(ci, case, ri, r, index)?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes what [`trace_cases`] returns as pretty JSON, byte for byte what
+/// `serde_json::to_writer_pretty` writes for it, but tracing each ray as
+/// it is written, so that memory does not grow with the number of rays.
+/// Call [`check_cases`] first: a problem found here stops the output
+/// half-way (as a `serde_json` error naming it).
+pub fn write_trace_json(input: &TraceInput, out: impl std::io::Write) -> serde_json::Result<()> {
+    serde_json::to_writer_pretty(out, &Streamed(input))
+}
+
+/// [`TraceOutput`] of an input, traced while serialised.
+struct Streamed<'a>(&'a TraceInput);
+/// [`CaseOutput`] of one case, traced while serialised.
+struct StreamedCase<'a>(usize, &'a TraceCase);
+/// [`CaseOutput::rays`] of one case, traced while serialised.
+struct StreamedRays<'a>(usize, &'a TraceCase);
+
+impl Serialize for Streamed<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let cases = self.0.cases.iter().enumerate();
+        let mut st = s.serialize_struct("TraceOutput", 1)?;
+        st.serialize_field("cases", &CollectSeq(cases.map(|(ci, c)| StreamedCase(ci, c))))?;
+        st.end()
+    }
+}
+
+impl Serialize for StreamedCase<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("CaseOutput", 2)?;
+        st.serialize_field("id", &self.1.id)?;
+        st.serialize_field("rays", &StreamedRays(self.0, self.1))?;
+        st.end()
+    }
+}
+
+impl Serialize for StreamedRays<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::{Error, SerializeSeq};
+        let (ci, case) = (self.0, self.1);
+        let lens = case_lens(ci, case).map_err(S::Error::custom)?;
+        let mut seq = s.serialize_seq(Some(case.rays.len()))?;
+        for (ri, r) in case.rays.iter().enumerate() {
+            seq.serialize_element(&trace_ray(&lens, ci, case, ri, r).map_err(S::Error::custom)?)?;
+        }
+        seq.end()
+    }
+}
+
+/// A sequence serialised from an iterator of exact length, as a `Vec` is.
+struct CollectSeq<I>(I);
+
+impl<I: Iterator<Item = T> + ExactSizeIterator + Clone, T: Serialize> Serialize for CollectSeq<I> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.clone())
+    }
+}
+
+/// `cases[0] (id …)`: where a problem with a case is.
+fn case_place(ci: usize, case: &TraceCase) -> String {
+    format!("cases[{ci}] (id {})", case.id)
+}
+
+/// The lens of case `ci`, or what is wrong with it.
+fn case_lens(ci: usize, case: &TraceCase) -> Result<Lens, TraceError> {
+    let l = &case.lens;
+    Lens::new(
+        DVec3::from(l.center),
+        DVec3::from(l.axis),
+        l.d,
+        l.r1,
+        l.r2,
+        index_of(l.n),
+    )
+    .map_err(|e| TraceError {
+        place: format!("{}.lens.{}", case_place(ci, case), lens_field(&e)),
+        message: e.to_string(),
+    })
+}
+
+/// The index ray `ri` of case `ci` sees, after its origin, direction and
+/// wavelength are checked.
+fn ray_index(ci: usize, case: &TraceCase, ri: usize, r: &RaySpec, index: Index) -> Result<f64, TraceError> {
+    let rplace = || format!("{}.rays[{ri}] (id {})", case_place(ci, case), r.id);
+    let origin = DVec3::from(r.origin);
+    let dir = DVec3::from(r.direction);
+    if !origin.is_finite() {
+        return Err(TraceError {
+            place: rplace() + ".origin",
+            message: "must be finite".into(),
+        });
+    }
+    if !(dir.is_finite() && dir.length() > 0.0) {
+        return Err(TraceError {
+            place: rplace() + ".direction",
+            message: "must be a finite non-zero vector".into(),
+        });
+    }
+    let lambda = r.wavelength_um.unwrap_or(WAVELENGTH_D_UM);
+    if !(lambda > 0.0 && lambda.is_finite()) {
+        return Err(TraceError {
+            place: rplace() + ".wavelength_um",
+            message: format!("{lambda} must be positive"),
+        });
+    }
+    let n = index.at(lambda);
+    if !(n >= 1.0 && n.is_finite()) {
+        return Err(TraceError {
+            place: rplace() + ".wavelength_um",
+            message: format!("index {n} at {lambda} µm is below 1"),
+        });
+    }
+    Ok(n)
+}
+
+/// Ray `ri` of case `ci` traced through `lens` (the case's lens).
+fn trace_ray(lens: &Lens, ci: usize, case: &TraceCase, ri: usize, r: &RaySpec) -> Result<RayOutput, TraceError> {
+    let n = ray_index(ci, case, ri, r, index_of(case.lens.n))?;
+    let p = lens.trace(DVec3::from(r.origin), DVec3::from(r.direction), n);
+    let side = |x: Option<(LensSurface, DVec3, DVec3)>| x.map(|(s, p, d)| (s.name(), p.to_array(), d.to_array()));
+    let entry = side(p.entry);
+    let exit = side(p.exit);
+    Ok(RayOutput {
+        id: r.id.clone(),
+        status: match p.status {
+            LensTraceStatus::Transmitted => "transmitted",
+            LensTraceStatus::Miss => "miss",
+            LensTraceStatus::Trapped => "trapped",
+        },
+        entry_surface: entry.map(|e| e.0),
+        entry_point: entry.map(|e| e.1),
+        entry_direction: entry.map(|e| e.2),
+        exit_surface: exit.map(|e| e.0),
+        exit_point: exit.map(|e| e.1),
+        exit_direction: exit.map(|e| e.2),
+        n_internal_reflections: p.internal_reflections,
+        n,
+    })
 }
 
 /// `lens info`: paraxial data, the real marginal-ray focus, axial colour.
@@ -309,5 +405,37 @@ impl std::fmt::Display for LensInfo {
             writeln!(f, "  axial colour BFD(F) − BFD(C) {}   (486.1 nm − 656.3 nm)", g(c))?;
         }
         Ok(())
+    }
+}
+
+/// The fuzz oracle for `lens trace` input (fuzz/fuzz_targets/lens_trace.rs,
+/// replayed by tests/fuzz_corpus.rs): reads `bytes` as the cases file and
+/// panics if [`check_cases`] and [`trace_cases`] disagree about a refusal,
+/// if a refusal is not one line free of control characters, or if the
+/// streamed output ([`write_trace_json`]) is not, byte for byte, the whole
+/// output printed pretty. Panicking is its purpose; nothing else calls it.
+#[doc(hidden)]
+pub fn check_trace_bytes(bytes: &[u8]) {
+    let Ok(input) = serde_json::from_slice::<TraceInput>(bytes) else {
+        return;
+    };
+    let whole = trace_cases(&input);
+    match check_cases(&input) {
+        Err(e) => {
+            let shown = e.to_string();
+            assert!(!shown.chars().any(char::is_control), "{shown:?}");
+            assert_eq!(whole.err().map(|w| w.to_string()), Some(shown));
+        }
+        Ok(()) => {
+            let whole = whole.unwrap_or_else(|e| panic!("checked, then refused: {e}"));
+            let mut streamed = Vec::new();
+            write_trace_json(&input, &mut streamed).unwrap_or_else(|e| panic!("cannot stream: {e}"));
+            let printed = serde_json::to_string_pretty(&whole).unwrap_or_else(|e| panic!("cannot print: {e}"));
+            assert!(
+                streamed == printed.as_bytes(),
+                "streamed:\n{}\nwhole:\n{printed}",
+                String::from_utf8_lossy(&streamed)
+            );
+        }
     }
 }

@@ -55,13 +55,22 @@ fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
 const TRACE_INPUT_CAP: u64 = 64 << 20;
 
 fn lens_trace(path: &Path) -> Result<()> {
-    use lensview::lens_tools::{TraceInput, trace_cases};
+    use lensview::lens_tools::{TraceInput, check_cases, write_trace_json};
+    use std::io::Write;
     let name = path.display();
     let bytes = lensview::scene::read_capped(path, TRACE_INPUT_CAP)?;
     let input: TraceInput =
         serde_json::from_slice(&bytes).map_err(|e| anyhow::anyhow!("{name}:{}:{}: {e}", e.line(), e.column()))?;
-    let out = trace_cases(&input).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    drop(bytes);
+    // Every case and ray is checked before anything is written (a refusal
+    // writes nothing); then each ray is traced as its JSON is written, so
+    // the output is never held whole (10^6 rays would take over 1 GB).
+    check_cases(&input).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    write_trace_json(&input, &mut out).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    writeln!(out)
+        .and_then(|()| out.flush())
+        .context("writing the traced rays to stdout")?;
     Ok(())
 }
 

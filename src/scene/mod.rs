@@ -222,6 +222,23 @@ fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
     out
 }
 
+/// Whether every float in `table` is finite: written neither `inf` nor
+/// `nan` nor too large for an f64 (what [`Located::non_finite`] refuses).
+/// A float that does not read back as an f64 counts as not finite, so
+/// that the careful path decides.
+fn all_finite(table: &toml::de::DeTable) -> bool {
+    fn value(v: &toml::de::DeValue) -> bool {
+        use toml::de::DeValue;
+        match v {
+            DeValue::Float(f) => f.as_str().parse::<f64>().is_ok_and(f64::is_finite),
+            DeValue::Array(a) => a.iter().all(|v| value(v.get_ref())),
+            DeValue::Table(t) => all_finite(t),
+            _ => true,
+        }
+    }
+    table.values().all(|v| value(v.get_ref()))
+}
+
 impl Scene {
     /// Decides [`Features`] and builds the BVH; call again after changing
     /// `objects`, `lights` or `shadows` directly.
@@ -248,7 +265,16 @@ impl Scene {
     }
 
     /// Parses and validates scene text; `file` names it in errors.
+    ///
+    /// A valid scene is read once, by `toml`; the span-keeping `toml_edit`
+    /// parse that [`Located`] needs (about 4 KB an object) is made only
+    /// when something is wrong, and the refusal is then decided exactly as
+    /// before: a non-finite number first, then the parse error, then the
+    /// first validation problem.
     pub fn parse(file: &str, text: &str) -> Result<(SceneFile, Scene), SceneError> {
+        if let Some(ok) = Self::parse_valid(text) {
+            return Ok(ok);
+        }
         let located = Located::new(file, text);
         if let Some(p) = located.non_finite().first() {
             return Err(located.error(p));
@@ -265,6 +291,19 @@ impl Scene {
         }
     }
 
+    /// The scene in `text` when it parses, holds no non-finite number and
+    /// validates; `None` for anything else (the caller then finds where).
+    fn parse_valid(text: &str) -> Option<(SceneFile, Scene)> {
+        use serde::Deserialize;
+        let table = toml::de::DeTable::parse(text).ok()?;
+        if !all_finite(table.get_ref()) {
+            return None;
+        }
+        let sf = SceneFile::deserialize(toml::de::Deserializer::from(table)).ok()?;
+        let scene = Scene::build(&sf).ok()?;
+        Some((sf, scene))
+    }
+
     /// Validates the file model and precomputes the render model. Returns
     /// every problem found, each with its field path.
     pub fn build(sf: &SceneFile) -> Result<Scene, Vec<Problem>> {
@@ -275,6 +314,9 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
+        // Pushed one by one, the vector may have room for nearly as many
+        // again (760 bytes each): give it back (tests/memory.rs).
+        objects.shrink_to_fit();
         if !v.problems.is_empty() {
             return Err(v.problems);
         }
@@ -305,6 +347,24 @@ mod tests {
     use super::*;
     use crate::geometry::{Cuboid, Prism, Pyramid, Sphere};
     use crate::optics::Index;
+
+    /// A valid scene skips the span-keeping parse only when every float is
+    /// finite, however deeply it is nested; anything else takes the careful
+    /// path, which refuses it with its line.
+    #[test]
+    fn only_finite_floats_skip_the_careful_path() {
+        let finite = |t: &str| all_finite(toml::de::DeTable::parse(t).unwrap().get_ref());
+        assert!(finite("a = 1.5\nb = [1, 2.0e300, { c = -0.0 }]\n[t]\nd = 1_000.5"));
+        for t in [
+            "a = inf",
+            "a = -nan",
+            "a = [1, [2, +inf]]",
+            "a = { b = { c = nan } }",
+            "[t]\nd = 1e400",
+        ] {
+            assert!(!finite(t), "{t}");
+        }
+    }
 
     /// The face normals looked up for flat shapes are, bit for bit, the
     /// normal transformed from object space at points on each face, for
