@@ -1053,10 +1053,7 @@ fn rays_starting_near_a_tiny_far_lens() {
     let mut stats = Stats::default();
     let d = 1e-3;
     let h = 0.5 * d;
-    let centers = [
-        DVec3::new(7000.0, -5000.0, 5000.0),
-        DVec3::new(-9999.5, 3.25, 12000.125),
-    ];
+    let centers = [DVec3::new(7000.0, -5000.0, 5000.0), DVec3::new(-9999.5, 3.25, 8000.125)];
     let shapes = [
         (DVec3::new(-0.6, 0.7, -0.4), 1.2e-3, 3e-3, 1.5),
         (DVec3::new(0.8, -0.3, 0.45), 0.7e-3, 0.9e-3, 1.7),
@@ -1196,4 +1193,74 @@ fn lens_trace_json_near_a_tiny_far_lens() {
         );
     }
     finish("lens_trace_json_near_a_tiny_far_lens", &stats, 0.01);
+}
+
+#[test]
+fn lenses_at_the_edges_of_the_supported_domain() {
+    // The corners of `lensview::math::domain`: coordinates ±1e9, lengths
+    // 1e-9 and 1e9 (a plano-like face of radius 1e9), the smallest diameter
+    // allowed at a distance (1e-7 of it), and indices 1 and 10.
+    let mut stats = Stats::default();
+    let cases = [
+        (
+            DVec3::new(1e9, -1e9, 1e9),
+            DVec3::new(0.3, -0.4, 0.8),
+            100.0,
+            60.0,
+            1e9,
+            10.0,
+        ),
+        (
+            DVec3::new(-1e9, 5.0, 3e8),
+            DVec3::new(-1.0, 0.2, 0.1),
+            100.0,
+            1e9,
+            1e9,
+            1.5,
+        ),
+        (
+            DVec3::new(0.01, 0.0, -0.005),
+            DVec3::new(0.1, 1.0, 0.3),
+            1e-9,
+            0.6e-9,
+            2e-9,
+            1.0,
+        ),
+        (
+            DVec3::new(0.01, 0.0, -0.005),
+            DVec3::new(0.1, 1.0, 0.3),
+            1e-9,
+            0.5e-9,
+            0.5e-9,
+            10.0,
+        ),
+        (DVec3::ZERO, DVec3::new(0.0, 0.6, -0.8), 1e9, 1e9, 0.5e9, 1.7),
+    ];
+    for (k, (center, axis, d, r1, r2, n)) in cases.into_iter().enumerate() {
+        let s = spec(Pose { center, axis, d }, r1, r2, n);
+        let lens = lens_under_test(&s);
+        let mut rng = Rng::new(21, k as u64);
+        for i in 0..300 {
+            let (o, u) = match i % 3 {
+                2 => any_ray(&s, &mut rng),
+                side => aperture_ray(&s, &mut rng, 0.99, 0.6, side == 0),
+            };
+            check(&s, &lens, o, u, &mut stats);
+        }
+    }
+    finish("lenses_at_the_edges_of_the_supported_domain", &stats, 0.02);
+    // Just outside, a refusal naming the field.
+    let refused = |c: DVec3, d: f64, r: f64, n: f64| {
+        Lens::new(c, DVec3::Z, d, r, r, Index::Constant(n))
+            .map(|_| ())
+            .unwrap_err()
+            .field()
+    };
+    assert_eq!(refused(DVec3::new(0.0, 1.0000001e9, 0.0), 1e3, 1e3, 1.5), "center");
+    assert_eq!(refused(DVec3::new(0.0, 1e9, 0.0), 99.0, 1e3, 1.5), "d");
+    assert_eq!(refused(DVec3::ZERO, 0.9e-9, 1.0, 1.5), "d");
+    assert_eq!(refused(DVec3::ZERO, 1.1e9, 1.1e9, 1.5), "d");
+    assert_eq!(refused(DVec3::ZERO, 1.0, 1.0000001e9, 1.5), "r1");
+    assert_eq!(refused(DVec3::ZERO, 1.0, 1.0, 10.000001), "n");
+    assert_eq!(refused(DVec3::ZERO, 1.0, 1.0, 1e78), "n");
 }
