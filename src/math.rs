@@ -57,7 +57,7 @@ pub mod domain {
 
     /// Why a coordinate is outside the domain (`None` inside).
     pub fn coordinate(x: f64) -> Option<String> {
-        (!(x.abs() <= MAX_COORDINATE)).then(|| format!("{x} is outside the supported range ±{MAX_COORDINATE:e}"))
+        (!(x.abs() <= MAX_COORDINATE)).then(|| format!("{x:e} is outside the supported range ±{MAX_COORDINATE:e}"))
     }
 
     /// Why a length is outside the domain for an object whose largest
@@ -70,7 +70,7 @@ pub mod domain {
             ))
         } else if !(x >= least) {
             Some(format!(
-                "{x} is smaller than {MIN_LENGTH_PER_DISTANCE:e} of the distance {distance} from the origin \
+                "{x:e} is smaller than {MIN_LENGTH_PER_DISTANCE:e} of the distance {distance:e} from the origin \
                  (below {least:e} the spacing of coordinates there is too coarse)"
             ))
         } else {
@@ -80,7 +80,7 @@ pub mod domain {
 
     /// Why an index of refraction is outside the domain (`None` inside).
     pub fn index(n: f64) -> Option<String> {
-        (!(n >= 1.0 && n <= MAX_INDEX)).then(|| format!("index {n} is outside the supported range [1, {MAX_INDEX}]"))
+        (!(n >= 1.0 && n <= MAX_INDEX)).then(|| format!("index {n:e} is outside the supported range [1, {MAX_INDEX}]"))
     }
 }
 

@@ -275,6 +275,7 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
+        v.camera_off_surfaces(camera.position, &objects);
         if !v.problems.is_empty() {
             return Err(v.problems);
         }

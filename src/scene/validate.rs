@@ -10,7 +10,7 @@ use crate::color::Rgb;
 use crate::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::{angles_looking_along, domain, max_abs, rescale_pow2};
+use crate::math::{angles_looking_along, domain, max_abs, rescale_pow2, surface_offset};
 use crate::optics::Index;
 use glam::DVec3;
 
@@ -173,6 +173,37 @@ impl Validator {
         objects
     }
 
+    /// The camera must not lie on a surface: every camera ray would start
+    /// on the solid, where its roots near 0 are rounding noise (speckled
+    /// false hits). "On" is within 4 ray offsets ([`surface_offset`]): the
+    /// solid's inside changes under a nudge that small along an axis.
+    pub(super) fn camera_off_surfaces(&mut self, camera: DVec3, objects: &[Object]) {
+        for o in objects {
+            let delta = 4.0 * surface_offset(camera, o.scale);
+            let b = &o.world_bounds;
+            if (camera - b.min).min_element() < -delta || (b.max - camera).min_element() < -delta {
+                continue;
+            }
+            let at = o.object_from_world * (camera - o.position);
+            let inside = o.shape.contains(at);
+            let nudged = |k: usize, s: f64| {
+                let mut e = DVec3::ZERO;
+                e[k] = s * delta;
+                o.shape.contains(at + e) != inside
+            };
+            if (0..3).any(|k| nudged(k, -1.0) || nudged(k, 1.0)) {
+                self.problem(
+                    FieldPath::root("camera").key("position"),
+                    format!(
+                        "lies on the surface of `{}` (within {delta:.1e}): camera rays would start on it; move the camera off",
+                        o.name
+                    ),
+                );
+                return;
+            }
+        }
+    }
+
     fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
         self.problems.push(Problem::new(path, msg));
     }
@@ -198,7 +229,7 @@ impl Validator {
             } else if *x > domain::MAX_COLOUR {
                 self.problem(
                     path.index(i),
-                    format!("colour component {x} is above the supported {:e}", domain::MAX_COLOUR),
+                    format!("colour component {x:e} is above the supported {:e}", domain::MAX_COLOUR),
                 );
             }
         }
@@ -216,7 +247,7 @@ impl Validator {
     fn bounded(&mut self, path: &FieldPath, x: f64, max: f64) -> f64 {
         let x = self.non_negative(path, x);
         if x > max {
-            self.problem(path.clone(), format!("{x} is above the supported {max:e}"));
+            self.problem(path.clone(), format!("{x:e} is above the supported {max:e}"));
         }
         x
     }

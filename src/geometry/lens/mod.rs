@@ -145,7 +145,7 @@ impl Lens {
                 return Err(LensError::Radius { name, r, half });
             }
             if r > domain::MAX_LENGTH {
-                let why = format!("radius {name} = {r} is above the supported {:e}", domain::MAX_LENGTH);
+                let why = format!("radius {name} = {r:e} is above the supported {:e}", domain::MAX_LENGTH);
                 return Err(LensError::Domain { field: name, why });
             }
         }
