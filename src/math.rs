@@ -64,7 +64,7 @@ pub mod domain {
     /// coordinate is `distance` (`None` inside).
     pub fn length(x: f64, distance: f64) -> Option<String> {
         let least = MIN_LENGTH.max(MIN_LENGTH_PER_DISTANCE * distance);
-        if !(x >= MIN_LENGTH && x <= MAX_LENGTH) {
+        if !(MIN_LENGTH..=MAX_LENGTH).contains(&x) {
             Some(format!(
                 "{x} is outside the supported lengths [{MIN_LENGTH:e}, {MAX_LENGTH:e}]"
             ))
@@ -80,7 +80,8 @@ pub mod domain {
 
     /// Why an index of refraction is outside the domain (`None` inside).
     pub fn index(n: f64) -> Option<String> {
-        (!(n >= 1.0 && n <= MAX_INDEX)).then(|| format!("index {n:e} is outside the supported range [1, {MAX_INDEX}]"))
+        (!(1.0..=MAX_INDEX).contains(&n))
+            .then(|| format!("index {n:e} is outside the supported range [1, {MAX_INDEX}]"))
     }
 }
 
