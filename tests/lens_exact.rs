@@ -1201,42 +1201,16 @@ fn lenses_at_the_edges_of_the_supported_domain() {
     // 1e-9 and 1e9 (a plano-like face of radius 1e9), the smallest diameter
     // allowed at a distance (1e-7 of it), and indices 1 and 10.
     let mut stats = Stats::default();
+    // (centre, axis, [d, r1, r2, n]).
     let cases = [
-        (
-            DVec3::new(1e9, -1e9, 1e9),
-            DVec3::new(0.3, -0.4, 0.8),
-            100.0,
-            60.0,
-            1e9,
-            10.0,
-        ),
-        (
-            DVec3::new(-1e9, 5.0, 3e8),
-            DVec3::new(-1.0, 0.2, 0.1),
-            100.0,
-            1e9,
-            1e9,
-            1.5,
-        ),
-        (
-            DVec3::new(0.01, 0.0, -0.005),
-            DVec3::new(0.1, 1.0, 0.3),
-            1e-9,
-            0.6e-9,
-            2e-9,
-            1.0,
-        ),
-        (
-            DVec3::new(0.01, 0.0, -0.005),
-            DVec3::new(0.1, 1.0, 0.3),
-            1e-9,
-            0.5e-9,
-            0.5e-9,
-            10.0,
-        ),
-        (DVec3::ZERO, DVec3::new(0.0, 0.6, -0.8), 1e9, 1e9, 0.5e9, 1.7),
+        ([1e9, -1e9, 1e9], [0.3, -0.4, 0.8], [100.0, 60.0, 1e9, 10.0]),
+        ([-1e9, 5.0, 3e8], [-1.0, 0.2, 0.1], [100.0, 1e9, 1e9, 1.5]),
+        ([0.01, 0.0, -0.005], [0.1, 1.0, 0.3], [1e-9, 0.6e-9, 2e-9, 1.0]),
+        ([0.01, 0.0, -0.005], [0.1, 1.0, 0.3], [1e-9, 0.5e-9, 0.5e-9, 10.0]),
+        ([0.0; 3], [0.0, 0.6, -0.8], [1e9, 1e9, 0.5e9, 1.7]),
     ];
-    for (k, (center, axis, d, r1, r2, n)) in cases.into_iter().enumerate() {
+    for (k, (center, axis, [d, r1, r2, n])) in cases.into_iter().enumerate() {
+        let (center, axis) = (DVec3::from(center), DVec3::from(axis));
         let s = spec(Pose { center, axis, d }, r1, r2, n);
         let lens = lens_under_test(&s);
         let mut rng = Rng::new(21, k as u64);
