@@ -236,6 +236,9 @@ fn lens_info_at_n_1_reports_no_power_and_agrees_with_lens_trace() {
         (None, None, None, None, None)
     );
     assert_eq!(info.no_power, Some(lensview::lens_tools::NO_POWER));
+    // The paraxial data themselves (the viewer's readout): ∞, not NaN.
+    let t = lensview::optics::ThickLens::new(2.0, 5.0, 3.0, 1.0);
+    assert!(!t.has_power() && [t.efl, t.bfd, t.ffd] == [f64::INFINITY; 3], "{t:?}");
     assert_eq!((info.marginal_focus_from_v2, info.spherical_aberration), (None, None));
     let json = serde_json::to_value(&info).unwrap();
     assert!(json["efl"].is_null() && json["bfd"].is_null() && json["no_power"].as_str().unwrap().contains("infinite"));
