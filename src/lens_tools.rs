@@ -97,13 +97,10 @@ pub fn index_of(n: IndexFile) -> Index {
 }
 
 fn lens_field(e: &LensError) -> &'static str {
-    match e {
-        LensError::Diameter(_) => "d",
-        LensError::Radius { name: "r1", .. } => "R1",
-        LensError::Radius { .. } => "R2",
-        LensError::Index(_) => "n",
-        LensError::Axis => "axis",
-        LensError::Centre => "center",
+    match e.field() {
+        "r1" => "R1",
+        "r2" => "R2",
+        f => f,
     }
 }
 
@@ -287,15 +284,21 @@ pub struct LensInfo {
     pub thickness: f64,
     pub sag1: f64,
     pub sag2: f64,
-    pub efl: f64,
+    /// Effective focal length; `None` (JSON `null`) when the lens has no
+    /// power, as are the four below: see [`LensInfo::no_power`].
+    pub efl: Option<f64>,
     /// Back focal distance, from the vertex of S2 (light enters through S1).
-    pub bfd: f64,
+    pub bfd: Option<f64>,
     /// Front focal distance, before the vertex of S1.
-    pub ffd: f64,
+    pub ffd: Option<f64>,
     /// Front principal plane H, from V1, positive in the direction of travel.
-    pub principal_front_from_v1: f64,
+    pub principal_front_from_v1: Option<f64>,
     /// Rear principal plane H', from V2, positive in the direction of travel.
-    pub principal_rear_from_v2: f64,
+    pub principal_rear_from_v2: Option<f64>,
+    /// Why the focal data are `null`: at n = 1 the lens bends no ray and its
+    /// focal lengths are infinite (JSON has no ∞). Absent for a lens with power.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub no_power: Option<&'static str>,
     /// Height of the real marginal ray, 0.9·d/2.
     pub marginal_height: f64,
     /// Where the real marginal ray (or its backward extension) crosses the
@@ -308,6 +311,10 @@ pub struct LensInfo {
     pub axial_colour: Option<f64>,
     pub max_internal_reflections: u32,
 }
+
+/// [`LensInfo::no_power`]'s reason.
+pub const NO_POWER: &str =
+    "n = 1: the lens bends no ray; its focal lengths are infinite and it has no principal planes";
 
 /// The real ray parallel to the axis at height `h` through a lens on the z
 /// axis: where it crosses the axis, measured from V2 along the direction of
@@ -334,7 +341,10 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
     }
     let px = ThickLens::new(d, r1, r2, n);
     let h = 0.9 * 0.5 * d;
-    let marginal = real_focus(&lens, h, n);
+    // Without power a ray leaves parallel: it has no focus.
+    let power = px.has_power();
+    let marginal = real_focus(&lens, h, n).filter(|_| power);
+    let focal = |x: f64| Some(x).filter(|_| power);
     let axial_colour = index.is_dispersive().then(|| {
         let bfd = |l: f64| ThickLens::new(d, r1, r2, index.at(l)).bfd;
         bfd(RGB_WAVELENGTHS_UM[2]) - bfd(RGB_WAVELENGTHS_UM[0])
@@ -348,11 +358,12 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
         thickness: px.thickness,
         sag1: px.sag1,
         sag2: px.sag2,
-        efl: px.efl,
-        bfd: px.bfd,
-        ffd: px.ffd,
-        principal_front_from_v1: px.h1,
-        principal_rear_from_v2: px.h2,
+        efl: focal(px.efl),
+        bfd: focal(px.bfd),
+        ffd: focal(px.ffd),
+        principal_front_from_v1: focal(px.h1),
+        principal_rear_from_v2: focal(px.h2),
+        no_power: (!power).then_some(NO_POWER),
         marginal_height: h,
         marginal_focus_from_v2: marginal,
         spherical_aberration: marginal.map(|m| m - px.bfd),
@@ -372,6 +383,20 @@ impl std::fmt::Display for LensInfo {
         )?;
         writeln!(f, "  centre thickness           {}", g(self.thickness))?;
         writeln!(f, "  sagitta S1, S2             {}, {}", g(self.sag1), g(self.sag2))?;
+        if let Some(why) = self.no_power {
+            writeln!(f, "  no power ({why})")?;
+            writeln!(f, "  effective focal length     ∞")?;
+            writeln!(f, "  back focal distance        ∞")?;
+            writeln!(f, "  front focal distance       ∞")?;
+            writeln!(f, "  principal planes H, H'     none")?;
+            writeln!(
+                f,
+                "  real ray at 0.9·d/2 = {} leaves parallel: no focus",
+                self.marginal_height
+            )?;
+            return Ok(());
+        }
+        let g = |x: Option<f64>| format!("{:<24}", x.unwrap_or(f64::NAN));
         writeln!(f, "  effective focal length     {}", g(self.efl))?;
         writeln!(f, "  back focal distance        {}   (from V2)", g(self.bfd))?;
         writeln!(f, "  front focal distance       {}   (before V1)", g(self.ffd))?;
@@ -385,6 +410,7 @@ impl std::fmt::Display for LensInfo {
             "  principal plane H'         {}   (from V2, + along the light)",
             g(self.principal_rear_from_v2)
         )?;
+        let g = |x: f64| format!("{x:<24}");
         match (self.marginal_focus_from_v2, self.spherical_aberration) {
             (Some(m), Some(sa)) => {
                 writeln!(

@@ -28,6 +28,77 @@ impl Ray {
     }
 }
 
+/// The supported domain of a scene and of a lens (README, "Scene file
+/// format"): inside it the exact-lens arithmetic and the shading give
+/// correct answers; the validators refuse anything outside.
+///
+/// - Coordinates `|x| ≤ 1e9`: squares stay ≤ 1e18 and products of two
+///   squares ≤ 1e36, far from overflow, and points are spaced ≤ 2.2e-7.
+/// - Lengths (sizes, radii, lens diameter and face radii) in `[1e-9, 1e9]`,
+///   and at least 1e-7 of the object's distance from the origin: there
+///   points are spaced ≤ 2.2e-9 of the size and a spawned ray is pushed off
+///   by ≤ 2.3e-3 of it ([`surface_offset`]); a lens face of radius up to 1e9
+///   is a plano-like face that the vertex form solves without overflow.
+/// - Index of refraction in `[1, 10]` (real glass stays below 4.1).
+/// - Colour components ≤ 1e3, intensities ≤ 1e12, material coefficients
+///   ≤ 1e3: light times the coefficients and 65 bounces of colour stay below
+///   1e230, so no product reaches ∞ (and no ∞·0 makes a NaN).
+pub mod domain {
+    pub const MAX_COORDINATE: f64 = 1e9;
+    pub const MIN_LENGTH: f64 = 1e-9;
+    pub const MAX_LENGTH: f64 = 1e9;
+    /// A length must be at least this fraction of its object's distance
+    /// (largest coordinate) from the origin.
+    pub const MIN_LENGTH_PER_DISTANCE: f64 = 1e-7;
+    pub const MAX_INDEX: f64 = 10.0;
+    pub const MAX_COLOUR: f64 = 1e3;
+    pub const MAX_INTENSITY: f64 = 1e12;
+    pub const MAX_COEFFICIENT: f64 = 1e3;
+
+    /// Why a coordinate is outside the domain (`None` inside).
+    pub fn coordinate(x: f64) -> Option<String> {
+        (!(x.abs() <= MAX_COORDINATE)).then(|| format!("{x:e} is outside the supported range ±{MAX_COORDINATE:e}"))
+    }
+
+    /// Why a length is outside the domain for an object whose largest
+    /// coordinate is `distance` (`None` inside).
+    pub fn length(x: f64, distance: f64) -> Option<String> {
+        let least = MIN_LENGTH.max(MIN_LENGTH_PER_DISTANCE * distance);
+        if !(MIN_LENGTH..=MAX_LENGTH).contains(&x) {
+            Some(format!(
+                "{x} is outside the supported lengths [{MIN_LENGTH:e}, {MAX_LENGTH:e}]"
+            ))
+        } else if !(x >= least) {
+            Some(format!(
+                "{x:e} is smaller than {MIN_LENGTH_PER_DISTANCE:e} of the distance {distance:e} from the origin \
+                 (below {least:e} the spacing of coordinates there is too coarse)"
+            ))
+        } else {
+            None
+        }
+    }
+
+    /// Why an index of refraction is outside the domain (`None` inside).
+    pub fn index(n: f64) -> Option<String> {
+        (!(1.0..=MAX_INDEX).contains(&n))
+            .then(|| format!("index {n:e} is outside the supported range [1, {MAX_INDEX}]"))
+    }
+}
+
+/// Multiplies `v` by a power of two (exactly) so that its largest
+/// component lies in [1, 2): a direction that squares to ∞ or to 0 becomes
+/// one that normalises, and the line it names is the same.
+pub fn rescale_pow2(v: DVec3) -> DVec3 {
+    let m = max_abs(v);
+    if !(m > 0.0 && m.is_finite()) {
+        return v;
+    }
+    let e = m.log2().floor() as i32;
+    // In two steps: 2^−e alone may not be a finite f64.
+    let half = e / 2;
+    v * 2f64.powi(-half) * 2f64.powi(half - e)
+}
+
 /// The two real roots of `t² + 2·b·t + c = 0` in ascending order, computed
 /// without catastrophic cancellation (Numerical Recipes §5.6): the root of
 /// larger magnitude is `q = −(b + sign(b)·√(b²−c))`, the other is `c / q`.

@@ -178,6 +178,10 @@ pub fn centre_offset(r: f64, h: f64) -> f64 {
 /// V2 (both positive to the right), and the focal distances are
 /// `BFD = f + h2` (from V2) and `FFD = f − h1` (before V1). Hecht, *Optics*,
 /// 5th ed., §6.1, eqs. 6.1–6.4.
+///
+/// At `n = 1` the glass is air and the lens has no power
+/// ([`ThickLens::has_power`] is false): `efl`, `bfd` and `ffd` are +∞ and
+/// there are no principal planes (`h1`, `h2` are NaN).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThickLens {
     pub thickness: f64,
@@ -194,6 +198,11 @@ pub struct ThickLens {
 }
 
 impl ThickLens {
+    /// Whether the lens bends light at all (false at `n = 1`).
+    pub fn has_power(&self) -> bool {
+        self.efl.is_finite()
+    }
+
     /// `d` diameter, `r1`, `r2` radius magnitudes, `n` index.
     pub fn new(d: f64, r1: f64, r2: f64, n: f64) -> Self {
         let h = 0.5 * d;
@@ -202,6 +211,20 @@ impl ThickLens {
         let t = sag1 + sag2;
         let (r1s, r2s) = (r1, -r2);
         let power = (n - 1.0) * (1.0 / r1s - 1.0 / r2s + (n - 1.0) * t / (n * r1s * r2s));
+        if !(power > 0.0) {
+            // n = 1 (the only zero: t < r1 + r2 makes the bracket positive).
+            return ThickLens {
+                thickness: t,
+                sag1,
+                sag2,
+                efl: f64::INFINITY,
+                bfd: f64::INFINITY,
+                ffd: f64::INFINITY,
+                h1: f64::NAN,
+                h2: f64::NAN,
+                n,
+            };
+        }
         let efl = 1.0 / power;
         let h1 = -efl * (n - 1.0) * t / (n * r2s);
         let h2 = -efl * (n - 1.0) * t / (n * r1s);

@@ -59,7 +59,11 @@ fn lens_info_matches_the_abcd_matrices_from_ball_lens_to_nearly_flat() {
     ] {
         let info = lens_info(d, r1, r2, Index::Constant(n), 0.5875618).unwrap();
         let (efl, bfd, ffd) = abcd(d, r1, r2, n);
-        for (name, got, want) in [("efl", info.efl, efl), ("bfd", info.bfd, bfd), ("ffd", info.ffd, ffd)] {
+        for (name, got, want) in [
+            ("efl", info.efl.unwrap(), efl),
+            ("bfd", info.bfd.unwrap(), bfd),
+            ("ffd", info.ffd.unwrap(), ffd),
+        ] {
             let rel = ((got - want) / want).abs();
             assert!(
                 rel < 1e-12,
@@ -68,7 +72,12 @@ fn lens_info_matches_the_abcd_matrices_from_ball_lens_to_nearly_flat() {
         }
         // Thickness is the sum of the sagittas, and principal planes place the focal points.
         assert!((info.thickness - (info.sag1 + info.sag2)).abs() <= 1e-15 * info.thickness);
-        assert!(((info.bfd - info.principal_rear_from_v2) - info.efl).abs() <= 1e-12 * info.efl.abs());
+        let (f, b, h2) = (
+            info.efl.unwrap(),
+            info.bfd.unwrap(),
+            info.principal_rear_from_v2.unwrap(),
+        );
+        assert!(((b - h2) - f).abs() <= 1e-12 * f.abs());
     }
 }
 
@@ -78,10 +87,10 @@ fn spherical_aberration_of_a_positive_lens_is_negative_and_grows_with_height() {
     let sa = info.spherical_aberration.unwrap();
     assert!(sa < 0.0 && sa > -0.5, "{sa}");
     let lens = lensview::geometry::Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 5.0, 5.0, Index::Constant(1.5)).unwrap();
-    let small = lensview::lens_tools::real_focus(&lens, 0.01, 1.5).unwrap() - info.bfd;
+    let small = lensview::lens_tools::real_focus(&lens, 0.01, 1.5).unwrap() - info.bfd.unwrap();
     assert!(small.abs() < 1e-3 * sa.abs(), "paraxial ray focus error {small}");
     // Third-order: LSA ∝ h², so at 0.45 it is about a quarter of that at 0.9.
-    let half = lensview::lens_tools::real_focus(&lens, 0.45, 1.5).unwrap() - info.bfd;
+    let half = lensview::lens_tools::real_focus(&lens, 0.45, 1.5).unwrap() - info.bfd.unwrap();
     assert!((half / sa - 0.25).abs() < 0.05, "{half} vs {sa}");
 }
 
@@ -91,7 +100,7 @@ fn axial_colour_of_crown_glass() {
     let c = info.axial_colour.unwrap();
     // Blue is bent more and focuses closer: BFD(F) < BFD(C), by about f/V (V ≈ 64).
     assert!(
-        c < 0.0 && (c.abs() - info.efl / 64.0).abs() < 0.3 * info.efl / 64.0,
+        c < 0.0 && (c.abs() - info.efl.unwrap() / 64.0).abs() < 0.3 * info.efl.unwrap() / 64.0,
         "{c}"
     );
     assert!(
@@ -211,4 +220,74 @@ r2 = 2
     };
     assert!(spread(&plain) < 1e-12, "plain glass coloured a grey scene");
     assert!(spread(&grey) > 0.2, "no colour fringes from dispersive glass");
+}
+
+#[test]
+fn lens_info_at_n_1_reports_no_power_and_agrees_with_lens_trace() {
+    let info = lens_info(2.0, 5.0, 3.0, Index::Constant(1.0), 0.5875618).unwrap();
+    assert_eq!(
+        (
+            info.efl,
+            info.bfd,
+            info.ffd,
+            info.principal_front_from_v1,
+            info.principal_rear_from_v2
+        ),
+        (None, None, None, None, None)
+    );
+    assert_eq!(info.no_power, Some(lensview::lens_tools::NO_POWER));
+    // The paraxial data themselves (the viewer's readout): ∞, not NaN.
+    let t = lensview::optics::ThickLens::new(2.0, 5.0, 3.0, 1.0);
+    assert!(!t.has_power() && [t.efl, t.bfd, t.ffd] == [f64::INFINITY; 3], "{t:?}");
+    assert_eq!((info.marginal_focus_from_v2, info.spherical_aberration), (None, None));
+    let json = serde_json::to_value(&info).unwrap();
+    assert!(json["efl"].is_null() && json["bfd"].is_null() && json["no_power"].as_str().unwrap().contains("infinite"));
+    let text = info.to_string();
+    assert!(
+        text.contains("effective focal length     ∞") && !text.contains("NaN"),
+        "{text}"
+    );
+    // A lens with power has no `no_power` key.
+    let info = lens_info(2.0, 5.0, 3.0, Index::Constant(1.5), 0.5875618).unwrap();
+    assert!(serde_json::to_value(&info).unwrap().get("no_power").is_none());
+    // lens trace agrees: at n = 1 the ray leaves undeviated.
+    let lens = lensview::geometry::Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 5.0, 3.0, Index::Constant(1.0)).unwrap();
+    let u = DVec3::new(0.1, 0.05, -1.0).normalize();
+    let p = lens.trace(DVec3::new(0.3, 0.0, 5.0), u, 1.0);
+    assert!((p.exit.unwrap().2 - u).length() < 1e-15, "{p:?}");
+}
+
+#[test]
+fn plano_like_lenses_at_the_largest_radius() {
+    // R1 = 1e9 (the largest radius in the domain): a plano-convex lens whose
+    // paraxial data match the ABCD matrices and whose rays get through.
+    for (d, r1, r2) in [(20.0, 1e9, 50.0), (1e-3, 1e9, 2e-3), (2.0, 1e9, 1e9)] {
+        let info = lens_info(d, r1, r2, Index::Constant(1.5), 0.5875618).unwrap();
+        let (efl, bfd, _) = abcd(d, r1, r2, 1.5);
+        let rel = |got: Option<f64>, want: f64| ((got.unwrap() - want) / want).abs();
+        assert!(rel(info.efl, efl) < 1e-12 && rel(info.bfd, bfd) < 1e-12, "{info:?}");
+        assert!(info.marginal_focus_from_v2.is_some(), "{info:?}");
+        let lens = lensview::geometry::Lens::new(DVec3::ZERO, DVec3::Z, d, r1, r2, Index::Constant(1.5)).unwrap();
+        let p = lens.trace(DVec3::new(0.25 * d, 0.0, d), DVec3::NEG_Z, 1.5);
+        assert_eq!(p.status, lensview::geometry::LensTraceStatus::Transmitted, "{p:?}");
+    }
+}
+
+#[test]
+fn directions_of_any_magnitude_name_the_same_ray() {
+    let lens = lensview::geometry::Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 5.0, 5.0, Index::Constant(1.5)).unwrap();
+    let o = DVec3::new(-0.5, 0.0, 3.0);
+    let want = lens.trace(o, DVec3::new(0.1, 0.0, -1.0), 1.5);
+    assert_eq!(want.status, lensview::geometry::LensTraceStatus::Transmitted);
+    let w = want.exit.unwrap().2;
+    for dir in [
+        [1e200, 0.0, -1e201],
+        [1e-200, 0.0, -1e-199],
+        [1e300, 0.0, -1e301],
+        [1e-290, 0.0, -1e-289],
+    ] {
+        let p = lens.trace(o, DVec3::from(dir), 1.5);
+        assert_eq!(p.status, want.status, "{dir:?}");
+        assert!((p.exit.unwrap().2 - w).length() < 1e-14, "{dir:?}: {p:?}");
+    }
 }

@@ -352,3 +352,145 @@ fn input_files_are_read_with_a_size_cap() {
         "{e}"
     );
 }
+
+/// The supported domain (`lensview::math::domain`, README "Scene file
+/// format"): just outside each bound a one-line refusal naming the field;
+/// at the bound itself an accepted scene that renders a correct picture.
+#[test]
+fn values_outside_the_supported_domain_are_refused() {
+    for (from, to, field, says) in [
+        (
+            "n = 1.5",
+            "n = 1e78",
+            "lenses[0].n",
+            "outside the supported range [1, 10]",
+        ),
+        (
+            "n = 1.5",
+            "n = 10.001",
+            "lenses[0].n",
+            "outside the supported range [1, 10]",
+        ),
+        (
+            "d = 1\nr1 = 2\nr2 = 2",
+            "d = 1e300\nr1 = 1e300\nr2 = 1e300",
+            "lenses[0].d",
+            "outside the supported lengths",
+        ),
+        ("r1 = 2", "r1 = 1e308", "lenses[0].r1", "above the supported 1e9"),
+        (
+            "center = [0, 0, 3]",
+            "center = [0, 0, 1.1e9]",
+            "lenses[0].center",
+            "outside the supported range",
+        ),
+        (
+            "radius = 1",
+            "radius = 1e155",
+            "objects[0].radius",
+            "outside the supported lengths",
+        ),
+        (
+            "radius = 1",
+            "radius = 1e-10",
+            "objects[0].radius",
+            "outside the supported lengths",
+        ),
+        (
+            "radius = 1",
+            "radius = 1e-3\nposition = [0, 0, 1e5]",
+            "objects[0].radius",
+            "smaller than 1e-7 of the distance",
+        ),
+        (
+            "position = [0, 1, 5]",
+            "position = [0, 1, -2e9]",
+            "camera.position[2]",
+            "outside the supported range",
+        ),
+        (
+            "position = [1, 4, 2]",
+            "position = [1, 4e9, 2]",
+            "lights[0].position[1]",
+            "outside the supported range",
+        ),
+        (
+            "intensity = 100",
+            "intensity = 1e308",
+            "lights[0].intensity",
+            "1e308 is above the supported 1e12",
+        ),
+        (
+            "intensity = 100",
+            "intensity = 1\ncolor = [1e300, 1, 1]",
+            "lights[0].color[0]",
+            "1e300 is above the supported 1e3",
+        ),
+        (
+            "color = [0.8, 0.1, 0.1]",
+            "color = [0.8, 1001, 0.1]",
+            "materials.red.color[1]",
+            "above the supported 1e3",
+        ),
+        (
+            "color = [0.8, 0.1, 0.1]",
+            "color = [0.8, 0.1, 0.1]\ndiffuse = 1e4",
+            "materials.red.diffuse",
+            "above the supported 1e3",
+        ),
+        (
+            "position = [0, 1, 5]",
+            "position = [0, 1, 0]",
+            "camera.position",
+            "lies on the surface of `sphere 1`",
+        ),
+    ] {
+        let (_, got_field, msg) = error_of(from, to);
+        assert_eq!(got_field, field, "{to}: {msg}");
+        assert!(msg.contains(says) && !msg.contains('\n'), "{to}: {msg}");
+    }
+}
+
+fn render_small(text: &str) -> Vec<glam::DVec3> {
+    let (_, scene) = Scene::parse("edge.toml", text).unwrap_or_else(|e| panic!("{e}"));
+    let settings = RenderSettings {
+        width: 16,
+        height: 12,
+        spp: 1,
+        seed: 0,
+    };
+    render(&scene, &settings, None).pixels
+}
+
+#[test]
+fn scenes_at_the_edges_of_the_supported_domain_render_correctly() {
+    // A sphere of the largest radius around the camera is seen in every
+    // pixel (at 1e155 it used to vanish), lit by its ambient term.
+    let inside = BASE.replace("radius = 1", "radius = 1e9");
+    let px = render_small(&inside);
+    assert!(
+        px.iter().all(|c| c.is_finite() && c.x > 0.0 && c.x > 4.0 * c.y),
+        "{px:?}"
+    );
+    // The brightest light on a material with diffuse 0: finite, not black
+    // (colour 1e300 × intensity 1e308 gave ∞·0 = NaN, a black object).
+    let bright = BASE
+        .replace("intensity = 100", "intensity = 1e12\ncolor = [1e3, 1e3, 1e3]")
+        .replace(
+            "color = [0.8, 0.1, 0.1]",
+            "color = [0.8, 0.1, 0.1]\ndiffuse = 0\nspecular = 1e3",
+        );
+    let px = render_small(&bright);
+    assert!(px.iter().all(|c| c.is_finite()), "{px:?}");
+    let centre = px[6 * 16 + 8];
+    assert!(centre.x > 0.0, "{centre}");
+    // The camera just off the sphere (5 offsets) is accepted and sees the
+    // same inside everywhere: no speckle of false hits.
+    let off = BASE.replace("position = [0, 1, 5]", "position = [0, 0.999999, 0]");
+    let px = render_small(&off);
+    assert!(
+        px.iter()
+            .all(|c| (*c - px[0]).abs().max_element() < 0.5 * px[0].max_element()),
+        "{px:?}"
+    );
+}

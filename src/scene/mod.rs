@@ -314,6 +314,7 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
+        v.camera_off_surfaces(camera.position, &objects);
         // Pushed one by one, the vector may have room for nearly as many
         // again (760 bytes each): give it back (tests/memory.rs).
         objects.shrink_to_fit();

@@ -10,7 +10,7 @@ use crate::color::Rgb;
 use crate::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::angles_looking_along;
+use crate::math::{angles_looking_along, domain, max_abs, rescale_pow2, surface_offset};
 use crate::optics::Index;
 use glam::DVec3;
 
@@ -30,10 +30,10 @@ impl Validator {
                 format!("{} is more than 64", r.max_depth),
             );
         }
-        if r.spp == 0 || r.spp > 65536 {
+        if r.spp == 0 || r.spp > crate::limits::MAX_SPP {
             self.problem(
                 FieldPath::root("render").key("spp"),
-                format!("{} is not in 1..=65536", r.spp),
+                format!("{} is not in 1..={}", r.spp, crate::limits::MAX_SPP),
             );
         }
         (background, r.max_depth, r.shadows, r.spp)
@@ -42,7 +42,8 @@ impl Validator {
     /// `[ambient]`: its colour times its intensity.
     pub(super) fn ambient(&mut self, sf: &SceneFile) -> Rgb {
         let ap = FieldPath::root("ambient");
-        self.colour(&ap.key("color"), sf.ambient.color) * self.non_negative(&ap.key("intensity"), sf.ambient.intensity)
+        self.colour(&ap.key("color"), sf.ambient.color)
+            * self.bounded(&ap.key("intensity"), sf.ambient.intensity, domain::MAX_INTENSITY)
     }
 
     /// `[camera]`, with `rotation` or `look_at`.
@@ -63,7 +64,7 @@ impl Validator {
             }
             (Some(r), None) => self.vec(&cp.key("rotation"), r),
             (None, Some(t)) => {
-                let dir = DVec3::from(t) - position;
+                let dir = self.vec(&cp.key("look_at"), t) - position;
                 if dir.length() > 0.0 {
                     angles_looking_along(dir)
                 } else {
@@ -82,7 +83,7 @@ impl Validator {
         for (i, l) in sf.lights.iter().enumerate() {
             let p = FieldPath::root("lights").index(i);
             let color = self.colour(&p.key("color"), l.color);
-            let intensity = self.non_negative(&p.key("intensity"), l.intensity);
+            let intensity = self.bounded(&p.key("intensity"), l.intensity, domain::MAX_INTENSITY);
             match l.kind {
                 LightKind::Point => {
                     if l.direction.is_some() {
@@ -90,7 +91,7 @@ impl Validator {
                     }
                     match l.position {
                         Some(pos) => lights.push(Light::Point {
-                            position: DVec3::from(pos),
+                            position: self.vec(&p.key("position"), pos),
                             color,
                             intensity,
                         }),
@@ -101,7 +102,8 @@ impl Validator {
                     if l.position.is_some() {
                         self.problem(p.key("position"), "a directional light has a direction, not a position");
                     }
-                    match l.direction.map(DVec3::from) {
+                    // Scaled first: [1e200, 0, 1e201] squares to ∞.
+                    match l.direction.map(|d| rescale_pow2(DVec3::from(d))) {
                         Some(d) if d.length() > 0.0 => lights.push(Light::Directional {
                             direction: d.normalize(),
                             color,
@@ -164,19 +166,42 @@ impl Validator {
                     ));
                 }
                 Err(e) => {
-                    use crate::geometry::LensError as E;
-                    let field = match &e {
-                        E::Diameter(_) => "d",
-                        E::Radius { name, .. } => name,
-                        E::Index(_) => "n",
-                        E::Axis => "axis",
-                        E::Centre => "center",
-                    };
-                    self.problem(p.key(field), e.to_string());
+                    self.problem(p.key(e.field()), e.to_string());
                 }
             }
         }
         objects
+    }
+
+    /// The camera must not lie on a surface: every camera ray would start
+    /// on the solid, where its roots near 0 are rounding noise (speckled
+    /// false hits). "On" is within 4 ray offsets ([`surface_offset`]): the
+    /// solid's inside changes under a nudge that small along an axis.
+    pub(super) fn camera_off_surfaces(&mut self, camera: DVec3, objects: &[Object]) {
+        for o in objects {
+            let delta = 4.0 * surface_offset(camera, o.scale);
+            let b = &o.world_bounds;
+            if (camera - b.min).min_element() < -delta || (b.max - camera).min_element() < -delta {
+                continue;
+            }
+            let at = o.object_from_world * (camera - o.position);
+            let inside = o.shape.contains(at);
+            let nudged = |k: usize, s: f64| {
+                let mut e = DVec3::ZERO;
+                e[k] = s * delta;
+                o.shape.contains(at + e) != inside
+            };
+            if (0..3).any(|k| nudged(k, -1.0) || nudged(k, 1.0)) {
+                self.problem(
+                    FieldPath::root("camera").key("position"),
+                    format!(
+                        "lies on the surface of `{}` (within {delta:.1e}): camera rays would start on it; move the camera off",
+                        o.name
+                    ),
+                );
+                return;
+            }
+        }
     }
 
     fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
@@ -187,6 +212,8 @@ impl Validator {
         for (i, x) in v.iter().enumerate() {
             if !x.is_finite() {
                 self.problem(path.index(i), format!("{x} is not a finite number"));
+            } else if let Some(why) = domain::coordinate(*x) {
+                self.problem(path.index(i), why);
             }
         }
         DVec3::from(v)
@@ -198,6 +225,11 @@ impl Validator {
                 self.problem(
                     path.index(i),
                     format!("colour component {x} must be a finite number ≥ 0"),
+                );
+            } else if *x > domain::MAX_COLOUR {
+                self.problem(
+                    path.index(i),
+                    format!("colour component {x:e} is above the supported {:e}", domain::MAX_COLOUR),
                 );
             }
         }
@@ -211,6 +243,15 @@ impl Validator {
         x
     }
 
+    /// A number in `[0, max]` (the supported domain, [`domain`]).
+    fn bounded(&mut self, path: &FieldPath, x: f64, max: f64) -> f64 {
+        let x = self.non_negative(path, x);
+        if x > max {
+            self.problem(path.clone(), format!("{x:e} is above the supported {max:e}"));
+        }
+        x
+    }
+
     fn unit(&mut self, path: &FieldPath, x: f64) -> f64 {
         if !(0.0..=1.0).contains(&x) {
             self.problem(path.clone(), format!("{x} must lie in [0, 1]"));
@@ -218,7 +259,14 @@ impl Validator {
         x
     }
 
-    fn positive(&mut self, path: &FieldPath, x: Option<f64>, kind: &str, key: &str) -> f64 {
+    /// A length of an object whose position is `at` (the domain, [`domain::length`]).
+    fn length(&mut self, path: FieldPath, x: f64, at: DVec3) {
+        if let Some(why) = domain::length(x, max_abs(at)) {
+            self.problem(path, why);
+        }
+    }
+
+    fn positive(&mut self, path: &FieldPath, x: Option<f64>, kind: &str, key: &str, at: DVec3) -> f64 {
         match x {
             None => {
                 self.problem(path.clone(), format!("a {kind} needs `{key}`"));
@@ -228,7 +276,10 @@ impl Validator {
                 self.problem(path.key(key), format!("size {x} must be positive"));
                 1.0
             }
-            Some(x) => x,
+            Some(x) => {
+                self.length(path.key(key), x, at);
+                x
+            }
         }
     }
 
@@ -237,6 +288,8 @@ impl Validator {
             IndexFile::Constant(n) => {
                 if !(n >= 1.0) {
                     self.problem(path.clone(), format!("refractive index {n} must be ≥ 1"));
+                } else if let Some(why) = domain::index(n) {
+                    self.problem(path.clone(), why);
                 }
                 Index::Constant(n)
             }
@@ -247,6 +300,11 @@ impl Validator {
                         path.key("cauchy"),
                         format!("Cauchy index A + B/λ² = {a} + {b}/λ² falls below 1 in the visible range"),
                     );
+                } else if let Some(why) = domain::index(idx.at(0.38)).or(domain::index(idx.at(0.78))) {
+                    self.problem(
+                        path.key("cauchy"),
+                        format!("Cauchy index A + B/λ² = {a} + {b}/λ²: {why}"),
+                    );
                 }
                 idx
             }
@@ -256,9 +314,9 @@ impl Validator {
     fn material(&mut self, path: &FieldPath, m: &MaterialFile) -> Material {
         let before = self.problems.len();
         let color = self.colour(&path.key("color"), m.color);
-        let ambient = self.non_negative(&path.key("ambient"), m.ambient);
-        let diffuse = self.non_negative(&path.key("diffuse"), m.diffuse);
-        let specular = self.non_negative(&path.key("specular"), m.specular);
+        let ambient = self.bounded(&path.key("ambient"), m.ambient, domain::MAX_COEFFICIENT);
+        let diffuse = self.bounded(&path.key("diffuse"), m.diffuse, domain::MAX_COEFFICIENT);
+        let specular = self.bounded(&path.key("specular"), m.specular, domain::MAX_COEFFICIENT);
         let shininess = self.non_negative(&path.key("shininess"), m.shininess);
         let reflectivity = self.unit(&path.key("reflectivity"), m.reflectivity);
         let transparency = self.unit(&path.key("transparency"), m.transparency);
@@ -290,7 +348,7 @@ impl Validator {
 
     fn shape(&mut self, p: &FieldPath, o: &ObjectFile) -> Option<Shape> {
         let before = self.problems.len();
-        self.vec(&p.key("position"), o.position);
+        let at = self.vec(&p.key("position"), o.position);
         self.vec(&p.key("rotation"), o.rotation);
         let kind = o.kind.name();
         let allowed: &[&str] = match o.kind {
@@ -322,19 +380,23 @@ impl Validator {
                     for (i, x) in s.iter().enumerate() {
                         if !(*x > 0.0 && x.is_finite()) {
                             self.problem(p.key("size").index(i), format!("side length {x} must be positive"));
+                        } else {
+                            self.length(p.key("size").index(i), *x, at);
                         }
                     }
                     Some(Shape::Cuboid(Cuboid::new(DVec3::from(s))))
                 }
             },
-            ShapeKind::Sphere => Some(Shape::Sphere(Sphere::new(self.positive(p, o.radius, kind, "radius")))),
+            ShapeKind::Sphere => Some(Shape::Sphere(Sphere::new(
+                self.positive(p, o.radius, kind, "radius", at),
+            ))),
             ShapeKind::Prism => Some(Shape::Prism(Prism::new(
-                self.positive(p, o.side, kind, "side"),
-                self.positive(p, o.height, kind, "height"),
+                self.positive(p, o.side, kind, "side", at),
+                self.positive(p, o.height, kind, "height", at),
             ))),
             ShapeKind::Pyramid => Some(Shape::Pyramid(Pyramid::new(
-                self.positive(p, o.side, kind, "side"),
-                self.positive(p, o.height, kind, "height"),
+                self.positive(p, o.side, kind, "side", at),
+                self.positive(p, o.height, kind, "height", at),
             ))),
         };
         if self.problems.len() > before { None } else { shape }

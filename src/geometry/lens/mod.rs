@@ -47,7 +47,7 @@ mod trace;
 pub use trace::{ExitCrossing, LensPath, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 
 use super::{Aabb, Hit, within};
-use crate::math::Ray;
+use crate::math::{Ray, domain, max_abs, rescale_pow2};
 use crate::optics::{self, Index, ThickLens};
 use cap::{Cap, Span, span};
 use dd::Dd;
@@ -66,6 +66,24 @@ pub enum LensError {
     Axis,
     #[error("centre must be finite")]
     Centre,
+    /// Outside the supported domain ([`crate::math::domain`]).
+    #[error("{why}")]
+    Domain { field: &'static str, why: String },
+}
+
+impl LensError {
+    /// The key of the lens description at fault: `center`, `axis`, `d`,
+    /// `r1`, `r2` or `n`.
+    pub fn field(&self) -> &'static str {
+        match self {
+            LensError::Diameter(_) => "d",
+            LensError::Radius { name, .. } => name,
+            LensError::Index(_) => "n",
+            LensError::Axis => "axis",
+            LensError::Centre => "center",
+            LensError::Domain { field, .. } => field,
+        }
+    }
 }
 
 /// Which face: S1 faces +axis, S2 faces −axis.
@@ -107,25 +125,35 @@ pub struct Lens {
 }
 
 impl Lens {
-    /// A validated lens. `axis` need not be unit.
+    /// A validated lens inside the supported domain ([`domain`]): centre
+    /// coordinates, diameter and radii, and index. `axis` need not be unit.
     pub fn new(center: DVec3, axis: DVec3, d: f64, r1: f64, r2: f64, index: Index) -> Result<Self, LensError> {
+        let outside = |field, why: Option<String>| why.map_or(Ok(()), |why| Err(LensError::Domain { field, why }));
         if !center.is_finite() {
             return Err(LensError::Centre);
+        }
+        for x in center.to_array() {
+            outside("center", domain::coordinate(x))?;
         }
         if !(d > 0.0 && d.is_finite()) {
             return Err(LensError::Diameter(d));
         }
+        outside("d", domain::length(d, max_abs(center)).map(|w| format!("diameter {w}")))?;
         let half = 0.5 * d;
         for (name, r) in [("r1", r1), ("r2", r2)] {
             if !(r >= half && r.is_finite()) {
                 return Err(LensError::Radius { name, r, half });
             }
+            if r > domain::MAX_LENGTH {
+                let why = format!("radius {name} = {r:e} is above the supported {:e}", domain::MAX_LENGTH);
+                return Err(LensError::Domain { field: name, why });
+            }
         }
         let check_n = |n: f64| {
-            if n >= 1.0 && n.is_finite() {
-                Ok(())
-            } else {
+            if !(n >= 1.0 && n.is_finite()) {
                 Err(LensError::Index(n))
+            } else {
+                outside("n", domain::index(n))
             }
         };
         match index {
@@ -137,6 +165,8 @@ impl Lens {
                 check_n(index.nominal())?;
             }
         }
+        // Scaled first: [1e200, 0, 1e201] squares to ∞.
+        let axis = rescale_pow2(axis);
         let len = axis.length();
         if !(len > 0.0 && len.is_finite()) {
             return Err(LensError::Axis);

@@ -7,6 +7,7 @@
 
 use super::cap::{Cap, span};
 use super::{Lens, LensSurface};
+use crate::math::rescale_pow2;
 use crate::optics::{self, Crossing};
 use glam::DVec3;
 
@@ -76,7 +77,9 @@ impl Lens {
             exit_crossing: None,
             internal_reflections: 0,
         };
-        let (p, u, t0) = self.localize(origin, dir);
+        // Scaled by a power of two first: [1e200, 0, −1e201] squares to ∞,
+        // [1e-200, 0, −1e-199] to 0; the line is the same.
+        let (p, u, t0) = self.localize(origin, rescale_pow2(dir));
         let sp = span(&self.caps, p, u);
         if !sp.real {
             return miss;
