@@ -5,7 +5,8 @@
 # reloads of a copy of scenes/cubes.toml edited on disk (sometimes made
 # invalid, then valid again), then the window closes itself (--exit-after).
 # It reports RSS over time (CSV), panics, window screenshots (not blank), the
-# counts and the exit status, and fails (exit 1) on a panic, a non-zero exit,
+# P renders (pure-black share: where a NaN pixel would show; the frame log
+# has no NaN field), the counts and the exit status, and fails (exit 1) on a panic, a non-zero exit,
 # a hang past --exit-after + margin, a blank window, or RSS growth after
 # warm-up: the last quarter's median RSS over the second quarter's > 1.25.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
@@ -139,7 +140,7 @@ while :; do
     *)  k=${keys[$((RANDOM % ${#keys[@]}))]}
         read -r how name _ <<<"$k"
         # P renders a full-resolution screenshot: only now and then.
-        [ "$name" = p ] && [ $((RANDOM % 5)) -ne 0 ] && continue
+        [ "$name" = p ] && [ $((RANDOM % 3)) -ne 0 ] && continue
         if [ "$how" = hold ]; then
             xdotool keydown --window "$win" "$name" sleep "0.$((1 + RANDOM % 8))" keyup --window "$win" "$name" 2>/dev/null || true
             nholds=$((nholds + 1))
@@ -163,6 +164,17 @@ status=0; wait "$app" || status=$?
 ended=$(($(date +%s) - start))
 app=""
 panics=$(grep -c 'panicked' "$out/stderr.txt" || true)
+# The P screenshots are the rendered picture alone (no overlay): not blank,
+# and the share of pure-black pixels (where a NaN would show) reported.
+nrender=0
+for f in "$tmp"/lensview-*.png; do
+    [ -e "$f" ] || continue
+    g="$out/render-$nrender.png"; cp "$f" "$g"; nrender=$((nrender + 1))
+    stats=$(convert "$g" -colorspace gray -format '%[fx:maxima] %[fx:standard_deviation] %wx%h' info: 2>/dev/null || echo "0 0 ?")
+    black=$(convert "$g" -colorspace gray -threshold 0 -negate -format '%[fx:mean]' info: 2>/dev/null || echo 1)
+    echo "$g $stats black $black" >>"$out/screenshots.txt"
+    awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.05 || a[2] < 0.01) }' && blank=$((blank + 1))
+done
 python3 - "$out/rss.csv" <<PY >"$out/summary.txt"
 import csv, statistics, sys
 rows = [(int(r["t_s"]), int(r["rss_kb"])) for r in csv.DictReader(open(sys.argv[1]))]
@@ -173,8 +185,9 @@ print(f"rss samples: {n}; start {rows[0][1] / 1024:.1f} MiB, after warm-up (2nd 
 print(f"growth {'FAIL' if last / second > 1.25 else 'ok'}")
 PY
 cat "$out/summary.txt"
-echo "seed $seed, ${minutes} min: keys $nkeys ($nholds held flight keys), resizes $nresizes, clicks $nclicks, F5 reloads $nreloads ($ninvalid of a broken file), screenshots $nshots ($blank blank), P screenshots $(ls "$tmp"/lensview-*.png 2>/dev/null | wc -l)"
-echo "frames presented: $(wc -l <"$out/frames.jsonl"); frame-log lines with NaN: $(grep -ci 'nan' "$out/frames.jsonl" || true)"
+echo "seed $seed, ${minutes} min: keys $nkeys ($nholds held flight keys), resizes $nresizes, clicks $nclicks, F5 reloads $nreloads ($ninvalid of a broken file), window screenshots $nshots, P renders $nrender ($blank blank in all)"
+[ -e "$out/screenshots.txt" ] && cat "$out/screenshots.txt"
+echo "frames presented: $(wc -l <"$out/frames.jsonl"); frame-log lines with a null (NaN) figure: $(grep -c null "$out/frames.jsonl" || true) (the log has no pixel NaN field)"
 echo "exit status $status after ${ended} s (--exit-after $exit_after, margin $margin s); hang: $hang; panics: $panics"
 echo "logs in $out"
 fail=0
