@@ -7,7 +7,8 @@
 # It reports RSS over time (CSV), panics, window screenshots (not blank), the
 # P renders (pure-black share: where a NaN pixel would show; the frame log
 # has no NaN field), the counts and the exit status, and fails (exit 1) on a panic, a non-zero exit,
-# a hang past --exit-after + margin, a blank window, or RSS growth after
+# a hang past --exit-after + margin (thread stacks saved by gdb), an all-black
+# picture, or RSS growth after
 # warm-up: the last quarter's median RSS over the second quarter's > 1.25.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
 #   bash benches/soak.sh [MINUTES] [SEED]
@@ -22,7 +23,7 @@ if [ -z "${LENSVIEW:-}" ]; then
     LENSVIEW=$root/target/release/lensview
 fi
 out=${SOAK_OUT:-$(mktemp -d)}
-mkdir -p "$out"; rm -f "$out"/frames.jsonl "$out"/shot-*.png "$out"/screenshots.txt
+mkdir -p "$out"; rm -f "$out"/actions.log "$out"/frames.jsonl "$out"/shot-*.png "$out"/screenshots.txt
 tmp=$(mktemp -d)
 display=:$((200 + RANDOM % 300))
 Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
@@ -107,6 +108,7 @@ PY
 )
     [ -n "$at" ] || return 0
     xdotool mousemove --window "$win" $at mousedown 1 sleep 0.1 mouseup 1 2>/dev/null || true
+    act="click $at"
     nclicks=$((nclicks + 1))
 }
 screenshot() { # the window must not be blank (all one colour or all black)
@@ -115,7 +117,7 @@ screenshot() { # the window must not be blank (all one colour or all black)
     stats=$(convert "$f" -colorspace gray -format '%[fx:maxima] %[fx:standard_deviation]' info: 2>/dev/null || echo "0 0")
     nshots=$((nshots + 1))
     echo "$f $stats" >>"$out/screenshots.txt"
-    awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.05 || a[2] < 0.01) }' && blank=$((blank + 1))
+    awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.02) }' && blank=$((blank + 1))
     return 0
 }
 
@@ -125,6 +127,7 @@ while :; do
     [ "$el" -ge "$budget" ] && break
     kill -0 "$app" 2>/dev/null || break
     r=$(rss); [ -n "$r" ] && [ "$el" -ne "$last_rss" ] && { echo "$el,$r" >>"$out/rss.csv"; last_rss=$el; }
+    act=""
     case $((RANDOM % 20)) in
     0)  # resize: tiny, medium or large; then a look at the window
         case $((RANDOM % 3)) in
@@ -133,10 +136,11 @@ while :; do
         *) w=$((1000 + RANDOM % 601)) h=$((600 + RANDOM % 401)) ;;
         esac
         xdotool windowsize "$win" "$w" "$h" 2>/dev/null || true
+        act="resize ${w}x$h"
         nresizes=$((nresizes + 1))
         if [ "$w" -ge 600 ] && [ $((RANDOM % 3)) -eq 0 ]; then sleep 3; screenshot; fi ;;
     1|2) click ;;
-    3)  edit_scene; sleep 0.2; xdotool key --window "$win" F5 2>/dev/null || true; nreloads=$((nreloads + 1)) ;;
+    3)  edit_scene; sleep 0.2; xdotool key --window "$win" F5 2>/dev/null || true; act="F5 after edit $ninvalid"; nreloads=$((nreloads + 1)) ;;
     *)  k=${keys[$((RANDOM % ${#keys[@]}))]}
         read -r how name _ <<<"$k"
         # P renders a full-resolution screenshot: only now and then.
@@ -147,8 +151,10 @@ while :; do
         else
             xdotool key --window "$win" "$name" 2>/dev/null || true
         fi
+        act="$how $name"
         nkeys=$((nkeys + 1)) ;;
     esac
+    echo "$el $act" >>"$out/actions.log"
     sleep "0.$((RANDOM % 5))"
 done
 # A last look at a normal-size window, then wait for --exit-after.
@@ -157,7 +163,11 @@ sleep 3; screenshot
 hang=0
 while kill -0 "$app" 2>/dev/null; do
     r=$(rss); el=$(($(date +%s) - start)); [ -n "$r" ] && echo "$el,$r" >>"$out/rss.csv"
-    if [ "$el" -gt $((exit_after + margin)) ]; then hang=1; kill -9 "$app"; break; fi
+    if [ "$el" -gt $((exit_after + margin)) ]; then
+        hang=1
+        gdb -p "$app" -batch -ex 'thread apply all bt' >"$out/hang-stacks.txt" 2>&1 || true
+        kill -9 "$app"; break
+    fi
     sleep 2
 done
 status=0; wait "$app" || status=$?
@@ -173,7 +183,7 @@ for f in "$tmp"/lensview-*.png; do
     stats=$(convert "$g" -colorspace gray -format '%[fx:maxima] %[fx:standard_deviation] %wx%h' info: 2>/dev/null || echo "0 0 ?")
     black=$(convert "$g" -colorspace gray -threshold 0 -negate -format '%[fx:mean]' info: 2>/dev/null || echo 1)
     echo "$g $stats black $black" >>"$out/screenshots.txt"
-    awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.05 || a[2] < 0.01) }' && blank=$((blank + 1))
+    awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.02) }' && blank=$((blank + 1))
 done
 python3 - "$out/rss.csv" <<PY >"$out/summary.txt"
 import csv, statistics, sys
