@@ -31,6 +31,8 @@ pub struct Screen {
     pixels: Pixels<'static>,
     pub gui: Gui,
     title: String,
+    /// The size the surface was last configured at.
+    surface: (u32, u32),
 }
 
 impl Screen {
@@ -61,6 +63,7 @@ impl Screen {
             pixels,
             gui,
             title,
+            surface: (w, h),
         })
     }
 
@@ -109,10 +112,22 @@ impl Screen {
         let Some((bw, bh)) = self.buffer_size(d) else {
             return Ok(());
         };
-        self.pixels
-            .resize_surface(size.width, size.height)
-            .map_err(|e| e.to_string())?;
+        self.fit_surface(size.width, size.height)?;
         self.pixels.resize_buffer(bw, bh).map_err(|e| e.to_string())
+    }
+
+    /// Configures the surface at the window's size when it differs from the
+    /// last one. pixels' `render_with` retries an out-of-date surface at its
+    /// stored size without bound: presenting after the window was resized,
+    /// before the `Resized` event, spun there for ever (found by
+    /// `benches/soak.sh`), so the size is checked before every present.
+    fn fit_surface(&mut self, width: u32, height: u32) -> Result<(), String> {
+        if width == 0 || height == 0 || (width, height) == self.surface {
+            return Ok(());
+        }
+        self.pixels.resize_surface(width, height).map_err(|e| e.to_string())?;
+        self.surface = (width, height);
+        Ok(())
     }
 
     /// Draws `frame` right of the panel, the overlay `lines` over it and
@@ -147,6 +162,10 @@ impl Screen {
         }
         if let Some(lines) = lines {
             overlay::draw_lines(buf, bw as usize, bh as usize, x0 as usize, lines);
+        }
+        let size = self.window.inner_size();
+        if let Err(e) = self.fit_surface(size.width, size.height) {
+            return Some((x0, Err(e)));
         }
         let gui = &mut self.gui;
         let result = self.pixels.render_with(|encoder, target, context| {
