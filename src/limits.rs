@@ -11,6 +11,8 @@
 //! - The camera samples one command renders in all stay within
 //!   [`MAX_SAMPLES`] (2^32 ≈ 4.3·10^9: 1920×1080 at 2048 spp, 4K at 512;
 //!   about 15 minutes at 5 M samples/s).
+//! - Input files are read up to a cap: [`SCENE_FILE_CAP`] for scenes,
+//!   [`TRACE_INPUT_CAP`] for `lens trace`.
 
 /// Largest image width or height.
 pub const MAX_SIDE: u32 = 16384;
@@ -20,6 +22,11 @@ pub const MAX_SPP: u32 = 65536;
 pub const MEMORY_BUDGET: u64 = 4 << 30;
 /// Largest number of camera samples one command renders.
 pub const MAX_SAMPLES: u64 = 1 << 32;
+/// Largest scene file read: far above any hand-written or generated scene
+/// (100 000 objects take about 8 MiB), far below what would hurt.
+pub const SCENE_FILE_CAP: u64 = 16 << 20;
+/// Largest `lens trace` input read (about 400 000 rays' cases).
+pub const TRACE_INPUT_CAP: u64 = 64 << 20;
 /// Largest number of timed runs (`bench --runs`) or frames (`--frames`).
 pub const MAX_RUNS: u32 = 1000;
 

@@ -51,14 +51,11 @@ fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
     }
 }
 
-/// The largest `lens trace` input read (about 400 000 rays' cases).
-const TRACE_INPUT_CAP: u64 = 64 << 20;
-
 fn lens_trace(path: &Path) -> Result<()> {
     use lensview::lens_tools::{TraceInput, check_cases, write_trace_json};
     use std::io::Write;
     let name = path.display();
-    let bytes = lensview::scene::read_capped(path, TRACE_INPUT_CAP)?;
+    let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;
     let input: TraceInput =
         serde_json::from_slice(&bytes).map_err(|e| anyhow::anyhow!("{name}:{}:{}: {e}", e.line(), e.column()))?;
     drop(bytes);

@@ -7,9 +7,7 @@ use super::{Scene, SceneFile};
 use std::io::Read;
 use std::path::Path;
 
-/// The largest scene file read: far above any hand-written or generated
-/// scene (100 000 objects take about 8 MiB), far below what would hurt.
-pub const SCENE_FILE_CAP: u64 = 16 << 20;
+pub use crate::limits::SCENE_FILE_CAP;
 
 /// The whole of `path`, refused with [`SceneError::TooLarge`] when it holds
 /// more than `cap` bytes. A regular file is measured before it is read; any
