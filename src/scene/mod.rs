@@ -9,6 +9,7 @@
 pub mod error;
 pub mod file;
 mod input;
+mod stream;
 mod validate;
 
 pub use error::{FieldPath, Problem, SceneError, escape_controls};
@@ -222,23 +223,6 @@ fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
     out
 }
 
-/// Whether every float in `table` is finite: written neither `inf` nor
-/// `nan` nor too large for an f64 (what [`Located::non_finite`] refuses).
-/// A float that does not read back as an f64 counts as not finite, so
-/// that the careful path decides.
-fn all_finite(table: &toml::de::DeTable) -> bool {
-    fn value(v: &toml::de::DeValue) -> bool {
-        use toml::de::DeValue;
-        match v {
-            DeValue::Float(f) => f.as_str().parse::<f64>().is_ok_and(f64::is_finite),
-            DeValue::Array(a) => a.iter().all(|v| value(v.get_ref())),
-            DeValue::Table(t) => all_finite(t),
-            _ => true,
-        }
-    }
-    table.values().all(|v| value(v.get_ref()))
-}
-
 impl Scene {
     /// Decides [`Features`] and builds the BVH; call again after changing
     /// `objects`, `lights` or `shadows` directly.
@@ -293,13 +277,10 @@ impl Scene {
 
     /// The scene in `text` when it parses, holds no non-finite number and
     /// validates; `None` for anything else (the caller then finds where).
+    /// Objects written in the usual forms are read one at a time
+    /// ([`stream`]); any other text is parsed as one document.
     fn parse_valid(text: &str) -> Option<(SceneFile, Scene)> {
-        use serde::Deserialize;
-        let table = toml::de::DeTable::parse(text).ok()?;
-        if !all_finite(table.get_ref()) {
-            return None;
-        }
-        let sf = SceneFile::deserialize(toml::de::Deserializer::from(table)).ok()?;
+        let sf = stream::scene_file(text).or_else(|| stream::whole_document(text))?;
         let scene = Scene::build(&sf).ok()?;
         Some((sf, scene))
     }
@@ -354,7 +335,7 @@ mod tests {
     /// path, which refuses it with its line.
     #[test]
     fn only_finite_floats_skip_the_careful_path() {
-        let finite = |t: &str| all_finite(toml::de::DeTable::parse(t).unwrap().get_ref());
+        let finite = |t: &str| stream::all_finite(toml::de::DeTable::parse(t).unwrap().get_ref());
         assert!(finite("a = 1.5\nb = [1, 2.0e300, { c = -0.0 }]\n[t]\nd = 1_000.5"));
         for t in [
             "a = inf",
