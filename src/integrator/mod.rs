@@ -2,9 +2,11 @@
 //! light, hard shadows, mirror reflection and Snell refraction with total
 //! internal reflection, to a maximum depth.
 //!
-//! Light through a lens follows the lens's own exact tracer
-//! ([`crate::geometry::Lens::propagate_inside`]): the same code
-//! `lensview lens trace` reports.
+//! Light through a lens follows the lens's own exact tracer, the full
+//! Whitted tree inside ([`crate::geometry::Lens::branches_inside`]: at each
+//! inner crossing the refracted and the reflected share, by Fresnel, each
+//! branch pruned below [`LENS_MIN_WEIGHT`] or at `max_depth`): the same code
+//! `lensview lens trace --branches` reports.
 //!
 //! Where things live:
 //! - `mod.rs`: the entry points ([`radiance`], [`radiance_packet`] and
@@ -19,8 +21,8 @@
 //! - `packet.rs`: the kernel for a packet of rays, lane by lane the scalar
 //!   one's arithmetic, and its working memory ([`PacketScratch`]);
 //! - `lens_pass.rs`: the pass through a lens of one ray
-//!   ([`transmitted_ray`]) or of a packet's lanes at once, from the same
-//!   per-ray steps.
+//!   ([`transmitted_rays`]: every ray out of the lens's Whitted tree) or of
+//!   a packet's lanes at once, from the same per-ray steps.
 //!
 //! [`Features`]: crate::scene::Features
 
@@ -46,9 +48,9 @@ mod scalar;
 mod shade;
 mod surface;
 
-pub use lens_pass::{Transmitted, transmitted_ray};
+pub use lens_pass::{Transmitted, transmitted_rays};
 pub use packet::PacketScratch;
-pub use shade::{Secondary, light_at};
+pub use shade::{LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 
 use crate::color::Rgb;

@@ -3,13 +3,15 @@
 //! the same arithmetic per lane (the steps of `shade.rs`), so that each lane
 //! gets the scalar radiance bit for bit. Each light's shadow rays are one
 //! packet; the refracted and the reflected rays of the lanes are a packet
-//! each ([`Onward`]), traced after the local shading of every lane.
+//! each ([`Onward`]; the second rays out of a lens one more, and a lane's
+//! further ones go to the scalar kernel), traced after the local shading of
+//! every lane.
 
 // Lane loops index several arrays by the lane: the form the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, lens_passes, transmitted_ray};
+use super::lens_pass::{LensPasses, lens_passes, transmitted_rays};
 use super::scalar::kernel;
 use super::shade::{Secondary, add_light, ambient, join, light_at, shade_onward, visibility_matters};
 use super::surface::{Surface, shadow_ray, surface};
@@ -28,9 +30,20 @@ use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
 pub struct PacketScratch {
     shadow: Packet,
     lens: LensPasses,
-    onward: [Onward; 2],
-    back: [Lanes<Rgb>; 2],
+    onward: [Onward; 3],
+    back: [Lanes<Rgb>; 3],
+    extra: Vec<Extra>,
     deeper: Option<Box<PacketScratch>>,
+}
+
+/// A lane's further ray out of a lens (after its first two, which go in
+/// the refracted packets), traced at once by the scalar kernel: what it brought
+/// back and how it joins.
+struct Extra {
+    lane: usize,
+    tint: Option<Rgb>,
+    factor: f64,
+    back: Rgb,
 }
 
 impl Default for PacketScratch {
@@ -38,8 +51,9 @@ impl Default for PacketScratch {
         PacketScratch {
             shadow: Packet::EMPTY,
             lens: LensPasses::EMPTY,
-            onward: [Onward::EMPTY, Onward::EMPTY],
-            back: [[Rgb::ZERO; LANES]; 2],
+            onward: [Onward::EMPTY, Onward::EMPTY, Onward::EMPTY],
+            back: [[Rgb::ZERO; LANES]; 3],
+            extra: Vec::new(),
             deeper: None,
         }
     }
@@ -48,7 +62,7 @@ impl Default for PacketScratch {
 /// Below this many rays, secondary rays are traced one by one.
 const MIN_PACKET: u32 = 3;
 
-/// The refracted (kind 0) or reflected (kind 1) rays a packet's lanes send
+/// The refracted (slots 0 and 1) or reflected (slot 2) rays a packet's lanes send
 /// on, gathered as a packet, with what [`Secondary`] holds for each lane.
 struct Onward {
     rays: Packet,
@@ -196,11 +210,13 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
     let PacketScratch {
         onward,
         back,
+        extra,
         deeper,
         lens,
         ..
     } = scratch;
-    if !send_onward::<GLASS, MIRROR>(scene, paths, &surfaces, lambda_um, lens, onward, out) {
+    let sent = Sent { lens, onward, extra };
+    if !send_onward::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, &surfaces, lambda_um, sent, out) {
         return;
     }
     let deeper = deeper.get_or_insert_with(Box::default);
@@ -209,11 +225,18 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
             o.trace::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, lambda_um, deeper, back);
         }
     }
-    // In the order `shade` adds them: refracted, then reflected.
+    // In the order `shade` adds them: refracted (the first two rays out of a
+    // lens, then the others), then reflected.
+    let mut extras = extra.iter().peekable();
     for l in 0..LANES {
-        for (o, back) in onward.iter().zip(back.iter()) {
+        for (k, (o, back)) in onward.iter().zip(back.iter()).enumerate() {
             if o.live >> l & 1 != 0 {
                 o.join(l, &mut out[l], back[l]);
+            }
+            while k == 1
+                && let Some(e) = extras.next_if(|e| e.lane == l)
+            {
+                join(&mut out[l], e.tint, e.factor, e.back);
             }
         }
     }
@@ -288,21 +311,31 @@ fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>
     }
 }
 
-/// [`shade_onward`] at every lane's surface: the refracted (0) and
-/// reflected (1) rays gathered into `onward`, to be traced afterwards (most
-/// packets send none), with the passes through a lens of the lanes that
-/// enter one traced together first (`lens`, working memory). Whether any
-/// lane sends a ray on.
+/// Where [`send_onward`] puts the rays the lanes send on: the first
+/// exits from a lens (`lens`, traced first), the refracted and reflected
+/// packets, and the further rays out of a lens, traced at once.
+struct Sent<'a> {
+    lens: &'a mut LensPasses,
+    onward: &'a mut [Onward; 3],
+    extra: &'a mut Vec<Extra>,
+}
+
+/// [`shade_onward`] at every lane's surface: the refracted (0; a second ray
+/// out of a lens, 1) and reflected (2) rays gathered into `onward`, to be
+/// traced afterwards (most packets send none), with the first exits from a
+/// lens of the lanes that enter one traced together first (`lens`, working
+/// memory); a lane's further rays out of a lens are traced at once by the
+/// scalar kernel (into `extra`). Whether any lane sends a ray on.
 #[inline(always)]
-fn send_onward<const GLASS: bool, const MIRROR: bool>(
+fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     paths: &PacketPaths,
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
-    lens: &mut LensPasses,
-    onward: &mut [Onward; 2],
+    sent: Sent,
     out: &mut Lanes<Rgb>,
 ) -> bool {
+    let Sent { lens, onward, extra } = sent;
     let p = paths.rays;
     let passes = GLASS && lens_passes(p, surfaces, lambda_um, lens);
     let lens = &*lens;
@@ -310,6 +343,7 @@ fn send_onward<const GLASS: bool, const MIRROR: bool>(
     for o in onward.iter_mut() {
         o.live = 0;
     }
+    extra.clear();
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         let dir = p.dir(l);
@@ -324,11 +358,30 @@ fn send_onward<const GLASS: bool, const MIRROR: bool>(
                 Some(ps) => ps.pass.entry_fresnel[l],
                 None => fresnel_at(dir, nf, n1, n2),
             },
-            &mut |s, ior| match traced(l) {
-                Some(ps) => ps.transmitted(l),
-                None => transmitted_ray(s.object, s.p, s.nf, s.entering, dir, ior),
+            &mut |s, ior, prune, emit| match (traced(l), s.object.lens()) {
+                (Some(ps), Some(lens)) => ps.transmitted(l, lens, s.p, ior, prune, emit),
+                _ => transmitted_rays(s.object, s.p, s.nf, s.entering, dir, ior, prune, emit),
             },
-            &mut |sec, _| onward[usize::from(sec.tint.is_none())].push(l, &sec),
+            &mut |sec, _| {
+                let free = |o: &Onward| o.live >> l & 1 == 0;
+                let slot = match sec.tint {
+                    None => Some(2),
+                    Some(_) => (0..2).find(|&k| free(&onward[k])),
+                };
+                if let Some(k) = slot {
+                    onward[k].push(l, &sec);
+                } else {
+                    let back = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                    );
+                    extra.push(Extra {
+                        lane: l,
+                        tint: sec.tint,
+                        factor: sec.factor,
+                        back,
+                    });
+                }
+            },
             &mut out[l],
         );
     }

@@ -3,7 +3,7 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
-use super::lens_pass::transmitted_ray;
+use super::lens_pass::transmitted_rays;
 use super::shade::{add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
@@ -69,7 +69,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             lambda_um,
             weight,
             &mut fresnel_at,
-            &mut |s, ior| transmitted_ray(s.object, s.p, s.nf, s.entering, ray.dir, ior),
+            &mut |s, ior, prune, emit| transmitted_rays(s.object, s.p, s.nf, s.entering, ray.dir, ior, prune, emit),
             &mut |sec, color| {
                 sec.join(
                     color,

@@ -25,8 +25,10 @@ pub(crate) struct LaneHits<const N: usize> {
 /// ([`Lens::exit_lanes`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LaneExits<const N: usize> {
-    /// The exit point, world coordinates.
+    /// The exit point, world coordinates, and local ones (from the centre:
+    /// where a reflection on inside starts, [`Lens::reflect_inside`]).
     pub y: [[f64; N]; 3],
+    pub local: [[f64; N]; 3],
     /// The refracted direction out of the glass (unit).
     pub out: [[f64; N]; 3],
     /// The face left through (0: S1, 1: S2).
@@ -92,8 +94,25 @@ impl Lens {
     /// exactly the scalar exit; the others are left to the scalar code.
     #[inline(always)]
     pub(crate) fn exit_lanes<const N: usize>(&self, x: &[[f64; N]; 3], u: &[[f64; N]; 3], n: f64) -> LaneExits<N> {
+        let mut local = [[0.0; N]; 3];
+        for l in 0..N {
+            set_lane(&mut local, l, lane(x, l) - self.center);
+        }
+        self.exit_lanes_local(&local, u, n)
+    }
+
+    /// [`Lens::exit_lanes`] from local points `x` (from the centre), as
+    /// [`Lens::branch_chain`] goes on from one exit to the next.
+    #[inline(always)]
+    pub(crate) fn exit_lanes_local<const N: usize>(
+        &self,
+        x: &[[f64; N]; 3],
+        u: &[[f64; N]; 3],
+        n: f64,
+    ) -> LaneExits<N> {
         let mut out = LaneExits {
             y: [[0.0; N]; 3],
+            local: [[0.0; N]; 3],
             out: [[0.0; N]; 3],
             part: [0; N],
             normal: [[0.0; N]; 3],
@@ -102,8 +121,9 @@ impl Lens {
         };
         let caps = self.caps;
         for l in 0..N {
-            let e = self.exit_step(caps, lane(x, l) - self.center, lane(u, l), n);
+            let e = self.exit_step(caps, lane(x, l), lane(u, l), n);
             set_lane(&mut out.y, l, self.center + e.y);
+            set_lane(&mut out.local, l, e.y);
             set_lane(&mut out.out, l, e.crossing.dir);
             set_lane(&mut out.normal, l, e.normal);
             out.reflectance[l] = e.crossing.reflectance;

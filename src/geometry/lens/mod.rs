@@ -31,7 +31,8 @@
 //! roots ahead.
 //!
 //! Files by responsibility: `cap.rs` holds one face and the roots of both
-//! faces along a ray, `dd.rs` the double-double arithmetic of
+//! faces along a ray, `branches.rs` the Whitted tree of a pass (every ray
+//! out, weighted by Fresnel), `dd.rs` the double-double arithmetic of
 //! [`Lens::localize`], `trace.rs` the scalar tracer inside the glass
 //! ([`Lens::trace`], [`Lens::propagate_inside`]), and `lanes.rs` the same
 //! hit test and exit for a packet's lanes at once. The hit test, the tracer
@@ -39,11 +40,14 @@
 //! `near_point`, `Lens::pick`, `Lens::exit_step`), so each lane gets the
 //! scalar answer bit for bit.
 
+mod branches;
 mod cap;
 mod dd;
 mod lanes;
 mod trace;
 
+pub use branches::{Inside, LensBranch, Pruning};
+pub(crate) use lanes::LaneExits;
 pub use trace::{ExitCrossing, LensPath, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 
 use super::{Aabb, Hit, within};

@@ -1,0 +1,178 @@
+//! The Whitted tree of a pass through the lens: at every crossing of a face
+//! from inside, the share `1 − R` (Fresnel) leaves as a ray out and the
+//! share `R` is reflected on inside (all of it under total internal
+//! reflection). Inside the glass the tree is a chain: each crossing sends
+//! one ray out and one on, so the pass is a loop ([`Lens::branches_inside`])
+//! that hands each ray out to the caller in order. A branch is dropped
+//! when its weight falls to a [`Pruning`]'s bound or the chain reaches its
+//! most reflections; what is dropped is returned, so that the weights out
+//! and the weight dropped sum to the weight in.
+//!
+//! The renderer's packets take the first exit from [`Lens::exit_lanes`]
+//! and go on from there with [`Lens::reflect_inside`] and
+//! [`Lens::branch_chain`]: the very steps of the loop.
+
+use super::trace::MAX_INTERNAL_REFLECTIONS;
+use super::{Lens, LensSurface};
+use crate::optics;
+use glam::DVec3;
+
+/// One ray out of the lens in the tree of a pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LensBranch {
+    /// The face left through.
+    pub face: LensSurface,
+    /// The exit point, world coordinates.
+    pub point: DVec3,
+    /// The refracted direction out of the glass (unit).
+    pub dir: DVec3,
+    /// The face's outward unit normal at the exit point.
+    pub normal: DVec3,
+    /// The share of the light that entered which leaves along this ray:
+    /// the product of the reflectances of the crossings before it (1 for a
+    /// total reflection) and of the transmission `1 − R` of its own.
+    pub weight: f64,
+    /// Reflections inside before this exit, total and partial.
+    pub reflections: u32,
+}
+
+/// Where a chain of reflections inside stands: the local point `x` on a face
+/// (or the entry point), the unit direction `u` on from it, the weight still
+/// inside and the reflections so far.
+#[derive(Clone, Copy, Debug)]
+pub struct Inside {
+    pub x: DVec3,
+    pub u: DVec3,
+    pub weight: f64,
+    pub reflections: u32,
+}
+
+/// When a branch is dropped: a ray out or the light reflected on is kept
+/// while `scale · weight > min`, and the chain stops after
+/// `max_reflections` reflections inside (at most
+/// [`MAX_INTERNAL_REFLECTIONS`]). The renderer's `scale` is the path weight
+/// of the ray that entered.
+#[derive(Clone, Copy, Debug)]
+pub struct Pruning {
+    pub scale: f64,
+    pub min: f64,
+    pub max_reflections: u32,
+}
+
+impl Pruning {
+    /// Nothing dropped for its weight; the most reflections followed.
+    pub const NONE: Pruning = Pruning {
+        scale: 1.0,
+        min: 0.0,
+        max_reflections: MAX_INTERNAL_REFLECTIONS,
+    };
+
+    /// Whether a branch of weight `w` is followed.
+    #[inline(always)]
+    pub fn keeps(&self, w: f64) -> bool {
+        self.scale * w > self.min
+    }
+}
+
+impl Lens {
+    /// Every ray out of the lens for light that has just refracted in at the
+    /// world point `x` along the unit `u` (index `n`), in the order the
+    /// chain meets them, each handed to `emit`. Returns the weight dropped
+    /// (rays out and light inside below the bound, the rest after the most
+    /// reflections): with the weights handed out it sums to 1.
+    pub fn branches_inside(
+        &self,
+        x: DVec3,
+        u: DVec3,
+        n: f64,
+        prune: &Pruning,
+        emit: &mut impl FnMut(LensBranch),
+    ) -> f64 {
+        let start = Inside {
+            x: x - self.center,
+            u,
+            weight: 1.0,
+            reflections: 0,
+        };
+        self.branch_chain(start, n, prune, emit)
+    }
+
+    /// [`Lens::branches_inside`] from a point of the chain.
+    #[inline]
+    pub fn branch_chain(&self, mut s: Inside, n: f64, prune: &Pruning, emit: &mut impl FnMut(LensBranch)) -> f64 {
+        let mut dropped = 0.0;
+        loop {
+            let e = self.exit_step(self.caps, s.x, s.u, n);
+            if !e.found {
+                return dropped + s.weight;
+            }
+            let c = e.crossing;
+            let reflectance = if c.total {
+                1.0
+            } else {
+                let out = s.weight * (1.0 - c.reflectance);
+                if prune.keeps(out) {
+                    emit(LensBranch {
+                        face: LensSurface::from_part(e.face as u8),
+                        point: self.center + e.y,
+                        dir: c.dir,
+                        normal: e.normal,
+                        weight: out,
+                        reflections: s.reflections,
+                    });
+                } else {
+                    dropped += out;
+                }
+                c.reflectance
+            };
+            if let Err(lost) = self.reflect_inside(&mut s, e.y, e.normal, reflectance, prune) {
+                return dropped + lost;
+            }
+        }
+    }
+
+    /// The light of `s` that a crossing at the local point `y` (outward unit
+    /// normal `normal`, reflectance `r`) reflects on inside: `s` moves to it,
+    /// or, when it is dropped, `Err` with its weight.
+    #[inline(always)]
+    pub fn reflect_inside(&self, s: &mut Inside, y: DVec3, normal: DVec3, r: f64, prune: &Pruning) -> Result<(), f64> {
+        let w = s.weight * r;
+        if !prune.keeps(w) || s.reflections >= prune.max_reflections.min(MAX_INTERNAL_REFLECTIONS) {
+            return Err(w);
+        }
+        s.weight = w;
+        s.reflections += 1;
+        s.u = optics::reflect(s.u, normal).normalize();
+        s.x = y;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::Index;
+
+    /// A total internal reflection carries the whole weight on, and a ray
+    /// out is never below its bound.
+    #[test]
+    fn total_reflections_keep_the_weight_and_the_bound_holds() {
+        let l = Lens::new(DVec3::ZERO, DVec3::Z, 2.0, 5.0, 5.0, Index::Constant(4.0)).unwrap();
+        let prune = Pruning {
+            scale: 0.5,
+            min: 1e-3,
+            max_reflections: 40,
+        };
+        let mut outs = Vec::new();
+        let dropped = l.branches_inside(DVec3::ZERO, DVec3::new(1.0, 0.0, 0.05).normalize(), 4.0, &prune, &mut |b| {
+            outs.push(b)
+        });
+        assert!(!outs.is_empty());
+        assert!(outs[0].reflections >= 1, "{outs:?}");
+        for b in &outs {
+            assert!(prune.keeps(b.weight));
+        }
+        let sum: f64 = outs.iter().map(|b| b.weight).sum();
+        assert!((sum + dropped - 1.0).abs() < 1e-12, "{sum} + {dropped}");
+    }
+}
