@@ -67,6 +67,17 @@ impl Screen {
         })
     }
 
+    /// Whether the adapter is a CPU rasterizer (lavapipe, llvmpipe): its
+    /// presents take cores from the tracer.
+    pub fn cpu_adapter(&self) -> bool {
+        self.pixels.adapter().get_info().device_type == pixels::wgpu::DeviceType::Cpu
+    }
+
+    /// The refresh rate of the window's monitor, if it says.
+    pub fn refresh_millihertz(&self) -> Option<u32> {
+        self.window.current_monitor()?.refresh_rate_millihertz()
+    }
+
     pub fn set_title(&mut self, title: String) {
         if title != self.title {
             self.window.set_title(&title);
