@@ -29,12 +29,14 @@ mod keys;
 mod overlay;
 mod pacing;
 mod panel;
+mod platform;
 mod refine;
 mod screen;
 mod session;
 mod stats;
 
 use anyhow::{Context, Result, anyhow};
+pub use platform::quiet_wayland_probe;
 use lensview::edit::{Document, Source};
 use lensview::render::worker::Worker;
 use lensview::scene::SceneFile;
