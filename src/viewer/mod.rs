@@ -132,7 +132,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
     let mut app = Viewer {
         session: Session::new(doc, panel::UiState::new(opts.scene_path.as_deref())),
         display: Display {
-            overlay: true,
+            overlay: overlay::OverlayMode::Compact,
             help: false,
             panel: opts.panel,
             res_div: 1,
@@ -278,11 +278,26 @@ impl Viewer {
         self.request_redraw();
     }
 
-    /// Runs the panel's UI pass (also when the panel is hidden: the
-    /// questions and file dialogs still show), then carries out what it
-    /// asked.
-    fn run_ui(&mut self) {
+    /// The overlay's lines for the frame being drawn.
+    fn overlay_lines(&self) -> Vec<String> {
+        let timing = self.stats.timing_lines(self.refine.frame(), self.refine.paused());
+        let s = &self.session;
+        stats::overlay_lines(
+            self.display.overlay,
+            self.title(),
+            timing,
+            &s.doc,
+            self.flight.speed,
+            &s.message,
+        )
+    }
+
+    /// Runs the UI pass: the panel (also when hidden, the questions and
+    /// file dialogs still show), the overlay `lines` and the key help; then
+    /// carries out what it asked.
+    fn run_ui(&mut self, lines: &[String]) {
         let Some(screen) = &mut self.screen else { return };
+        let picture = screen.picture_rect(&self.display);
         let mut cx = panel::Ctx {
             session: &mut self.session,
             display: &mut self.display,
@@ -293,7 +308,11 @@ impl Viewer {
                 frame: self.refine.frame(),
             },
         };
-        let delay = screen.gui.run(&screen.window, |ui| panel::show(ui, &mut cx));
+        let delay = screen.gui.run(&screen.window, |ui| {
+            overlay::show(ui.ctx(), picture, lines);
+            panel::show(ui, &mut cx);
+            overlay::help_window(ui.ctx(), &mut cx.display.help);
+        });
         self.repaint_at = delay.map(|d| Instant::now() + d);
         if delay == Some(Duration::ZERO) {
             self.request_redraw();
@@ -314,22 +333,11 @@ impl Viewer {
             }
             Decision::Now => self.present_at = None,
         }
-        self.run_ui();
-        let lines = self.display.overlay.then(|| {
-            let timing = self.stats.timing_lines(self.refine.frame(), self.refine.paused());
-            let s = &self.session;
-            stats::overlay_lines(
-                self.title(),
-                timing,
-                &s.doc,
-                self.flight.speed,
-                &s.message,
-                self.display.help,
-            )
-        });
+        let lines = self.overlay_lines();
+        self.run_ui(&lines);
         let Some(screen) = &mut self.screen else { return };
         let t0 = Instant::now();
-        let Some((x0, result)) = screen.present(&self.display, self.refine.frame(), lines.as_deref()) else {
+        let Some((x0, result)) = screen.present(&self.display, self.refine.frame()) else {
             return;
         };
         if let Err(e) = result {

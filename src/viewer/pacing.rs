@@ -66,10 +66,6 @@ impl Pacer {
         Duration::from_secs_f64(1.0 / hz)
     }
 
-    pub fn is_cpu(&self) -> bool {
-        self.cpu
-    }
-
     /// A new generation was submitted (an input changed the picture).
     pub fn submitted(&mut self, now: Instant) {
         self.awaiting = Some(now);
