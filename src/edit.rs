@@ -13,7 +13,7 @@
 pub mod document;
 pub mod presets;
 
-pub use document::{Change, Document, Item, Placement, Rejected, Source};
+pub use document::{Change, Document, Item, Placement, Rejected, Source, Unsaved};
 
 use crate::color::{Rgb, blackbody};
 use crate::math::rotation_from_degrees;

@@ -15,6 +15,9 @@ fn main() -> ExitCode {
     // small files, from its own event loop).
     if !matches!(cli.command, None | Some(cli::Command::View(_))) {
         lensview::output::remove_temp_files_on_interrupt();
+    } else {
+        // Before any thread exists: it sets an environment variable.
+        viewer::quiet_wayland_probe();
     }
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -609,3 +609,43 @@ fn bench_refuses_an_unwritable_out_dir_before_measuring() {
         .unwrap();
     refused(&o, &["cannot create", "a-file"]);
 }
+
+/// `render` with standard error piped (CI, a log file): no progress bar,
+/// no carriage return, nothing at all on standard error.
+#[test]
+fn render_piped_prints_no_progress_bar() {
+    let out = tmp("piped.png");
+    let o = bin()
+        .args(["render", "-o", out.to_str().unwrap(), "--width", "160", "--height", "120", "--spp", "2"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.stderr.is_empty(), "{:?}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(!stdout.contains('\r') && !stdout.contains("ETA"), "{stdout}");
+}
+
+/// On a terminal (a pseudo-terminal made by `script`, where installed) the
+/// bar shows with its percentage and ETA.
+#[test]
+fn render_on_a_terminal_shows_a_progress_bar_with_an_eta() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: `script` (util-linux) is not installed");
+        return;
+    }
+    let out = tmp("tty.png");
+    let cmd = format!(
+        "{} render -o {} --width 320 --height 240 --spp 16",
+        env!("CARGO_BIN_EXE_lensview"),
+        out.display()
+    );
+    let o = Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .env("TERM", "xterm")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("rendering [") && text.contains("ETA"), "{text:?}");
+    assert!(text.contains("rendered 320×240"), "{text:?}");
+}

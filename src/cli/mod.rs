@@ -12,6 +12,7 @@
 mod bench;
 mod converge;
 mod lens;
+mod progress;
 mod render;
 mod table;
 mod view;

@@ -5,7 +5,6 @@ use anyhow::Result;
 use clap::Args;
 use lensview::render::{RenderSettings, render};
 use lensview::{limits, output};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -46,14 +45,12 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
         spp,
         seed: a.seed,
     };
-    let tty = std::io::stderr().is_terminal();
-    let show = |f: f64| eprint!("\rrendering {:3.0}%", f * 100.0);
+    let progress = super::progress::Progress::on_stderr("rendering");
+    let callback = progress.callback();
     let start = Instant::now();
-    let img = render(&scene, &settings, if tty { Some(&show) } else { None });
+    let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
     let secs = start.elapsed().as_secs_f64();
-    if tty {
-        eprint!("\r");
-    }
+    progress.finish();
     img.write_png(&a.output)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     println!(

@@ -18,6 +18,9 @@
 mod files;
 mod items;
 mod scene_edits;
+mod unsaved;
+
+pub use unsaved::Unsaved;
 
 pub use files::{ReloadError, SaveError, to_toml};
 pub use items::{Placement, free_name, in_front_of_camera, new_lens, new_material, new_object, unique_key};
@@ -207,9 +210,18 @@ impl Document {
         self.revision
     }
 
-    /// `"scenes/cubes.toml *"`: the source and an unsaved-changes mark.
+    /// `"scenes/cubes.toml *"`: the source and an unsaved-changes mark;
+    /// `"… (camera moved)"` when only the view is unsaved.
     pub fn title(&self) -> String {
-        format!("{}{}", self.source, if self.is_dirty() { " *" } else { "" })
+        let u = self.unsaved();
+        let mark = if u.content {
+            " *"
+        } else if u.view {
+            " (camera moved)"
+        } else {
+            ""
+        };
+        format!("{}{mark}", self.source)
     }
 
     /// Applies `f` to a copy of the scene; keeps it if it validates. One

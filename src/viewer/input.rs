@@ -125,7 +125,7 @@ impl Viewer {
             Action::Reload => s.reload(),
             Action::HalfResolution => s.ask(Command::Resolution(if self.display.res_div == 1 { 2 } else { 1 })),
             Action::Screenshot => s.ask(Command::Screenshot),
-            Action::ToggleOverlay => self.display.overlay = !self.display.overlay,
+            Action::ToggleOverlay => self.display.overlay = self.display.overlay.next(),
             Action::ToggleHelp => self.display.help = !self.display.help,
             Action::Undo => s.undo(),
             Action::Redo => s.redo(),

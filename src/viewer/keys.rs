@@ -170,7 +170,7 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         Action::Screenshot,
         "save a screenshot PNG (full resolution)",
     ),
-    (KeyCode::F1, "F1", Action::ToggleOverlay, "overlay on/off"),
+    (KeyCode::F1, "F1", Action::ToggleOverlay, "overlay: off / compact / full"),
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
@@ -231,21 +231,13 @@ pub fn label_of(action: Action) -> &'static str {
         .unwrap_or("")
 }
 
-/// Help lines, one per labelled binding, plus the mouse and modifiers.
-pub fn help_lines() -> Vec<String> {
-    let mut v: Vec<String> = BINDINGS
-        .iter()
-        .filter(|b| !b.1.is_empty())
-        .map(|b| format!("{:<6} {}", b.1, b.3))
-        .collect();
-    v.extend(
-        CTRL_BINDINGS
-            .iter()
-            .filter(|b| !b.2.is_empty())
-            .map(|b| format!("{:<6} {}", b.2, b.4)),
-    );
-    v.push("Shift  fly faster;  wheel: flight speed".into());
-    v.push("Mouse  drag with the left button to look around".into());
+/// The key help, (keys, what they do): one row per labelled binding, plus
+/// the mouse and modifiers.
+pub fn help_rows() -> Vec<(&'static str, &'static str)> {
+    let mut v: Vec<_> = BINDINGS.iter().filter(|b| !b.1.is_empty()).map(|b| (b.1, b.3)).collect();
+    v.extend(CTRL_BINDINGS.iter().filter(|b| !b.2.is_empty()).map(|b| (b.2, b.4)));
+    v.push(("Shift", "fly faster;  wheel: flight speed"));
+    v.push(("Mouse", "drag with the left button to look around"));
     v
 }
 
@@ -259,7 +251,7 @@ mod tests {
             assert!(BINDINGS[i + 1..].iter().all(|b| b.0 != a.0), "{:?} bound twice", a.0);
             assert!(a.1.is_empty() == a.3.is_empty());
         }
-        assert!(help_lines().len() > 20);
+        assert!(help_rows().len() > 20);
         for (i, a) in CTRL_BINDINGS.iter().enumerate() {
             assert!(
                 CTRL_BINDINGS[i + 1..].iter().all(|b| (b.0, b.1) != (a.0, a.1)),
@@ -279,7 +271,7 @@ mod tests {
         assert_eq!(action_for(KeyCode::KeyW, true, false), None);
         assert_eq!(label_of(Action::Redo), "Ctrl+Shift+Z");
         assert_eq!(label_of(Action::TogglePanel), "F4");
-        assert!(help_lines().iter().any(|l| l.contains("Ctrl+Z")));
+        assert!(help_rows().iter().any(|r| r.0 == "Ctrl+Z" && r.1 == "undo"));
         assert!(!Action::ToggleOverlay.restarts() && Action::LensD(0.1).restarts());
     }
 }

@@ -27,16 +27,20 @@ mod gui;
 mod input;
 mod keys;
 mod overlay;
+mod pacing;
 mod panel;
+mod platform;
 mod refine;
 mod screen;
 mod session;
 mod stats;
 
 use anyhow::{Context, Result, anyhow};
+pub use platform::quiet_wayland_probe;
 use lensview::edit::{Document, Source};
 use lensview::render::worker::Worker;
 use lensview::scene::SceneFile;
+use pacing::{Decision, Pacer};
 use refine::Refine;
 use screen::{Display, Screen};
 use session::{Command, Outcome, Session};
@@ -83,6 +87,13 @@ struct Viewer {
     minimised: bool,
     /// When egui asked to run again (animations, tooltips).
     repaint_at: Option<Instant>,
+    /// When presents happen (see `pacing`).
+    pacer: Pacer,
+    /// A present the pacer put off, and when to try again.
+    present_at: Option<Instant>,
+    /// A redraw was asked for by the viewer itself (else the system asked:
+    /// the window must be drawn again).
+    asked: bool,
     /// Set when the window should close (after any question was answered).
     quit: bool,
     error: Option<anyhow::Error>,
@@ -121,7 +132,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
     let mut app = Viewer {
         session: Session::new(doc, panel::UiState::new(opts.scene_path.as_deref())),
         display: Display {
-            overlay: true,
+            overlay: overlay::OverlayMode::Compact,
             help: false,
             panel: opts.panel,
             res_div: 1,
@@ -134,6 +145,9 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         stats: Stats::new(log),
         minimised: false,
         repaint_at: None,
+        pacer: Pacer::new(false, Pacer::refresh_period(None)),
+        present_at: None,
+        asked: false,
         quit: false,
         error: None,
     };
@@ -157,8 +171,15 @@ impl Viewer {
         }
     }
 
-    fn request_redraw(&self) {
+    /// Something on screen besides the picture changed: draw again.
+    fn request_redraw(&mut self) {
+        self.pacer.ui_changed();
+        self.ask_redraw();
+    }
+
+    fn ask_redraw(&mut self) {
         if let Some(s) = &self.screen {
+            self.asked = true;
             s.window.request_redraw();
         }
     }
@@ -169,6 +190,7 @@ impl Viewer {
             return;
         };
         self.refine.submit(self.session.doc.built().clone(), size);
+        self.pacer.submitted(Instant::now());
     }
 
     /// Carries out what the keys or the panel asked: restart refinement
@@ -256,11 +278,26 @@ impl Viewer {
         self.request_redraw();
     }
 
-    /// Runs the panel's UI pass (also when the panel is hidden: the
-    /// questions and file dialogs still show), then carries out what it
-    /// asked.
-    fn run_ui(&mut self) {
+    /// The overlay's lines for the frame being drawn.
+    fn overlay_lines(&self) -> Vec<String> {
+        let timing = self.stats.timing_lines(self.refine.frame(), self.refine.paused());
+        let s = &self.session;
+        stats::overlay_lines(
+            self.display.overlay,
+            self.title(),
+            timing,
+            &s.doc,
+            self.flight.speed,
+            &s.message,
+        )
+    }
+
+    /// Runs the UI pass: the panel (also when hidden, the questions and
+    /// file dialogs still show), the overlay `lines` and the key help; then
+    /// carries out what it asked.
+    fn run_ui(&mut self, lines: &[String]) {
         let Some(screen) = &mut self.screen else { return };
+        let picture = screen.picture_rect(&self.display);
         let mut cx = panel::Ctx {
             session: &mut self.session,
             display: &mut self.display,
@@ -271,10 +308,14 @@ impl Viewer {
                 frame: self.refine.frame(),
             },
         };
-        let delay = screen.gui.run(&screen.window, |ui| panel::show(ui, &mut cx));
+        let delay = screen.gui.run(&screen.window, |ui| {
+            overlay::show(ui.ctx(), picture, lines);
+            panel::show(ui, &mut cx);
+            overlay::help_window(ui.ctx(), &mut cx.display.help);
+        });
         self.repaint_at = delay.map(|d| Instant::now() + d);
         if delay == Some(Duration::ZERO) {
-            screen.window.request_redraw();
+            self.request_redraw();
         }
         self.session.ui.write_rects(self.opts.ui_log.as_deref());
         self.settle();
@@ -284,27 +325,25 @@ impl Viewer {
         if self.minimised {
             return;
         }
-        self.run_ui();
-        let lines = self.display.overlay.then(|| {
-            let timing = self.stats.timing_lines(self.refine.frame(), self.refine.paused());
-            let s = &self.session;
-            stats::overlay_lines(
-                self.title(),
-                timing,
-                &s.doc,
-                self.flight.speed,
-                &s.message,
-                self.display.help,
-            )
-        });
+        match self.pacer.decide(Instant::now()) {
+            Decision::Skip => return,
+            Decision::At(t) => {
+                self.present_at = Some(t);
+                return;
+            }
+            Decision::Now => self.present_at = None,
+        }
+        let lines = self.overlay_lines();
+        self.run_ui(&lines);
         let Some(screen) = &mut self.screen else { return };
         let t0 = Instant::now();
-        let Some((x0, result)) = screen.present(&self.display, self.refine.frame(), lines.as_deref()) else {
+        let Some((x0, result)) = screen.present(&self.display, self.refine.frame()) else {
             return;
         };
         if let Err(e) = result {
             self.session.message = format!("present failed: {e}");
         }
+        self.pacer.presented(Instant::now());
         let p = Presented {
             frame: self.refine.frame(),
             x0,
@@ -348,6 +387,14 @@ impl Viewer {
                 wake = Some(wake.map_or(t, |w| w.min(t)));
             }
         }
+        if let Some(t) = self.present_at {
+            if t <= Instant::now() {
+                self.present_at = None;
+                self.ask_redraw();
+            } else {
+                wake = Some(wake.map_or(t, |w| w.min(t)));
+            }
+        }
         if let Some(limit) = self.opts.exit_after {
             let left = (limit - self.stats.started.elapsed().as_secs_f64()).max(0.0);
             let t = Instant::now() + Duration::from_secs_f64(left.min(0.25));
@@ -363,7 +410,10 @@ impl ApplicationHandler<UserEvent> for Viewer {
             return;
         }
         match Screen::open(event_loop, (self.opts.width, self.opts.height), self.title()) {
-            Ok(s) => self.screen = Some(s),
+            Ok(s) => {
+                self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()));
+                self.screen = Some(s);
+            }
             Err(e) => {
                 self.error = Some(e);
                 event_loop.exit();
@@ -376,8 +426,11 @@ impl ApplicationHandler<UserEvent> for Viewer {
     fn user_event(&mut self, _: &ActiveEventLoop, event: UserEvent) {
         match event {
             UserEvent::FrameReady => {
-                if self.refine.receive() {
-                    self.request_redraw();
+                if self.refine.receive()
+                    && let Some(f) = self.refine.frame()
+                {
+                    self.pacer.frame_arrived(f.generation);
+                    self.ask_redraw();
                 }
             }
         }
@@ -391,10 +444,10 @@ impl ApplicationHandler<UserEvent> for Viewer {
             && let Some(s) = &mut self.screen
         {
             let r = s.gui.on_event(&s.window, &event);
-            if r.repaint {
-                s.window.request_redraw();
-            }
             consumed = r.consumed;
+            if r.repaint {
+                self.request_redraw();
+            }
         }
         match event {
             WindowEvent::CloseRequested => {
@@ -403,7 +456,14 @@ impl ApplicationHandler<UserEvent> for Viewer {
                 self.settle();
             }
             WindowEvent::Resized(_) => self.resize_buffers(),
-            WindowEvent::RedrawRequested => self.draw(),
+            WindowEvent::RedrawRequested => {
+                // Not asked for by the viewer: the system needs the window
+                // drawn again (exposed, mapped).
+                if !std::mem::take(&mut self.asked) {
+                    self.pacer.ui_changed();
+                }
+                self.draw();
+            }
             WindowEvent::ModifiersChanged(m) => self.modifiers = m.state(),
             WindowEvent::Focused(false) => self.flight.release_keys(),
             WindowEvent::KeyboardInput {

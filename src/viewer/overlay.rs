@@ -1,62 +1,100 @@
-//! Text drawn into the RGBA framebuffer with the 8×8 public-domain bitmap
-//! font of `font8x8`, scaled 2× so it reads at 720p, on a translucent band.
+//! The overlay and the key help, drawn by egui over the picture: crisp
+//! text at any size, a semi-transparent box at the picture's top-left
+//! corner (right of the panel), wrapped to the picture's width so it is
+//! never cut off, and the key help (F2) as a window that stays on screen.
+//!
+//! What the overlay says is a list of lines (`stats::overlay_lines`); a
+//! feature that wants a line on it appends to that list.
 
-use font8x8::UnicodeFonts;
+use super::keys;
+use egui::{Align2, Color32, Context, Frame, Id, Order, Rect, RichText, Vec2};
 
-pub const SCALE: usize = 2;
-pub const LINE_H: usize = 8 * SCALE + 4;
+/// How much the overlay shows (F1 cycles off → compact → full).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OverlayMode {
+    Off,
+    Compact,
+    Full,
+}
 
-/// Darkens a rectangle (for legibility) — `alpha` of the old colour is kept.
-pub fn shade(buf: &mut [u8], width: usize, height: usize, x0: usize, y0: usize, w: usize, h: usize) {
-    for y in y0..(y0 + h).min(height) {
-        for x in x0..(x0 + w).min(width) {
-            let i = (y * width + x) * 4;
-            for c in &mut buf[i..i + 3] {
-                *c = (*c as u16 * 2 / 5) as u8;
-            }
+impl OverlayMode {
+    pub fn next(self) -> OverlayMode {
+        match self {
+            OverlayMode::Off => OverlayMode::Compact,
+            OverlayMode::Compact => OverlayMode::Full,
+            OverlayMode::Full => OverlayMode::Off,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            OverlayMode::Off => "off",
+            OverlayMode::Compact => "compact",
+            OverlayMode::Full => "full",
         }
     }
 }
 
-/// Draws `text` with its top-left at (x, y); returns the width drawn.
-pub fn draw_text(buf: &mut [u8], width: usize, height: usize, x: usize, y: usize, text: &str, rgb: [u8; 3]) -> usize {
-    let mut cx = x;
-    for ch in text.chars() {
-        let glyph = font8x8::BASIC_FONTS
-            .get(ch)
-            .or_else(|| font8x8::LATIN_FONTS.get(ch))
-            .or_else(|| font8x8::GREEK_FONTS.get(ch))
-            .unwrap_or([0; 8]);
-        for (gy, bits) in glyph.iter().enumerate() {
-            for gx in 0..8 {
-                if bits & (1 << gx) == 0 {
-                    continue;
-                }
-                for sy in 0..SCALE {
-                    for sx in 0..SCALE {
-                        let (px, py) = (cx + gx * SCALE + sx, y + gy * SCALE + sy);
-                        if px < width && py < height {
-                            let i = (py * width + px) * 4;
-                            buf[i..i + 3].copy_from_slice(&rgb);
-                        }
+/// Text size of the overlay, points.
+const TEXT: f32 = 12.0;
+/// Space between the picture's edge and the box, points.
+const MARGIN: f32 = 6.0;
+
+/// Draws `lines` in a box at the top-left of `picture` (points). The first
+/// line is highlighted. The box is as wide as its longest line, at most
+/// the picture's width (longer lines wrap), and is not interactive.
+pub fn show(ctx: &Context, picture: Rect, lines: &[String]) {
+    if lines.is_empty() || picture.width() < 4.0 * MARGIN || picture.height() < 4.0 * MARGIN {
+        return;
+    }
+    let max_w = picture.width() - 2.0 * MARGIN - 12.0;
+    egui::Area::new(Id::new("lensview-overlay"))
+        .order(Order::Background)
+        .interactable(false)
+        .fixed_pos(picture.min + Vec2::splat(MARGIN))
+        .constrain_to(picture)
+        .show(ctx, |ui| {
+            Frame::new()
+                .fill(Color32::from_black_alpha(150))
+                .corner_radius(4.0)
+                .inner_margin(6.0)
+                .show(ui, |ui| {
+                    ui.set_max_width(max_w);
+                    ui.spacing_mut().item_spacing.y = 1.0;
+                    for (i, line) in lines.iter().enumerate() {
+                        let colour = if i == 0 {
+                            Color32::from_rgb(255, 225, 120)
+                        } else {
+                            Color32::from_gray(235)
+                        };
+                        ui.add(egui::Label::new(RichText::new(line).monospace().size(TEXT).color(colour)).wrap());
                     }
-                }
-            }
-        }
-        cx += 8 * SCALE;
-    }
-    cx - x
+                });
+        });
 }
 
-/// Draws lines of text in a shaded box at the top-left corner of the
-/// picture, which starts at column `x0` (right of the panel).
-pub fn draw_lines(buf: &mut [u8], width: usize, height: usize, x0: usize, lines: &[String]) {
-    let w = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0) * 8 * SCALE + 16;
-    shade(buf, width, height, x0, 0, w, lines.len() * LINE_H + 12);
-    for (i, l) in lines.iter().enumerate() {
-        let colour = if i == 0 { [255, 230, 120] } else { [235, 235, 235] };
-        draw_text(buf, width, height, x0 + 8, 8 + i * LINE_H, l, colour);
-    }
+/// The key help as a window (F2 or its close button hides it), kept inside
+/// the screen and scrolling when the screen is short.
+pub fn help_window(ctx: &Context, open: &mut bool) {
+    let screen = ctx.content_rect();
+    egui::Window::new("Keys")
+        .open(open)
+        .collapsible(false)
+        .resizable(false)
+        .anchor(Align2::RIGHT_TOP, Vec2::new(-MARGIN, MARGIN))
+        .constrain_to(screen)
+        .max_height((screen.height() - 60.0).max(80.0))
+        .show(ctx, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                egui::Grid::new("keys").num_columns(2).striped(true).show(ui, |ui| {
+                    for (key, text) in keys::help_rows() {
+                        ui.label(RichText::new(key).monospace().strong());
+                        ui.label(text);
+                        ui.end_row();
+                    }
+                });
+            });
+        });
 }
 
 #[cfg(test)]
@@ -64,13 +102,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn text_lights_pixels_and_stays_inside_the_buffer() {
-        let (w, h) = (40, 20);
-        let mut buf = vec![0u8; w * h * 4];
-        let drawn = draw_text(&mut buf, w, h, 30, 10, "Hello", [255, 255, 255]);
-        assert_eq!(drawn, 5 * 8 * SCALE);
-        assert!(buf.contains(&255));
-        let mut empty = vec![0u8; 0];
-        draw_lines(&mut empty, 0, 0, 0, &["x".to_string()]);
+    fn f1_cycles_off_compact_full() {
+        let mut m = OverlayMode::Compact;
+        let mut seen = Vec::new();
+        for _ in 0..3 {
+            m = m.next();
+            seen.push(m.label());
+        }
+        assert_eq!(seen, ["full", "off", "compact"]);
     }
 }

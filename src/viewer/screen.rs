@@ -1,10 +1,10 @@
 //! The window's surface: the `winit` window, the `pixels` framebuffer at
 //! 1/`res_div` of its size, egui on top, and the title. The picture is
-//! copied in right of the panel's columns, the overlay text drawn over it,
-//! then the panel painted over both.
+//! copied in right of the panel's columns, then egui (panel, overlay,
+//! dialogs) painted over it.
 
 use super::gui::Gui;
-use super::overlay;
+use super::overlay::OverlayMode;
 use super::panel::PANEL_WIDTH;
 use anyhow::{Result, anyhow};
 use lensview::render::worker::Frame;
@@ -16,9 +16,9 @@ use winit::window::Window;
 
 /// What is shown, as opposed to what is rendered.
 pub struct Display {
-    /// The figures and message drawn over the picture (F1).
-    pub overlay: bool,
-    /// The key help under the overlay (F2).
+    /// The figures and message drawn over the picture (F1 cycles).
+    pub overlay: OverlayMode,
+    /// The key help window (F2).
     pub help: bool,
     /// The editing panel (F4).
     pub panel: bool,
@@ -65,6 +65,17 @@ impl Screen {
             title,
             surface: (w, h),
         })
+    }
+
+    /// Whether the adapter is a CPU rasterizer (lavapipe, llvmpipe): its
+    /// presents take cores from the tracer.
+    pub fn cpu_adapter(&self) -> bool {
+        self.pixels.adapter().get_info().device_type == pixels::wgpu::DeviceType::Cpu
+    }
+
+    /// The refresh rate of the window's monitor, if it says.
+    pub fn refresh_millihertz(&self) -> Option<u32> {
+        self.window.current_monitor()?.refresh_rate_millihertz()
     }
 
     pub fn set_title(&mut self, title: String) {
@@ -130,16 +141,22 @@ impl Screen {
         Ok(())
     }
 
-    /// Draws `frame` right of the panel, the overlay `lines` over it and
-    /// the last UI pass over both, and presents. `None` when there was
+    /// Where the picture is, in egui's points: right of the panel.
+    pub fn picture_rect(&self, d: &Display) -> egui::Rect {
+        let s = self.window.inner_size();
+        let ppp = self.window.scale_factor() as f32;
+        let x0 = (self.panel_columns(d) * d.res_div) as f32 / ppp;
+        egui::Rect::from_min_max(
+            egui::pos2(x0, 0.0),
+            egui::pos2(s.width as f32 / ppp, s.height as f32 / ppp),
+        )
+    }
+
+    /// Draws `frame` right of the panel and the last UI pass (panel,
+    /// overlay, dialogs) over it, and presents. `None` when there was
     /// nothing to draw into; else the picture's first column and whether
     /// presenting worked.
-    pub fn present(
-        &mut self,
-        d: &Display,
-        frame: Option<&Frame>,
-        lines: Option<&[String]>,
-    ) -> Option<(u32, Result<(), String>)> {
+    pub fn present(&mut self, d: &Display, frame: Option<&Frame>) -> Option<(u32, Result<(), String>)> {
         let (bw, bh) = self.buffer_size(d)?;
         let x0 = self.panel_columns(d);
         let (w, h) = ((bw - x0).max(1), bh);
@@ -159,9 +176,6 @@ impl Screen {
                 }
             }
             _ => buf.fill(0),
-        }
-        if let Some(lines) = lines {
-            overlay::draw_lines(buf, bw as usize, bh as usize, x0 as usize, lines);
         }
         let size = self.window.inner_size();
         if let Err(e) = self.fit_surface(size.width, size.height) {

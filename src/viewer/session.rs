@@ -203,10 +203,11 @@ impl Session {
         }
     }
 
-    /// Does what was asked, or asks first when it would lose unsaved changes.
+    /// Does what was asked, or asks first when it would lose unsaved
+    /// edits (a camera moved by flying alone is not worth the question).
     pub fn perform(&mut self, p: Pending, ask: bool) {
         self.redraw();
-        if ask && self.doc.is_dirty() {
+        if ask && self.doc.has_unsaved_content() {
             self.ui.confirm = Some(p);
             return;
         }
@@ -325,6 +326,12 @@ mod tests {
         let mut s = session();
         s.request_quit();
         assert_eq!(s.take_outcome().commands, [Command::Quit], "nothing to lose: quits");
+        // Flying alone: quits without the question (Save would keep the view).
+        let (p, r) = s.doc.camera_pose();
+        s.doc.fly_camera(p + glam::DVec3::X, r).unwrap();
+        s.request_quit();
+        assert_eq!(s.ui.confirm, None);
+        assert_eq!(s.take_outcome().commands, [Command::Quit], "a flight alone: quits");
         s.apply_edit(Edit::LensDiameter(0.1));
         s.request_quit();
         assert_eq!(s.ui.confirm, Some(Pending::Quit));

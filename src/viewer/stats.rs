@@ -1,9 +1,9 @@
 //! Figures about the window's own work: present times, the smoothed frame
 //! interval, the frame log (`--frame-log`, one JSON line per presented
 //! frame), and the lines of the overlay (timings, camera, light, lens,
-//! message, key help).
+//! message).
 
-use super::keys::help_lines;
+use super::overlay::OverlayMode;
 use lensview::edit::Document;
 use lensview::render::worker::Frame;
 use std::io::Write;
@@ -145,23 +145,32 @@ pub fn scene_lines(doc: &Document, speed: f64) -> Vec<String> {
     v
 }
 
-/// Every line of the overlay. Lines are at most ~55 characters: at 16 px a
-/// character they fit the picture beside the panel in a 1280-pixel window.
+/// The lines of the overlay in `mode`: compact, the frame's stage and
+/// speed, the camera and the message; full, the title, both timing lines,
+/// camera, light and lens, and the message. A feature with something to
+/// show appends its lines to these.
 pub fn overlay_lines(
+    mode: OverlayMode,
     title: String,
     timing: Vec<String>,
     doc: &Document,
     speed: f64,
     message: &str,
-    help: bool,
 ) -> Vec<String> {
-    let mut v = vec![title];
-    v.extend(timing);
-    v.extend(scene_lines(doc, speed));
-    v.push(format!("> {message}"));
-    if help {
-        v.extend(help_lines());
+    let mut v = Vec::new();
+    match mode {
+        OverlayMode::Off => return v,
+        OverlayMode::Compact => {
+            v.extend(timing.into_iter().take(1));
+            v.extend(scene_lines(doc, speed).into_iter().take(1));
+        }
+        OverlayMode::Full => {
+            v.push(title);
+            v.extend(timing);
+            v.extend(scene_lines(doc, speed));
+        }
     }
+    v.push(format!("> {message}"));
     v
 }
 
@@ -170,12 +179,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_overlay_shows_camera_light_lens_message_and_help() {
+    fn the_overlay_shows_camera_light_lens_and_message_full_or_compact() {
         let doc = Document::preset("cubes").unwrap();
         let stats = Stats::new(None);
         let timing = stats.timing_lines(None, false);
         assert_eq!(timing, ["rendering…"]);
-        let lines = overlay_lines("t".into(), timing.clone(), &doc, 3.0, "hello", false);
+        let lines = overlay_lines(OverlayMode::Full, "t".into(), timing.clone(), &doc, 3.0, "hello");
         assert_eq!(lines[0], "t");
         assert_eq!(lines[2], "camera (0.00, 6.00, 10.00)  speed 3.0");
         assert_eq!(lines[4], "light (5.00, 10.00, 6.00)  intensity 500.0");
@@ -184,8 +193,12 @@ mod tests {
             "{lines:?}"
         );
         assert_eq!(lines.last().unwrap(), "> hello");
-        let with_help = overlay_lines("t".into(), timing, &doc, 3.0, "hello", true);
-        assert_eq!(with_help.len(), lines.len() + help_lines().len());
+        let compact = overlay_lines(OverlayMode::Compact, "t".into(), timing.clone(), &doc, 3.0, "hello");
+        assert_eq!(
+            compact,
+            ["rendering…", "camera (0.00, 6.00, 10.00)  speed 3.0", "> hello"]
+        );
+        assert!(overlay_lines(OverlayMode::Off, "t".into(), timing, &doc, 3.0, "hello").is_empty());
     }
 
     /// Every field of a frame-log line, from a frame whose figures are known.

@@ -37,7 +37,11 @@ pub fn modal(ctx: &egui::Context, cx: &mut Ctx) {
     egui::Modal::new(egui::Id::new("unsaved-changes")).show(ctx, |ui| {
         ui.set_max_width(440.0);
         ui.heading("Unsaved changes");
-        ui.label(format!("{} has changes that are not saved. {what}", cx.doc.source()));
+        ui.label(format!(
+            "{} has changes that are not saved: {}. {what}",
+            cx.doc.source(),
+            cx.doc.unsaved_summary()
+        ));
         ui.add_space(8.0);
         ui.horizontal(|ui| {
             for (label, name, answer) in [

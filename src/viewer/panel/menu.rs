@@ -4,6 +4,7 @@
 
 use super::{Ctx, DialogMode, ERROR, Pending, WARN};
 use crate::viewer::keys::{Action, label_of};
+use crate::viewer::overlay::OverlayMode;
 use crate::viewer::session::Command;
 use egui::RichText;
 use lensview::edit::presets::PRESETS;
@@ -81,7 +82,12 @@ fn history_entry(ui: &mut egui::Ui, verb: &str, step: Option<&str>, keys: &str) 
 }
 
 fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
-    ui.checkbox(&mut cx.display.overlay, "Overlay (F1)");
+    ui.horizontal(|ui| {
+        ui.label("Overlay (F1)");
+        for m in [OverlayMode::Off, OverlayMode::Compact, OverlayMode::Full] {
+            ui.selectable_value(&mut cx.display.overlay, m, m.label());
+        }
+    });
     ui.checkbox(&mut cx.display.help, "Key help (F2)");
     if entry(ui, "Hide this panel", Action::TogglePanel) {
         cx.ask(Command::ShowPanel(false));
@@ -100,8 +106,11 @@ fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
 pub fn status(ui: &mut egui::Ui, cx: &mut Ctx) {
     ui.horizontal_wrapped(|ui| {
         ui.strong(cx.doc.source().to_string());
-        if cx.doc.is_dirty() {
+        let u = cx.doc.unsaved();
+        if u.content {
             ui.colored_label(WARN, "* unsaved changes");
+        } else if u.view {
+            ui.weak("camera moved (Save keeps it)");
         }
     });
     ui.horizontal(|ui| buttons(ui, cx));

@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# What the open window costs the tracer, in one run under Xvfb (Mesa
+# lavapipe), for one or two builds in alternating rounds:
+#  - throughput: the median `render_ms` of the "1 spp" frames in the frame
+#    log (full frames, rendered while the window is open and presenting),
+#    against the median of `bench --frame-only` at the same size, measured
+#    headless just before in the same round;
+#  - latency: for the first frame of each generation after a key (W), the
+#    time from the input to the screen (`ms_since_input`) against what it
+#    cannot beat: the input to the frame leaving the render thread
+#    (`sent_ms_since_input`) plus one present (`present_ms`);
+#  - presents per second and the CPU seconds of the window's main thread
+#    and of the rasterizer's threads (llvmpipe) per second of wall time.
+# Needs xvfb, xdotool and python3. From the repository root:
+#   bash benches/viewer-cost.sh BINARY [BINARY2] [ROUNDS] [WIDTHxHEIGHT] [SCENE]
+# DISPLAY_NUM picks the X display (default 77).
+set -euo pipefail
+A=$1; B=${2:-}; rounds=${3:-3}; size=${4:-1280x720}; scene=${5:-scenes/cubes.toml}
+w=${size%x*}; h=${size#*x}
+lscpu | grep 'Model name' || true
+tmp=$(mktemp -d)
+display=:${DISPLAY_NUM:-77}
+Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
+xvfb=$!
+app=""
+trap '[ -n "$app" ] && kill $app 2>/dev/null; kill $xvfb 2>/dev/null || true; rm -rf "$tmp"' EXIT
+export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
+for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
+
+# cpu TAG: CPU seconds of the viewer's threads, summed by kind.
+cpu() {
+    for t in /proc/$app/task/*; do
+        read -r name < "$t/comm"
+        # utime and stime, fields 14 and 15 of stat (after the comm).
+        ticks=$(sed 's/.*) //' "$t/stat" | awk '{print $12 + $13}')
+        [ "${t##*/}" = "$app" ] && name=main
+        echo "$1 $name $ticks"
+    done
+}
+
+one() { # BIN TAG ROUND
+    local bin=$1 tag=$2 r=$3
+    "$bin" bench --frame-only --width "$w" --height "$h" --runs 15 2>&1 |
+        awk -v t="$tag" -v r="$r" -v s="${w}x${h}" '$1=="frame" && $2==s {print r, t, $11}' >> "$tmp/headless"
+    local log=$tmp/frames-$tag-$r.jsonl
+    "$bin" view "$scene" --width "$w" --height "$h" --max-spp 16 --no-panel \
+        --frame-log "$log" --exit-after 60 >/dev/null 2>&1 &
+    app=$!
+    local win=""
+    for _ in $(seq 300); do win=$(xdotool search --name '^lensview' 2>/dev/null | head -1 || true); [ -n "$win" ] && break; sleep 0.1; done
+    [ -n "$win" ] || { echo "the window did not appear"; exit 1; }
+    xdotool windowfocus --sync "$win"
+    sleep 3
+    cpu start > "$tmp/cpu-$tag-$r"
+    local t0=$(date +%s.%N)
+    for _ in $(seq 6); do
+        xdotool key --window "$win" w
+        sleep 2.5
+    done
+    cpu end >> "$tmp/cpu-$tag-$r"
+    echo "$(date +%s.%N) - $t0" | bc > "$tmp/wall-$tag-$r"
+    kill "$app" 2>/dev/null || true
+    wait "$app" 2>/dev/null || true
+    app=""
+}
+
+for r in $(seq 1 "$rounds"); do
+    if [ -z "$B" ]; then one "$A" A "$r"
+    elif (( r % 2 )); then one "$A" A "$r"; one "$B" B "$r"
+    else one "$B" B "$r"; one "$A" A "$r"; fi
+done
+
+python3 - "$tmp" "$A" "$B" <<'PY'
+import json, statistics as st, sys, glob, os
+tmp, names = sys.argv[1], {"A": sys.argv[2], "B": sys.argv[3]}
+head = {}
+for line in open(f"{tmp}/headless"):
+    r, t, ms = line.split()
+    head.setdefault(t, []).append(float(ms))
+med = lambda v: st.median(v) if v else float("nan")
+for tag in ("A", "B"):
+    logs = sorted(glob.glob(f"{tmp}/frames-{tag}-*.jsonl"))
+    if not logs:
+        continue
+    one, lat, floor, presents, wall = [], [], [], 0, 0.0
+    main_cpu = llvm_cpu = tracer_cpu = other_cpu = 0.0
+    for log in logs:
+        r = log.rsplit("-", 1)[1].split(".")[0]
+        frames = [json.loads(l) for l in open(log)]
+        one += [f["render_ms"] for f in frames if f["level"] == "1 spp"]
+        first_t = frames[0]["t"] if frames else 0
+        gens = sorted({f["generation"] for f in frames})[1:]
+        for g in gens:
+            f = next(f for f in frames if f["generation"] == g)
+            lat.append(f["ms_since_input"])
+            floor.append(f["sent_ms_since_input"] + f["present_ms"])
+        w = float(open(f"{tmp}/wall-{tag}-{r}").read())
+        wall += w
+        ts = [f["t"] for f in frames]
+        t_end = max(ts) if ts else 0
+        presents += sum(1 for t in ts if t >= t_end - w)
+        cpu = {}
+        for line in open(f"{tmp}/cpu-{tag}-{r}"):
+            when, name, ticks = line.split()
+            cpu.setdefault(name, {}).setdefault(when, 0)
+            cpu[name][when] += int(ticks)
+        hz = os.sysconf("SC_CLK_TCK")
+        for name, v in cpu.items():
+            d = (v.get("end", 0) - v.get("start", 0)) / hz
+            if name == "main":
+                main_cpu += d
+            elif name.startswith("llvmpipe"):
+                llvm_cpu += d
+            elif name.startswith("lensview-render"):
+                tracer_cpu += d
+            else:
+                other_cpu += d
+    h = med(head.get(tag, []))
+    print(f"{tag} = {names[tag]}")
+    print(f"  1-spp frame: headless median {h:.1f} ms; in the window median {med(one):.1f} ms over {len(one)} frames"
+          f" -> throughput {100 * h / med(one):.0f} % of headless")
+    excess = [l - f for l, f in zip(lat, floor)]
+    print(f"  first frame after a key on screen: median {med(lat):.1f} ms after the input;"
+          f" frame sent + one present: median {med(floor):.1f} ms; excess median {med(excess):.1f} ms, max {max(excess):.1f} ms ({len(lat)} keys)")
+    print(f"  presents {presents / wall:.1f}/s; CPU s per wall s: window main thread {main_cpu / wall:.2f},"
+          f" rasterizer (llvmpipe) {llvm_cpu / wall:.2f}, tracer {tracer_cpu / wall:.2f}, other threads {other_cpu / wall:.2f}")
+PY
