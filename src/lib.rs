@@ -25,7 +25,7 @@
 //!         ↑
 //! render · edit                               progressive rendering · scene changes
 //!         ↑
-//! bench · lens_tools                          measurements · lens trace / info
+//! bench · lens_tools                          measurements · lens trace / info / figures
 //! ```
 //! The binary adds `cli` (`src/cli/`) and `viewer` (`src/viewer/`) on top.
 //!
@@ -38,6 +38,7 @@
 //! | the lens: a ray inside, exits, internal reflection | `geometry/lens/trace.rs` |
 //! | the lens: the same steps over eight lanes | `geometry/lens/lanes.rs` |
 //! | refraction, Fresnel, thick-lens paraxial data | `optics.rs` |
+//! | `lens trace`/`info`; ray fan, LSA, spot diagram, distortion, the fan's drawing | `lens_tools/mod.rs`; `lens_tools/{setup,fan,spot,distortion,sketch}.rs` |
 //! | other shapes, one a file; the box test and its padding | `geometry/{sphere,cuboid,prism,pyramid,polytope,aabb}.rs` |
 //! | the BVH | `accel/mod.rs` |
 //! | scene file model, validation, errors with lines | `scene/{file,validate,error,input}.rs` |

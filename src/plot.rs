@@ -9,7 +9,7 @@ use std::path::Path;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
-fn register_font() {
+pub fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // A font that fails to load only leaves the plot without text.
@@ -35,12 +35,17 @@ pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &
     let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     draw(&mut rgb, title, x_label, y_label, series)
         .map_err(|e| anyhow!("cannot draw the plot for {}: {e}", path.display()))?;
+    write_png(path, SIZE, &rgb)
+}
+
+/// 8-bit RGB pixels written as a PNG atomically.
+pub fn write_png(path: &Path, (w, h): (u32, u32), rgb: &[u8]) -> Result<()> {
     write_with(path, |out| {
-        let mut enc = png::Encoder::new(out, SIZE.0, SIZE.1);
+        let mut enc = png::Encoder::new(out, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         let mut w = enc.write_header().map_err(std::io::Error::other)?;
-        w.write_image_data(&rgb).map_err(std::io::Error::other)?;
+        w.write_image_data(rgb).map_err(std::io::Error::other)?;
         w.finish().map_err(std::io::Error::other)
     })?;
     Ok(())

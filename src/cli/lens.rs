@@ -14,10 +14,29 @@ pub enum LensCommand {
     },
     /// Paraxial data of a lens (light entering through S1), its real marginal focus and axial colour.
     Info(LensInfoArgs),
+    /// A meridional ray fan through the lens, drawn to scale (SVG or PNG) or as JSON with the LSA curve.
+    Fan(super::lens_figures::FanArgs),
+    /// Spot diagram (hexapolar pupil, C, d and F lines) at an image plane.
+    Spot(super::lens_figures::SpotArgs),
+    /// Distortion (%) of the real chief ray against the paraxial image height, by field angle.
+    Distortion(super::lens_figures::DistortionArgs),
 }
 
 #[derive(Args, Debug)]
 pub struct LensInfoArgs {
+    #[command(flatten)]
+    pub shape: LensShape,
+    /// Wavelength in µm (default: the helium d line, 0.5875618).
+    #[arg(long, default_value_t = lensview::optics::WAVELENGTH_D_UM)]
+    pub wavelength_um: f64,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The lens: diameter, radii and index.
+#[derive(Args, Debug)]
+pub struct LensShape {
     /// Diameter.
     #[arg(long)]
     pub d: f64,
@@ -30,12 +49,6 @@ pub struct LensInfoArgs {
     /// Refractive index (a number), or Cauchy coefficients as A,B (n = A + B/λ², λ in µm).
     #[arg(long, value_parser = parse_index)]
     pub n: lensview::optics::Index,
-    /// Wavelength in µm (default: the helium d line, 0.5875618).
-    #[arg(long, default_value_t = lensview::optics::WAVELENGTH_D_UM)]
-    pub wavelength_um: f64,
-    /// Print JSON instead of a table.
-    #[arg(long)]
-    pub json: bool,
 }
 
 fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
@@ -75,7 +88,8 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
     if !(a.wavelength_um > 0.0 && a.wavelength_um.is_finite()) {
         bail!("--wavelength-um must be a positive number, got {}", a.wavelength_um);
     }
-    let info = lensview::lens_tools::lens_info(a.d, a.r1, a.r2, a.n, a.wavelength_um).context("impossible lens")?;
+    let info = lensview::lens_tools::lens_info(a.shape.d, a.shape.r1, a.shape.r2, a.shape.n, a.wavelength_um)
+        .context("impossible lens")?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&info)?);
     } else {
@@ -88,5 +102,8 @@ pub fn lens(c: LensCommand) -> Result<()> {
     match c {
         LensCommand::Trace { cases } => lens_trace(&cases),
         LensCommand::Info(a) => lens_info(&a),
+        LensCommand::Fan(a) => super::lens_figures::fan(&a),
+        LensCommand::Spot(a) => super::lens_figures::spot(&a),
+        LensCommand::Distortion(a) => super::lens_figures::distortion(&a),
     }
 }

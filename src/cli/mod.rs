@@ -4,7 +4,8 @@
 //!
 //! - [`view`]: the window (`lensview`, `lensview view`).
 //! - [`render`]: a headless PNG (`lensview render`).
-//! - [`lens`]: exact lens optics (`lensview lens trace | info`).
+//! - [`lens`]: exact lens optics (`lensview lens trace | info`); its
+//!   figures (`fan | spot | distortion`) in [`lens_figures`].
 //! - [`bench`]: performance tables and plots (`lensview bench`).
 //! - [`converge`]: error against run time (`lensview converge`).
 //! - [`table`]: the table that `bench` and `converge` print, write and plot.
@@ -12,6 +13,7 @@
 mod bench;
 mod converge;
 mod lens;
+mod lens_figures;
 mod progress;
 mod render;
 mod table;

@@ -1,6 +1,20 @@
 //! The computations behind `lensview lens trace` and `lensview lens info`:
 //! real rays through a lens described in JSON, and a lens's paraxial data
-//! with its real marginal-ray focus and axial colour.
+//! with its real marginal-ray focus and axial colour; and the figures of
+//! `lensview lens fan`, `spot` and `distortion` (`setup.rs`: the bench and
+//! the pupil; `fan.rs`: ray fan, cardinal points and LSA; `spot.rs`: spot
+//! diagram; `distortion.rs`; `sketch.rs`: the cross-section and its SVG).
+
+pub mod distortion;
+pub mod fan;
+pub mod setup;
+pub mod sketch;
+pub mod spot;
+
+pub use distortion::{Distortion, distortion};
+pub use fan::{Fan, fan};
+pub use setup::{Setup, SetupError};
+pub use spot::{SpotDiagram, spot_diagram};
 
 use crate::geometry::{Lens, LensError, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 use crate::optics::{Index, ThickLens, WAVELENGTH_D_UM};

@@ -1,0 +1,227 @@
+//! The meridional ray fan and the longitudinal spherical aberration curve,
+//! and the cross-section they are drawn on ([`super::sketch`]).
+
+use super::setup::{ListedRay, PUPIL_FILL, Setup, SetupError, axis_crossing, bad};
+use super::sketch::{Kind, Sketch};
+use crate::optics::sagitta;
+use glam::DVec3;
+use serde::Serialize;
+
+/// The most rays in a fan.
+pub const MAX_FAN_RAYS: u32 = 1001;
+/// Heights on the LSA curve.
+pub const LSA_STEPS: u32 = 32;
+
+/// One fan ray: as listed, with where it enters and leaves the glass.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct FanRay {
+    #[serde(flatten)]
+    pub ray: ListedRay,
+    pub entry_point: Option<[f64; 3]>,
+    pub exit_point: Option<[f64; 3]>,
+    pub exit_direction: Option<[f64; 3]>,
+}
+
+/// One point of the LSA curve: a ray from the axial object point at pupil
+/// height `height` (in the rim plane), where its exit line crosses the
+/// axis, and that minus the paraxial image.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LsaPoint {
+    pub height: f64,
+    pub ray: ListedRay,
+    pub focus_from_v2: Option<f64>,
+    pub lsa: Option<f64>,
+}
+
+/// Where the figures' marks lie, from V2 (or V1) along the light.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Cardinal {
+    pub sag1: f64,
+    pub sag2: f64,
+    pub efl: Option<f64>,
+    /// F′, from V2.
+    pub bfd: Option<f64>,
+    /// F, before V1.
+    pub ffd: Option<f64>,
+    /// H from V1 and H′ from V2, + along the light.
+    pub principal_front_from_v1: Option<f64>,
+    pub principal_rear_from_v2: Option<f64>,
+    /// The paraxial image of the object, from V2 (the paraxial focus).
+    pub paraxial_image_from_v2: Option<f64>,
+    /// The real marginal ray's axis crossing (pupil edge), from V2.
+    pub marginal_focus_from_v2: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Fan {
+    pub d: f64,
+    pub r1: f64,
+    pub r2: f64,
+    pub n: f64,
+    pub object_distance: Option<f64>,
+    pub field_deg: f64,
+    /// The plane the rays are followed to (their `image_point`), from V2.
+    pub image_plane_from_v2: f64,
+    pub cardinal: Cardinal,
+    pub rays: Vec<FanRay>,
+    pub lsa: Vec<LsaPoint>,
+}
+
+fn fan_ray(setup: &Setup, px: f64, n: f64, plane_z: f64) -> FanRay {
+    let (ray, path) = ListedRay::traced(setup, px, 0.0, n, plane_z);
+    FanRay {
+        ray,
+        entry_point: path.entry.map(|e| e.1.to_array()),
+        exit_point: path.exit.map(|e| e.1.to_array()),
+        exit_direction: path.exit.map(|e| e.2.to_array()),
+    }
+}
+
+/// The cardinal points at index `n`, and the real marginal focus.
+pub fn cardinal(setup: &Setup, n: f64) -> Cardinal {
+    let px = setup.paraxial(n);
+    let power = px.has_power();
+    let some = |x: f64| Some(x).filter(|_| power);
+    let axial = Setup {
+        field_deg: 0.0,
+        ..setup.clone()
+    };
+    let marginal = axis_crossing(&axial, &axial.trace(1.0, 0.0, n).2).filter(|_| power);
+    Cardinal {
+        sag1: setup.sag1(),
+        sag2: setup.sag2(),
+        efl: some(px.efl),
+        bfd: some(px.bfd),
+        ffd: some(px.ffd),
+        principal_front_from_v1: some(px.h1),
+        principal_rear_from_v2: some(px.h2),
+        paraxial_image_from_v2: setup.paraxial_image(n).map(|p| p.0),
+        marginal_focus_from_v2: marginal,
+    }
+}
+
+/// The LSA curve at index `n`: heights PUPIL_FILL·(d/2)·k/steps.
+pub fn lsa_curve(setup: &Setup, n: f64, steps: u32) -> Vec<LsaPoint> {
+    let axial = Setup {
+        field_deg: 0.0,
+        ..setup.clone()
+    };
+    let paraxial = axial.paraxial_image(n).map(|p| p.0);
+    let plane_z = axial.plane_z(paraxial.unwrap_or(0.0));
+    (1..=steps)
+        .map(|k| {
+            let px = f64::from(k) / f64::from(steps);
+            let (ray, path) = ListedRay::traced(&axial, px, 0.0, n, plane_z);
+            let focus = axis_crossing(&axial, &path).filter(|_| paraxial.is_some());
+            LsaPoint {
+                height: px * PUPIL_FILL * 0.5 * setup.lens.d,
+                ray,
+                focus_from_v2: focus,
+                lsa: focus.zip(paraxial).map(|(f, p)| f - p),
+            }
+        })
+        .collect()
+}
+
+/// `rays` meridional rays (pupil x from −1 to 1) at the d line, followed to
+/// `image_plane` (default: the paraxial image; without one, 2·d after V2).
+pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, SetupError> {
+    if !(1..=MAX_FAN_RAYS).contains(&rays) {
+        return Err(bad("rays", format!("{rays} must be between 1 and {MAX_FAN_RAYS}")));
+    }
+    let n = setup.index.nominal();
+    let from_v2 = match image_plane {
+        Some(_) => setup.image_plane(image_plane)?,
+        None => setup.image_plane(None).unwrap_or(2.0 * setup.lens.d),
+    };
+    let plane_z = setup.plane_z(from_v2);
+    let px = |k: u32| {
+        if rays == 1 {
+            0.0
+        } else {
+            -1.0 + 2.0 * f64::from(k) / f64::from(rays - 1)
+        }
+    };
+    Ok(Fan {
+        d: setup.lens.d,
+        r1: setup.lens.r1,
+        r2: setup.lens.r2,
+        n,
+        object_distance: setup.object_distance,
+        field_deg: setup.field_deg,
+        image_plane_from_v2: from_v2,
+        cardinal: cardinal(setup, n),
+        rays: (0..rays).map(|k| fan_ray(setup, px(k), n, plane_z)).collect(),
+        lsa: lsa_curve(setup, n, LSA_STEPS),
+    })
+}
+
+/// The lens's meridional outline as (s, x) points, s = −z along the light.
+pub fn outline(setup: &Setup, points_per_face: u32) -> Vec<[f64; 2]> {
+    let h = 0.5 * setup.lens.d;
+    let (s1, s2) = (setup.sag1(), setup.sag2());
+    let (r1, r2) = (setup.lens.r1, setup.lens.r2);
+    let m = points_per_face.max(2);
+    let at = |k: u32| -h + 2.0 * h * f64::from(k) / f64::from(m - 1);
+    let mut pts: Vec<[f64; 2]> = (0..m).map(|k| [-(s1 - sagitta(r1, at(k).abs())), at(k)]).collect();
+    pts.extend((0..m).rev().map(|k| [s2 - sagitta(r2, at(k).abs()), at(k)]));
+    pts.push(pts[0]);
+    pts
+}
+
+/// (s, x) of a world point in the meridional plane.
+fn sx(p: [f64; 3]) -> [f64; 2] {
+    [-p[2], p[0]]
+}
+
+impl Fan {
+    /// The fan drawn to scale over the lens's cross-section: axis, rays,
+    /// image plane, and F, F′, H, H′, V1, V2 and the real marginal focus M.
+    pub fn sketch(&self, setup: &Setup) -> Sketch {
+        let c = &self.cardinal;
+        let mut sk = Sketch::default();
+        let end = c.sag2 + self.image_plane_from_v2;
+        let far = self.object_distance.unwrap_or(self.d).min(1.5 * end.max(self.d));
+        let front = c.ffd.filter(|f| *f < 1.5 * end.max(self.d)).unwrap_or(0.0);
+        let start = -c.sag1 - far.max(1.1 * front);
+        sk.line(Kind::Axis, vec![[start, 0.0], [end * 1.05 + 0.05 * self.d, 0.0]]);
+        sk.line(Kind::Lens, outline(setup, 64));
+        for r in &self.rays {
+            let mut pts = vec![sx(r.ray.origin)];
+            pts.extend(r.entry_point.map(sx));
+            pts.extend(r.exit_point.map(sx));
+            let tail = r.ray.image_point.map(sx).or_else(|| {
+                let (x, u) = (r.exit_point?, r.exit_direction?);
+                Some(sx((DVec3::from(x) + DVec3::from(u) * self.d).to_array()))
+            });
+            pts.extend(tail);
+            sk.line(Kind::Ray, pts);
+        }
+        let half = 0.6 * self.d;
+        sk.line(Kind::Plane, vec![[end, -half], [end, half]]);
+        let s2 = |from_v2: Option<f64>| from_v2.map(|x| c.sag2 + x);
+        let marks = [
+            ("V1", Some(-c.sag1)),
+            ("V2", Some(c.sag2)),
+            ("F", c.ffd.map(|f| -c.sag1 - f)),
+            ("F′", s2(c.bfd)),
+            ("M", s2(c.marginal_focus_from_v2)),
+        ];
+        for (label, s) in marks {
+            if let Some(s) = s {
+                sk.mark(label, [s, 0.0]);
+            }
+        }
+        for (label, s) in [
+            ("H", c.principal_front_from_v1.map(|h| -c.sag1 + h)),
+            ("H′", s2(c.principal_rear_from_v2)),
+        ] {
+            if let Some(s) = s {
+                sk.line(Kind::Principal, vec![[s, -half], [s, half]]);
+                sk.mark(label, [s, if label == "H" { half } else { -half }]);
+            }
+        }
+        sk.view = [start, end * 1.05 + 0.05 * self.d];
+        sk
+    }
+}

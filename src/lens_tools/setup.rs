@@ -1,0 +1,262 @@
+//! The optical bench behind the fan, spot and distortion figures: a lens on
+//! the z axis, an object at infinity or at a distance, a field angle, and
+//! how a pupil point becomes a real ray.
+//!
+//! Frame: the lens's centre C at the origin, its axis +z. Light enters
+//! through S1 (which faces +z) and travels toward −z; the meridional plane
+//! is x–z. V1 = (0, 0, sag1), V2 = (0, 0, −sag2). Distances "along the
+//! light" grow toward −z.
+//!
+//! The aperture stop is the lens itself: its rim circle (radius d/2 in the
+//! plane through C), taken on the incoming rays (the entrance pupil is the
+//! rim circle). A pupil point (px, py) in the unit disc is aimed at
+//! C + PUPIL_FILL·(d/2)·(px, py, 0) before refraction; the chief ray
+//! (0, 0) is aimed at C. The field angle A is the chief ray's angle to the
+//! axis, tilted toward +x at the object: from infinity every ray has the
+//! direction (−sin A, 0, −cos A) and starts in the plane d beyond V1; from
+//! an object at distance D before V1 every ray starts at the object point
+//! ((D + sag1)·tan A, 0, sag1 + D) ([`Setup::object_point`]).
+
+use crate::geometry::{Lens, LensError, LensPath, LensSurface, LensTraceStatus};
+use crate::optics::{Index, ThickLens, WAVELENGTH_D_UM};
+use crate::render::RGB_WAVELENGTHS_UM;
+use glam::DVec3;
+use serde::Serialize;
+
+/// Share of the aperture radius d/2 the pupil fills (the marginal ray of
+/// `lens info` is at 0.9·d/2 too): rays at the very rim, where S1 and S2
+/// meet at an edge, are left out.
+pub const PUPIL_FILL: f64 = 0.9;
+
+/// The C, d and F lines (656.3, 587.6, 486.1 nm) the spot diagram uses, the
+/// renderer's three wavelengths.
+pub const SPOT_WAVELENGTHS_UM: [(&str, f64); 3] = [
+    ("C", RGB_WAVELENGTHS_UM[0]),
+    ("d", WAVELENGTH_D_UM),
+    ("F", RGB_WAVELENGTHS_UM[2]),
+];
+
+/// A bad value, named by the option it came from (`d`, `r1`, `r2`, `n`,
+/// `object-distance`, `field-deg`, `image-plane`, `rings`, `rays`).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("--{field}: {message}")]
+pub struct SetupError {
+    pub field: &'static str,
+    pub message: String,
+}
+
+pub(super) fn bad(field: &'static str, message: String) -> SetupError {
+    SetupError { field, message }
+}
+
+/// The lens on the z axis, where the light comes from, and the field angle.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub lens: Lens,
+    pub index: Index,
+    /// Object distance from V1 (against the light); `None`: at infinity.
+    pub object_distance: Option<f64>,
+    /// Field angle in degrees, in (−90, 90).
+    pub field_deg: f64,
+}
+
+impl Setup {
+    pub fn new(
+        d: f64,
+        r1: f64,
+        r2: f64,
+        index: Index,
+        object_distance: Option<f64>,
+        field_deg: f64,
+    ) -> Result<Setup, SetupError> {
+        let lens = Lens::new(DVec3::ZERO, DVec3::Z, d, r1, r2, index).map_err(|e: LensError| {
+            let field = match e.field() {
+                "d" => "d",
+                "r1" => "r1",
+                "r2" => "r2",
+                _ => "n",
+            };
+            bad(field, e.to_string())
+        })?;
+        for (_, l) in SPOT_WAVELENGTHS_UM {
+            let n = index.at(l);
+            if !(n >= 1.0 && n.is_finite()) {
+                return Err(bad("n", format!("index {n} at {l} µm must be ≥ 1")));
+            }
+        }
+        if let Some(dist) = object_distance
+            && !(dist > 0.0 && dist <= crate::math::domain::MAX_LENGTH)
+        {
+            return Err(bad(
+                "object-distance",
+                format!("{dist} must be positive (from V1, against the light) and at most 1e9"),
+            ));
+        }
+        if !(field_deg.abs() < 90.0) {
+            return Err(bad(
+                "field-deg",
+                format!("{field_deg} must lie strictly between −90 and 90"),
+            ));
+        }
+        Ok(Setup {
+            lens,
+            index,
+            object_distance,
+            field_deg,
+        })
+    }
+
+    pub fn sag1(&self) -> f64 {
+        self.lens.vertex(LensSurface::S1).z
+    }
+
+    pub fn sag2(&self) -> f64 {
+        -self.lens.vertex(LensSurface::S2).z
+    }
+
+    /// The object point for a finite object distance: where the chief ray,
+    /// aimed at C at the field angle, starts.
+    pub fn object_point(&self, distance: f64) -> DVec3 {
+        let z = self.sag1() + distance;
+        DVec3::new(z * self.field_deg.to_radians().tan(), 0.0, z)
+    }
+
+    /// The real ray for the pupil point (px, py): its origin and unit
+    /// direction, exactly as traced (and as listed in the JSON).
+    pub fn ray(&self, px: f64, py: f64) -> (DVec3, DVec3) {
+        let rho = PUPIL_FILL * 0.5 * self.lens.d;
+        let aim = DVec3::new(px * rho, py * rho, 0.0);
+        match self.object_distance {
+            Some(dist) => {
+                let o = self.object_point(dist);
+                (o, (aim - o).normalize())
+            }
+            None => {
+                let a = self.field_deg.to_radians();
+                let dir = DVec3::new(-a.sin(), 0.0, -a.cos());
+                // Back along the ray to the plane d beyond V1.
+                let t = (self.sag1() + self.lens.d) / a.cos();
+                (aim - t * dir, dir)
+            }
+        }
+    }
+
+    /// The real ray traced by [`Lens::trace`] at index `n`.
+    pub fn trace(&self, px: f64, py: f64, n: f64) -> (DVec3, DVec3, LensPath) {
+        let (o, u) = self.ray(px, py);
+        (o, u, self.lens.trace(o, u, n))
+    }
+
+    /// Paraxial data at index `n`.
+    pub fn paraxial(&self, n: f64) -> ThickLens {
+        self.lens.paraxial(n)
+    }
+
+    /// The paraxial image of the object, from V2 along the light, and the
+    /// lateral magnification (`None` for an object at infinity); `None` when
+    /// the lens has no power or the image is virtual (object inside F).
+    pub fn paraxial_image(&self, n: f64) -> Option<(f64, Option<f64>)> {
+        let px = self.paraxial(n);
+        if !px.has_power() {
+            return None;
+        }
+        match self.object_distance {
+            None => Some((px.bfd, None)),
+            Some(dist) => {
+                // From H (at h1 from V1 along the light) to the object.
+                let so = dist + px.h1;
+                if !(so > px.efl) {
+                    return None;
+                }
+                let si = so * px.efl / (so - px.efl);
+                Some((px.h2 + si, Some(-si / so)))
+            }
+        }
+    }
+
+    /// World z of the plane `from_v2` beyond V2 along the light.
+    pub fn plane_z(&self, from_v2: f64) -> f64 {
+        -self.sag2() - from_v2
+    }
+
+    /// The image plane: `image_plane` if given (checked: after V2), else the
+    /// paraxial image at the d line.
+    pub fn image_plane(&self, image_plane: Option<f64>) -> Result<f64, SetupError> {
+        match image_plane {
+            Some(z) if z > 0.0 && z <= crate::math::domain::MAX_LENGTH => Ok(z),
+            Some(z) => Err(bad(
+                "image-plane",
+                format!("{z} must be a distance after the rear vertex V2 along the light (> 0, at most 1e9)"),
+            )),
+            None => (self.paraxial_image(self.index.nominal()).map(|(z, _)| z))
+                .filter(|&z| z > 0.0)
+                .ok_or_else(|| {
+                    bad(
+                        "image-plane",
+                        "the paraxial image is not after V2 (no power, a focus inside the glass, or the object inside the front focal point): give the plane".into(),
+                    )
+                }),
+        }
+    }
+}
+
+/// Where a traced path crosses the plane z = `plane_z`: `None` unless it
+/// was transmitted through S2 and travels toward −z.
+pub fn plane_crossing(path: &LensPath, plane_z: f64) -> Option<DVec3> {
+    let (s, x, u) = path.exit?;
+    if path.status != LensTraceStatus::Transmitted || s != LensSurface::S2 || !(u.z < 0.0) {
+        return None;
+    }
+    let t = (plane_z - x.z) / u.z;
+    Some(DVec3::new(x.x + t * u.x, x.y + t * u.y, plane_z))
+}
+
+/// Where the exit line of a traced path crosses the axis in the meridional
+/// plane (x = 0), from V2 along the light; `None` unless transmitted
+/// through S2 and not parallel to the axis.
+pub fn axis_crossing(setup: &Setup, path: &LensPath) -> Option<f64> {
+    let (s, x, u) = path.exit?;
+    if path.status != LensTraceStatus::Transmitted || s != LensSurface::S2 || u.x == 0.0 {
+        return None;
+    }
+    let z = x.z - x.x / u.x * u.z;
+    Some(-setup.sag2() - z)
+}
+
+/// A ray as the JSON lists it: enough to trace it again.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ListedRay {
+    /// Pupil coordinates in the unit disc ([`PUPIL_FILL`]·d/2 at 1).
+    pub pupil: [f64; 2],
+    pub origin: [f64; 3],
+    pub direction: [f64; 3],
+    /// `transmitted`, `miss` or `trapped`, as `lens trace` says.
+    pub status: &'static str,
+    pub n_internal_reflections: u32,
+    /// Where it crosses the image plane (`null` if it does not leave
+    /// through S2 toward it).
+    pub image_point: Option<[f64; 3]>,
+}
+
+pub(super) fn status_name(s: LensTraceStatus) -> &'static str {
+    match s {
+        LensTraceStatus::Transmitted => "transmitted",
+        LensTraceStatus::Miss => "miss",
+        LensTraceStatus::Trapped => "trapped",
+    }
+}
+
+impl ListedRay {
+    pub fn traced(setup: &Setup, px: f64, py: f64, n: f64, plane_z: f64) -> (ListedRay, LensPath) {
+        let (o, u, path) = setup.trace(px, py, n);
+        let ray = ListedRay {
+            pupil: [px, py],
+            origin: o.to_array(),
+            direction: u.to_array(),
+            status: status_name(path.status),
+            n_internal_reflections: path.internal_reflections,
+            image_point: plane_crossing(&path, plane_z).map(|p| p.to_array()),
+        };
+        (ray, path)
+    }
+}

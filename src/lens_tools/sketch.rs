@@ -1,0 +1,127 @@
+//! A meridional drawing to scale — polylines and labelled marks in (s, x),
+//! s along the light — and its SVG. The PNG of `lens fan` and the viewer's
+//! analysis window draw the same [`Sketch`] through [`Sketch::frame`].
+
+use std::fmt::Write;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Axis,
+    Lens,
+    Ray,
+    Plane,
+    Principal,
+}
+
+impl Kind {
+    /// Stroke colour (sRGB) and width in pixels.
+    pub fn style(self) -> ([u8; 3], f64) {
+        match self {
+            Kind::Axis => ([120, 120, 120], 1.0),
+            Kind::Lens => ([20, 90, 200], 2.0),
+            Kind::Ray => ([220, 60, 20], 1.2),
+            Kind::Plane => ([40, 150, 60], 1.0),
+            Kind::Principal => ([150, 80, 180], 1.0),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Sketch {
+    pub lines: Vec<(Kind, Vec<[f64; 2]>)>,
+    pub marks: Vec<(&'static str, [f64; 2])>,
+    /// The s range shown.
+    pub view: [f64; 2],
+}
+
+/// World (s, x) to pixels: equal scale on both axes, x up.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    pub width: f64,
+    pub height: f64,
+    scale: f64,
+    s0: f64,
+    x0: f64,
+}
+
+impl Frame {
+    pub fn px(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            (p[0] - self.s0) * self.scale,
+            self.height - (p[1] - self.x0) * self.scale,
+        ]
+    }
+}
+
+const MARGIN: f64 = 24.0;
+
+impl Sketch {
+    pub fn line(&mut self, kind: Kind, pts: Vec<[f64; 2]>) {
+        self.lines.push((kind, pts));
+    }
+
+    pub fn mark(&mut self, label: &'static str, at: [f64; 2]) {
+        self.marks.push((label, at));
+    }
+
+    /// The frame fitting the view into `width` × at most `max_height`
+    /// pixels at equal scale; the x range is what the lines reach inside
+    /// the view, at least a tenth of its length.
+    pub fn frame(&self, width: f64, max_height: f64) -> Frame {
+        let [s0, s1] = self.view;
+        let inside = |p: &[f64; 2]| p[0] >= s0 && p[0] <= s1 && p[1].is_finite();
+        let reach = (self.lines.iter().flat_map(|l| l.1.iter()))
+            .chain(self.marks.iter().map(|m| &m.1))
+            .filter(|p| inside(p))
+            .fold(0.0f64, |a, p| a.max(p[1].abs()));
+        let half = (1.1 * reach).max(0.05 * (s1 - s0));
+        let scale = ((width - 2.0 * MARGIN) / (s1 - s0)).min((max_height - 2.0 * MARGIN) / (2.0 * half));
+        let height = 2.0 * half * scale + 2.0 * MARGIN;
+        let used = (s1 - s0) * scale;
+        Frame {
+            width,
+            height,
+            scale,
+            s0: s0 - (width - used) / (2.0 * scale),
+            x0: -half - MARGIN / scale,
+        }
+    }
+
+    /// An SVG `width` pixels wide (at most as high).
+    pub fn svg(&self, width: f64) -> String {
+        let f = self.frame(width, width);
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}">"#,
+            w = f.width,
+            h = f.height
+        );
+        let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
+        for (kind, pts) in &self.lines {
+            let ([r, g, b], w) = kind.style();
+            let d: Vec<String> = pts
+                .iter()
+                .map(|&p| f.px(p))
+                .map(|[x, y]| format!("{x:.2},{y:.2}"))
+                .collect();
+            let _ = writeln!(
+                out,
+                r#"<polyline fill="none" stroke="rgb({r},{g},{b})" stroke-width="{w}" points="{}"/>"#,
+                d.join(" ")
+            );
+        }
+        for (label, p) in &self.marks {
+            let [x, y] = f.px(*p);
+            let _ = writeln!(out, r#"<circle cx="{x:.2}" cy="{y:.2}" r="3" fill="black"/>"#);
+            let _ = writeln!(
+                out,
+                r#"<text x="{:.2}" y="{:.2}" font-family="sans-serif" font-size="14">{label}</text>"#,
+                x + 4.0,
+                y - 6.0
+            );
+        }
+        out.push_str("</svg>\n");
+        out
+    }
+}
