@@ -28,7 +28,9 @@ fn shapes() -> Vec<Shape> {
             .unwrap(),
         ),
         // A ball lens: two hemispheres.
-        Shape::Lens(Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 0.5, 0.5, Index::Constant(1.5)).unwrap()),
+        Shape::Lens(Box::new(
+            Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 0.5, 0.5, Index::Constant(1.5)).unwrap(),
+        )),
     ]
 }
 
