@@ -120,7 +120,8 @@ impl Validator {
 
     /// `[[objects]]` with their materials.
     pub(super) fn objects(&mut self, sf: &SceneFile) -> Vec<Object> {
-        let mut objects = Vec::new();
+        // The lenses are added after them (tests/memory.rs: no regrowth).
+        let mut objects = Vec::with_capacity(sf.objects.len() + sf.lenses.len());
         for (i, o) in sf.objects.iter().enumerate() {
             let p = FieldPath::root("objects").index(i);
             let material = match &o.material {
