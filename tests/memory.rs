@@ -49,7 +49,12 @@ fn cuboids(n: usize) -> String {
 /// A scene of `n` rotated pyramids (the other shapes' worst case: face
 /// normals kept) in the same form.
 fn pyramids(n: usize) -> String {
-    cuboids(n).replace("type=\"cuboid\",", "type=\"pyramid\",rotation=[0,30,0],side=0.8,height=0.6,").replace("size=[0.8,0.8,0.8],", "")
+    cuboids(n)
+        .replace(
+            "type=\"cuboid\",",
+            "type=\"pyramid\",rotation=[0,30,0],side=0.8,height=0.6,",
+        )
+        .replace("size=[0.8,0.8,0.8],", "")
 }
 
 /// Heap bytes an object at the peak of loading the text (the text

@@ -75,7 +75,15 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
     if !(a.wavelength_um > 0.0 && a.wavelength_um.is_finite()) {
         bail!("--wavelength-um must be a positive number, got {}", a.wavelength_um);
     }
-    let info = lensview::lens_tools::lens_info(a.d, a.r1, a.r2, a.n, a.wavelength_um).context("impossible lens")?;
+    // Each refusal names the flag the user typed (`--r1`), not only the
+    // lens's own name for the value (`radius r1`).
+    for (flag, v) in [("--d", a.d), ("--r1", a.r1), ("--r2", a.r2)] {
+        if !v.is_finite() {
+            bail!("impossible lens: {flag} must be a finite number, got {v}");
+        }
+    }
+    let info = lensview::lens_tools::lens_info(a.d, a.r1, a.r2, a.n, a.wavelength_um)
+        .map_err(|e| anyhow::anyhow!("impossible lens: --{}: {e}", e.field()))?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&info)?);
     } else {

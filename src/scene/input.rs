@@ -81,7 +81,11 @@ fn invalid_utf8(file: &str, bytes: &[u8], e: std::str::Utf8Error) -> SceneError 
 pub fn check_scene_bytes(bytes: &[u8]) {
     let text = std::str::from_utf8(bytes).ok();
     if let Some(super::stream::Read::Scene(sf)) = text.map(super::stream::scene_file) {
-        assert_eq!(Some(sf), text.and_then(super::stream::whole_document), "read object by object");
+        assert_eq!(
+            Some(sf),
+            text.and_then(super::stream::whole_document),
+            "read object by object"
+        );
     }
     match Scene::from_bytes("fuzz.toml", bytes) {
         Ok((sf, _)) => {

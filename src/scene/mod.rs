@@ -296,7 +296,10 @@ impl Scene {
         // The error is decided on the text with readable stubs, and placed
         // in the one with the cheapest (the same objects replaced).
         let stubs = |kind| stub.then(|| stream::stubbed(text, kind, &mut |_, piece| stream::parses(piece)));
-        let (decided, placed) = (stubs(stream::Stub::Object).flatten(), stubs(stream::Stub::Place).flatten());
+        let (decided, placed) = (
+            stubs(stream::Stub::Object).flatten(),
+            stubs(stream::Stub::Place).flatten(),
+        );
         let stubbed = decided.is_some() && placed.is_some();
         let (decided, placed) = match (&decided, &placed) {
             (Some(d), Some(p)) => (d.as_str(), p.as_str()),

@@ -36,7 +36,9 @@ impl<'a> Piece<'a> {
     }
 }
 
-/// What [`scene_file`] makes of a text.
+/// What [`scene_file`] makes of a text (made once a load: its size does
+/// not matter).
+#[allow(clippy::large_enum_variant)]
 pub(super) enum Read {
     /// A scene file, every number finite.
     Scene(SceneFile),
@@ -435,7 +437,9 @@ mod tests {
             let text = format!("{body}{HEAD}");
             assert!(!matches!(scene_file(&text), Read::Scene(_)), "case {i}");
             let e = Scene::parse("x.toml", &text).map(|_| ()).map_err(|e| e.to_string());
-            let whole = Scene::refusal("x.toml", &text, false).map(|_| ()).map_err(|e| e.to_string());
+            let whole = Scene::refusal("x.toml", &text, false)
+                .map(|_| ())
+                .map_err(|e| e.to_string());
             assert_eq!(e, whole, "case {i}");
         }
     }
@@ -456,11 +460,20 @@ mod tests {
         let faults = [
             ("position=[17, 0, 0]", "position=[17, 0, nan]"),
             ("position=[17, 0, 0]", "position=[17, 0, 0], colour=1"),
-            ("size=[0.5, 0.5, 0.5], material=\"m\"}},\n  {type=\"cuboid\", position=[9,", "size=[0.5, -0.5, 0.5], material=\"q\"}},\n  {type=\"cuboid\", position=[9,"),
+            (
+                "size=[0.5, 0.5, 0.5], material=\"m\"}},\n  {type=\"cuboid\", position=[9,",
+                "size=[0.5, -0.5, 0.5], material=\"q\"}},\n  {type=\"cuboid\", position=[9,",
+            ),
             ("position = [17, 0, 0]", "position = [17, 0, 1e999]"),
             ("position = [17, 0, 0]", "position = [17, 0]"),
-            ("radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30", "radius = -1\n[[objects]]\ntype = \"sphere\"\nposition = [30"),
-            ("radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30", "radius = 0.25\nradius = 1\n[[objects]]\ntype = \"sphere\"\nposition = [30"),
+            (
+                "radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+                "radius = -1\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+            ),
+            (
+                "radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+                "radius = 0.25\nradius = 1\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+            ),
             ("position = [0, 1, 5]", "position = [0, 1, 5]\nfov = nan"),
             ("position = [0, 1, 5]", "position = [0, 1, 5]\nposition = 2"),
             ("position = [0, 1, 5]", "position = [3.25, 0, 0]"),
