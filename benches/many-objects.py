@@ -6,8 +6,8 @@
         --width 64 --height 48 --spp 1     # "Maximum resident set size"
 
 N = 0 gives the same scene with no object (the fixed cost). Each object is
-written in the short inline form, about 70 bytes, so 10^5 objects fit well
-under the 16 MiB scene-file cap; 10^6 (70 MB) are refused by it at once.
+written in the short inline form, about 70 bytes, so 10^6 objects (70 MB)
+fit under the 128 MiB scene-file cap.
 tests/memory.rs counts the heap bytes per object in-process.
 """
 import math

@@ -30,7 +30,9 @@ fn shapes(c: &mut Criterion) {
         Shape::Cuboid(Cuboid::new(DVec3::ONE)),
         Shape::Prism(Prism::new(1.0, 1.0)),
         Shape::Pyramid(Pyramid::new(1.0, 1.0)),
-        Shape::Lens(Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 2.0, 2.0, Index::Constant(1.5)).unwrap()),
+        Shape::Lens(Box::new(
+            Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 2.0, 2.0, Index::Constant(1.5)).unwrap(),
+        )),
     ];
     let mut g = c.benchmark_group("intersect-1024-rays");
     for s in &shapes {

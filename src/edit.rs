@@ -16,7 +16,7 @@ pub mod presets;
 pub use document::{Change, Document, Item, Placement, Rejected, Source, Unsaved};
 
 use crate::color::{Rgb, blackbody};
-use crate::math::rotation_from_degrees;
+use crate::math::{domain, rotation_from_degrees};
 use crate::scene::file::{IndexFile, LensFile, LightFile, LightKind, SceneFile};
 use glam::DVec3;
 
@@ -73,6 +73,24 @@ fn first_light(sf: &mut SceneFile) -> Option<&mut LightFile> {
     sf.lights.get_mut(i)
 }
 
+/// A point kept within the supported coordinates ([`domain`]): each
+/// coordinate clamped to ±`MAX_COORDINATE`; true when one was.
+fn clamp_point(p: DVec3) -> (DVec3, bool) {
+    let m = domain::MAX_COORDINATE;
+    let c = p.clamp(DVec3::splat(-m), DVec3::splat(m));
+    (c, c != p)
+}
+
+/// `message`, and when `clamped` that the value stopped at the edge of the
+/// supported domain.
+fn said(message: String, clamped: bool) -> String {
+    if clamped {
+        format!("{message} (clamped to the supported domain)")
+    } else {
+        message
+    }
+}
+
 fn fmt3(v: [f64; 3]) -> String {
     format!("({:.2}, {:.2}, {:.2})", v[0], v[1], v[2])
 }
@@ -82,9 +100,9 @@ pub fn apply(sf: &mut SceneFile, edit: Edit) -> String {
     match edit {
         Edit::LightMove(d) => match first_light(sf) {
             Some(l) if l.kind == LightKind::Point => {
-                let p = DVec3::from(l.position.unwrap_or_default()) + d;
+                let (p, clamped) = clamp_point(DVec3::from(l.position.unwrap_or_default()) + d);
                 l.position = Some(p.to_array());
-                format!("light moved to {}", fmt3(p.to_array()))
+                said(format!("light moved to {}", fmt3(p.to_array())), clamped)
             }
             Some(l) => {
                 let dir = (DVec3::from(l.direction.unwrap_or([0.0, -1.0, 0.0])) + d * 0.1).normalize_or(DVec3::NEG_Y);
@@ -95,8 +113,10 @@ pub fn apply(sf: &mut SceneFile, edit: Edit) -> String {
         },
         Edit::LightIntensity(f) => match first_light(sf) {
             Some(l) => {
-                l.intensity = (l.intensity * f).clamp(0.0, 1e9);
-                format!("light intensity {:.3}", l.intensity)
+                let want = l.intensity * f;
+                l.intensity = want.clamp(0.0, domain::MAX_INTENSITY);
+                let clamped = want != l.intensity;
+                said(format!("light intensity {:.3}", l.intensity), clamped)
             }
             None => "the scene has no light".into(),
         },
@@ -126,14 +146,15 @@ pub fn apply(sf: &mut SceneFile, edit: Edit) -> String {
 fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
     let half_max = 0.5 * l.d;
     match edit {
-        Edit::LensMove(d) => {
-            l.center = (DVec3::from(l.center) + d).to_array();
-            format!("lens centre {}", fmt3(l.center))
-        }
-        Edit::LensAlongAxis(s) => {
-            let a = DVec3::from(l.axis).normalize_or(DVec3::Z);
-            l.center = (DVec3::from(l.center) + a * s).to_array();
-            format!("lens centre {}", fmt3(l.center))
+        Edit::LensMove(_) | Edit::LensAlongAxis(_) => {
+            let step = match edit {
+                Edit::LensMove(d) => d,
+                Edit::LensAlongAxis(s) => DVec3::from(l.axis).normalize_or(DVec3::Z) * s,
+                _ => DVec3::ZERO,
+            };
+            let (c, clamped) = clamp_point(DVec3::from(l.center) + step);
+            l.center = c.to_array();
+            said(format!("lens centre {}", fmt3(l.center)), clamped)
         }
         Edit::LensTurn { yaw, pitch } => {
             let a = DVec3::from(l.axis).normalize_or(DVec3::Z);
@@ -145,7 +166,7 @@ fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
             format!("lens axis {}", fmt3(l.axis))
         }
         Edit::LensDiameter(delta) => {
-            let max = 2.0 * l.r1.min(l.r2);
+            let max = (2.0 * l.r1.min(l.r2)).min(domain::MAX_LENGTH);
             let want = l.d + delta;
             l.d = want.clamp(MIN_DIAMETER, max);
             if want > max {
@@ -163,11 +184,11 @@ fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
                 ("r2", &mut l.r2)
             };
             let want = *r + delta;
-            *r = want.max(half_max).min(1e7);
+            *r = want.max(half_max).min(domain::MAX_LENGTH);
             if want < half_max {
                 format!("lens {name} clamped to d/2 = {:.4} (a hemisphere)", *r)
             } else {
-                format!("lens {name} = {:.4}", *r)
+                said(format!("lens {name} = {:.4}", *r), want > *r)
             }
         }
         Edit::LensIndex(delta) => {
@@ -245,6 +266,45 @@ mod tests {
         apply(&mut s, Edit::LensTurn { yaw: 30.0, pitch: 10.0 });
         let a = DVec3::from(s.lenses[0].axis);
         assert!((a.length() - 1.0).abs() < 1e-12 && a.dot(a0) < 0.99);
+    }
+
+    /// No key step leaves the supported domain: each stops at its edge and
+    /// says so, and the scene still builds.
+    #[test]
+    fn key_steps_stop_at_the_edge_of_the_domain() {
+        let mut s = sf();
+        s.lights[0].intensity = 0.9 * domain::MAX_INTENSITY;
+        let msg = apply(&mut s, Edit::LightIntensity(1.25));
+        assert_eq!(s.lights[0].intensity, domain::MAX_INTENSITY);
+        assert!(msg.contains("clamped to the supported domain"), "{msg}");
+        Scene::build(&s).unwrap();
+        // Inside, no clamp is said (and a large value is not pulled down).
+        s.lights[0].intensity = 1e10;
+        let msg = apply(&mut s, Edit::LightIntensity(1.25));
+        assert_eq!((s.lights[0].intensity, msg.contains("clamped")), (1.25e10, false));
+        let far = DVec3::splat(2.0 * domain::MAX_COORDINATE);
+        let msg = apply(&mut s, Edit::LightMove(far));
+        assert!(
+            msg.contains("clamped") && s.lights[0].position.unwrap()[1] == domain::MAX_COORDINATE,
+            "{msg}"
+        );
+        let msg = apply(&mut s, Edit::LensMove(-far));
+        assert!(
+            msg.contains("clamped") && s.lenses[0].center[2] == -domain::MAX_COORDINATE,
+            "{msg}"
+        );
+        let msg = apply(&mut s, Edit::LensAlongAxis(3.0 * domain::MAX_COORDINATE));
+        assert!(msg.contains("clamped"), "{msg}");
+        assert!(s.lenses[0].center.iter().all(|c| c.abs() <= domain::MAX_COORDINATE));
+        let msg = apply(&mut s, Edit::LensR1(2.0 * domain::MAX_LENGTH));
+        assert!(msg.contains("clamped") && s.lenses[0].r1 == domain::MAX_LENGTH, "{msg}");
+        apply(&mut s, Edit::LensR2(2.0 * domain::MAX_LENGTH));
+        apply(&mut s, Edit::LensDiameter(3.0 * domain::MAX_LENGTH));
+        assert_eq!(s.lenses[0].d, domain::MAX_LENGTH);
+        // Every lens value is back inside the domain's checks.
+        for e in [domain::length(s.lenses[0].d, 0.0), domain::length(s.lenses[0].r1, 0.0)] {
+            assert_eq!(e, None);
+        }
     }
 
     #[test]

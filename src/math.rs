@@ -66,7 +66,7 @@ pub mod domain {
         let least = MIN_LENGTH.max(MIN_LENGTH_PER_DISTANCE * distance);
         if !(MIN_LENGTH..=MAX_LENGTH).contains(&x) {
             Some(format!(
-                "{x} is outside the supported lengths [{MIN_LENGTH:e}, {MAX_LENGTH:e}]"
+                "{x:e} is outside the supported lengths [{MIN_LENGTH:e}, {MAX_LENGTH:e}]"
             ))
         } else if !(x >= least) {
             Some(format!(

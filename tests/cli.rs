@@ -233,11 +233,31 @@ fn lens_info_prints_paraxial_data_as_text_and_json() {
     );
     fails_with(
         &["lens", "info", "--d", "2", "--r1", "0.9", "--r2", "5", "--n", "1.5"],
-        "radius r1 = 0.9 is smaller than d/2 = 1",
+        "impossible lens: --r1: radius r1 = 0.9 is smaller than d/2 = 1",
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "0.5", "--n", "1.5"],
+        "impossible lens: --r2: radius r2 = 0.5",
     );
     fails_with(
         &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "0.5"],
-        "index 0.5 must be ≥ 1",
+        "impossible lens: --n: index 0.5 must be ≥ 1",
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "1.5,1e9"],
+        "impossible lens: --n: index",
+    );
+    fails_with(
+        &["lens", "info", "--d", "1e300", "--r1", "5", "--r2", "5", "--n", "1.5"],
+        "impossible lens: --d: diameter 1e300 is outside the supported lengths",
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "1e309", "--r2", "5", "--n", "1.5"],
+        "impossible lens: --r1 must be a finite number, got inf",
+    );
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5e300", "--n", "1.5"],
+        "impossible lens: --r2: radius r2 = 5e300 is above the supported",
     );
 }
 

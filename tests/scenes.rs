@@ -326,13 +326,13 @@ fn input_files_are_read_with_a_size_cap() {
             path.display()
         )
     );
-    // A scene file over 16 MiB is refused before it is read.
+    // A scene file over 128 MiB is refused before it is read.
     let big = scratch("big.toml");
     let f = std::fs::File::create(&big).unwrap();
     f.set_len(SCENE_FILE_CAP + 1).unwrap();
     let e = Scene::load(&big).unwrap_err().to_string();
     assert!(
-        e.starts_with(&big.display().to_string()) && e.ends_with("larger than the 16 MiB limit for this input"),
+        e.starts_with(&big.display().to_string()) && e.ends_with("larger than the 128 MiB limit for this input"),
         "{e}"
     );
     std::fs::remove_file(&big).unwrap();
@@ -340,7 +340,7 @@ fn input_files_are_read_with_a_size_cap() {
     if Path::new("/dev/zero").exists() {
         let t = std::time::Instant::now();
         let e = Scene::load(Path::new("/dev/zero")).unwrap_err().to_string();
-        assert_eq!(e, "/dev/zero: not read: larger than the 16 MiB limit for this input");
+        assert_eq!(e, "/dev/zero: not read: larger than the 128 MiB limit for this input");
         assert!(t.elapsed().as_secs() < 10, "{:?}", t.elapsed());
     }
     // A directory is an I/O error naming it.

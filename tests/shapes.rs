@@ -16,7 +16,7 @@ fn shapes() -> Vec<Shape> {
         Shape::Cuboid(Cuboid::new(DVec3::new(1.0, 0.3, 2.0))),
         Shape::Prism(Prism::new(1.4, 0.8)),
         Shape::Pyramid(Pyramid::new(1.2, 1.5)),
-        Shape::Lens(
+        Shape::Lens(Box::new(
             Lens::new(
                 DVec3::ZERO,
                 DVec3::new(0.2, 1.0, -0.3),
@@ -26,9 +26,11 @@ fn shapes() -> Vec<Shape> {
                 Index::Constant(1.5),
             )
             .unwrap(),
-        ),
+        )),
         // A ball lens: two hemispheres.
-        Shape::Lens(Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 0.5, 0.5, Index::Constant(1.5)).unwrap()),
+        Shape::Lens(Box::new(
+            Lens::new(DVec3::ZERO, DVec3::Z, 1.0, 0.5, 0.5, Index::Constant(1.5)).unwrap(),
+        )),
     ]
 }
 

@@ -88,8 +88,16 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
     if !(a.wavelength_um > 0.0 && a.wavelength_um.is_finite()) {
         bail!("--wavelength-um must be a positive number, got {}", a.wavelength_um);
     }
-    let info = lensview::lens_tools::lens_info(a.shape.d, a.shape.r1, a.shape.r2, a.shape.n, a.wavelength_um)
-        .context("impossible lens")?;
+    // Each refusal names the flag the user typed (`--r1`), not only the
+    // lens's own name for the value (`radius r1`).
+    let sh = &a.shape;
+    for (flag, v) in [("--d", sh.d), ("--r1", sh.r1), ("--r2", sh.r2)] {
+        if !v.is_finite() {
+            bail!("impossible lens: {flag} must be a finite number, got {v}");
+        }
+    }
+    let info = lensview::lens_tools::lens_info(sh.d, sh.r1, sh.r2, sh.n, a.wavelength_um)
+        .map_err(|e| anyhow::anyhow!("impossible lens: --{}: {e}", e.field()))?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&info)?);
     } else {

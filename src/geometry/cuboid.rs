@@ -14,8 +14,10 @@ use glam::DVec3;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cuboid {
     pub size: DVec3,
-    poly: Polytope<6>,
 }
+
+/// The outward normals of a cuboid's faces, in the order of its planes.
+const NORMALS: [DVec3; 6] = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
 
 /// Where one ray crosses a cuboid's slabs ([`slabs`]): distances from the
 /// point nearest the centre, and that point's distance `t0` along the ray.
@@ -75,20 +77,7 @@ fn slabs(o: DVec3, d: DVec3, inv: DVec3, h: DVec3) -> Slabs {
 
 impl Cuboid {
     pub fn new(size: DVec3) -> Self {
-        let h = 0.5 * size;
-        Cuboid {
-            size,
-            poly: Polytope {
-                planes: [
-                    (DVec3::X, h.x),
-                    (DVec3::NEG_X, h.x),
-                    (DVec3::Y, h.y),
-                    (DVec3::NEG_Y, h.y),
-                    (DVec3::Z, h.z),
-                    (DVec3::NEG_Z, h.z),
-                ],
-            },
-        }
+        Cuboid { size }
     }
 
     /// Kay–Kajiya slabs on the three axes ([`slabs`]; the planes are the
@@ -138,15 +127,21 @@ impl Cuboid {
     }
 
     pub fn normal(&self, part: u8) -> DVec3 {
-        self.poly.normal(part)
+        NORMALS[part as usize]
     }
 
     pub fn bounds(&self) -> Aabb {
         Aabb::new(-0.5 * self.size, 0.5 * self.size)
     }
 
-    pub(crate) fn polytope(&self) -> &Polytope<6> {
-        &self.poly
+    /// The six half-spaces, made when asked (only `contains` asks): kept,
+    /// they would triple a cuboid's size.
+    pub(crate) fn polytope(&self) -> Polytope<6> {
+        let h = 0.5 * self.size;
+        let offsets = [h.x, h.x, h.y, h.y, h.z, h.z];
+        Polytope {
+            planes: std::array::from_fn(|i| (NORMALS[i], offsets[i])),
+        }
     }
 }
 

@@ -85,7 +85,9 @@ pub enum Shape {
     Cuboid(Cuboid),
     Prism(Prism),
     Pyramid(Pyramid),
-    Lens(Lens),
+    /// Boxed: a lens is five times the size of the other shapes, and every
+    /// object would pay for it (tests/memory.rs).
+    Lens(Box<Lens>),
 }
 
 impl Shape {

@@ -11,36 +11,40 @@ use glam::DVec3;
 pub struct Prism {
     pub side: f64,
     pub height: f64,
-    poly: Polytope<5>,
+    /// Inradius of the triangle, side/(2√3): the offset of its three faces.
+    inr: f64,
 }
 
 impl Prism {
     pub fn new(side: f64, height: f64) -> Self {
-        // Inradius of the equilateral triangle: side/(2√3).
         let inr = side / (2.0 * 3f64.sqrt());
+        Prism { side, height, inr }
+    }
+
+    /// The five half-spaces, made when used from the numbers kept (each
+    /// bit as when they were kept whole, which tripled a prism's size).
+    #[inline(always)]
+    pub(crate) fn polytope(&self) -> Polytope<5> {
         let c = 3f64.sqrt() / 2.0;
-        Prism {
-            side,
-            height,
-            poly: Polytope {
-                planes: [
-                    (DVec3::Z, inr),
-                    (DVec3::new(-c, 0.0, -0.5), inr),
-                    (DVec3::new(c, 0.0, -0.5), inr),
-                    (DVec3::Y, 0.5 * height),
-                    (DVec3::NEG_Y, 0.5 * height),
-                ],
-            },
+        let (inr, h) = (self.inr, 0.5 * self.height);
+        Polytope {
+            planes: [
+                (DVec3::Z, inr),
+                (DVec3::new(-c, 0.0, -0.5), inr),
+                (DVec3::new(c, 0.0, -0.5), inr),
+                (DVec3::Y, h),
+                (DVec3::NEG_Y, h),
+            ],
         }
     }
 
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.poly.intersect(ray, t_min, t_max)
+        self.polytope().intersect(ray, t_min, t_max)
     }
 
     pub fn normal(&self, part: u8) -> DVec3 {
-        self.poly.normal(part)
+        self.polytope().normal(part)
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -51,9 +55,5 @@ impl Prism {
             DVec3::new(-0.5 * self.side, -0.5 * self.height, -circ),
             DVec3::new(0.5 * self.side, 0.5 * self.height, inr),
         )
-    }
-
-    pub(crate) fn polytope(&self) -> &Polytope<5> {
-        &self.poly
     }
 }

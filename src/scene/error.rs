@@ -39,6 +39,14 @@ impl FieldPath {
     pub fn root(k: &str) -> FieldPath {
         FieldPath(vec![Seg::Key(k.to_string())])
     }
+
+    /// `i` when the path is in `objects[i]`.
+    pub fn object_index(&self) -> Option<usize> {
+        match self.0.as_slice() {
+            [Seg::Key(k), Seg::Index(i), ..] if k == "objects" => Some(*i),
+            _ => None,
+        }
+    }
 }
 
 impl fmt::Display for FieldPath {

@@ -72,10 +72,21 @@ fn invalid_utf8(file: &str, bytes: &[u8], e: std::str::Utf8Error) -> SceneError 
 /// The fuzz oracle (fuzz/fuzz_targets/scene.rs, replayed by
 /// tests/fuzz_corpus.rs): loads `bytes` as a scene file and panics if the
 /// refusal is not one line naming the file, free of control characters,
-/// or if an accepted scene does not come back the same through TOML (what
-/// saving does). Panicking is its purpose; nothing else calls it.
+/// if an accepted scene does not come back the same through TOML (what
+/// saving does), if reading object by object gives another scene than
+/// the whole-document parse, or if a refusal found with stubs differs from
+/// the one found in the whole text. Panicking is its purpose; nothing else
+/// calls it.
 #[doc(hidden)]
 pub fn check_scene_bytes(bytes: &[u8]) {
+    let text = std::str::from_utf8(bytes).ok();
+    if let Some(super::stream::Read::Scene(sf)) = text.map(super::stream::scene_file) {
+        assert_eq!(
+            Some(sf),
+            text.and_then(super::stream::whole_document),
+            "read object by object"
+        );
+    }
     match Scene::from_bytes("fuzz.toml", bytes) {
         Ok((sf, _)) => {
             let text = toml::to_string(&sf).unwrap_or_else(|e| panic!("cannot save a loaded scene: {e}"));
@@ -86,6 +97,10 @@ pub fn check_scene_bytes(bytes: &[u8]) {
         }
         Err(e) => {
             let shown = e.to_string();
+            if let Some(text) = text {
+                let whole = Scene::refusal("fuzz.toml", text, false).err().map(|e| e.to_string());
+                assert_eq!(Some(&shown), whole.as_ref(), "refusal found with stubs");
+            }
             assert!(shown.starts_with("fuzz.toml:"), "{shown:?}");
             assert!(!shown.chars().any(char::is_control), "{shown:?}");
         }

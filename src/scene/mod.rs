@@ -38,7 +38,8 @@ pub struct Object {
     pub name: String,
     pub shape: Shape,
     pub material: Material,
-    /// Rotation part of `world_from_object`.
+    /// Rotation part of `world_from_object` (its inverse is its transpose,
+    /// [`Object::object_from_world`]).
     pub world_from_object: DMat3,
     /// Translation part of `world_from_object` (the object's position).
     pub position: DVec3,
@@ -46,19 +47,19 @@ pub struct Object {
     pub identity: bool,
     /// True when there is no rotation: object space is world space shifted.
     pub translation_only: bool,
-    /// Inverse rotation, `world_from_object`ᵀ, kept to save the transpose.
-    pub object_from_world: DMat3,
     pub world_bounds: Aabb,
     /// Characteristic size of the shape (for ray offsets), cached.
     pub scale: f64,
     /// The smallest `r·v` whose Phong lobe `(r·v)^shininess` shading adds:
     /// [`Material::lobe_cos_min`], cached.
     pub lobe_cos_min: f64,
-    /// For a shape of flat faces (cuboid, prism, pyramid), the world normal
-    /// of each face, exactly what [`Object::world_normal`] would compute at
-    /// any point of it: a hit looks its normal up instead of transforming
-    /// the point and the normal and normalising.
-    face_normals: Option<[DVec3; 6]>,
+    /// For a rotated shape of flat faces (cuboid, prism, pyramid), the
+    /// world normal of each face, exactly what [`Object::world_normal`]
+    /// would compute at any point of it: a hit looks its normal up instead
+    /// of transforming the point and the normal and normalising. Boxed, and
+    /// only when rotated (unrotated, the shape's own normal is a lookup):
+    /// inline it would be a fifth of every object.
+    face_normals: Option<Box<[DVec3; 6]>>,
 }
 
 impl Object {
@@ -77,22 +78,28 @@ impl Object {
             position,
             identity,
             translation_only,
-            object_from_world: rot.transpose(),
             world_bounds,
             scale,
             face_normals: None,
             lobe_cos_min,
         };
-        if let Some(faces) = o.shape.flat_faces() {
+        if let Some(faces) = o.shape.flat_faces().filter(|_| !translation_only) {
             // A flat face's normal does not depend on the point: any point
             // (the centre) gives the same bits as the hit point would.
             let mut n = [DVec3::ZERO; 6];
             for (part, n) in n.iter_mut().enumerate().take(faces) {
                 *n = o.transformed_normal(o.position, part as u8);
             }
-            o.face_normals = Some(n);
+            o.face_normals = Some(Box::new(n));
         }
         o
+    }
+
+    /// The inverse rotation, `world_from_object`ᵀ: made when used (a
+    /// transpose moves numbers and rounds none), not kept in every object.
+    #[inline(always)]
+    pub fn object_from_world(&self) -> DMat3 {
+        self.world_from_object.transpose()
     }
 
     /// A ray in object space (the same `t` as in world space: rigid motion).
@@ -107,8 +114,8 @@ impl Object {
             }
         } else {
             crate::math::Ray {
-                origin: self.object_from_world * (ray.origin - self.position),
-                dir: self.object_from_world * ray.dir,
+                origin: self.object_from_world() * (ray.origin - self.position),
+                dir: self.object_from_world() * ray.dir,
             }
         }
     }
@@ -130,7 +137,7 @@ impl Object {
         } else if self.translation_only {
             self.shape.normal(p - self.position, part)
         } else {
-            let po = self.object_from_world * (p - self.position);
+            let po = self.object_from_world() * (p - self.position);
             (self.world_from_object * self.shape.normal(po, part)).normalize()
         }
     }
@@ -205,16 +212,17 @@ fn others_bounds(objects: &[Object]) -> Vec<Option<Aabb>> {
         (Some(a), Some(b)) => Some(a.union(&b)),
         (a, b) => a.or(b),
     };
-    let mut before = Vec::with_capacity(objects.len());
+    // First the union of the boxes before each object, then, from the end,
+    // joined with the union after it (one vector: no copy of the first).
+    let mut out = Vec::with_capacity(objects.len());
     let mut acc = None;
     for o in objects {
-        before.push(acc);
+        out.push(acc);
         acc = join(acc, Some(o.world_bounds));
     }
-    let mut out = vec![None; objects.len()];
     let mut after = None;
     for (i, o) in objects.iter().enumerate().rev() {
-        out[i] = join(before[i], after).map(|b| {
+        out[i] = join(out[i], after).map(|b| {
             let pad = (b.max - b.min).max_element() * 1e-6 + (b.min.abs().max(b.max.abs())).max_element() * 1e-12;
             Aabb::new(b.min - pad, b.max + pad)
         });
@@ -250,39 +258,70 @@ impl Scene {
 
     /// Parses and validates scene text; `file` names it in errors.
     ///
-    /// A valid scene is read once, by `toml`; the span-keeping `toml_edit`
-    /// parse that [`Located`] needs (about 4 KB an object) is made only
-    /// when something is wrong, and the refusal is then decided exactly as
-    /// before: a non-finite number first, then the parse error, then the
-    /// first validation problem.
+    /// A valid scene is read without a tree of the whole document (its
+    /// objects one at a time, [`stream`]). Only a refusal makes the
+    /// span-keeping `toml_edit` parse that [`Located`] needs (about 4 KB an
+    /// object), and of a text in which every object that cannot be at fault
+    /// is replaced by a short stub in the same place, so that a refusal of
+    /// a large file costs little more than loading it; the refusal is
+    /// decided as before: a non-finite number first, then the parse error,
+    /// then the first validation problem, each at its line.
     pub fn parse(file: &str, text: &str) -> Result<(SceneFile, Scene), SceneError> {
-        if let Some(ok) = Self::parse_valid(text) {
-            return Ok(ok);
+        let read = match stream::scene_file(text) {
+            stream::Read::Scene(sf) => Some(sf),
+            stream::Read::Invalid => None,
+            stream::Read::OtherForm => stream::whole_document(text),
+        };
+        let Some(sf) = read else {
+            return Self::refusal(file, text, true);
+        };
+        match Scene::build(&sf) {
+            Ok(scene) => Ok((sf, scene)),
+            Err(problems) => {
+                // Every object but the one at fault (if any) as a stub.
+                let at = problems[0].path.object_index();
+                let stubbed = stream::stubbed(text, stream::Stub::Place, &mut |i, _| Some(i) != at);
+                Err(Located::new(file, stubbed.as_deref().unwrap_or(text)).error(&problems[0]))
+            }
         }
-        let located = Located::new(file, text);
+    }
+
+    /// Why `text`, which does not read as a scene file, is refused: the
+    /// first non-finite number, else the parse error, else the first
+    /// validation problem. With `stub`, found in the text with each object
+    /// that parses on its own as a stub (the same error, at the same
+    /// place: tests/fuzz_corpus.rs compares both on every input).
+    #[doc(hidden)]
+    pub fn refusal(file: &str, text: &str, stub: bool) -> Result<(SceneFile, Scene), SceneError> {
+        // The error is decided on the text with readable stubs, and placed
+        // in the one with the cheapest (the same objects replaced).
+        let stubs = |kind| stub.then(|| stream::stubbed(text, kind, &mut |_, piece| stream::parses(piece)));
+        let (decided, placed) = (
+            stubs(stream::Stub::Object).flatten(),
+            stubs(stream::Stub::Place).flatten(),
+        );
+        let stubbed = decided.is_some() && placed.is_some();
+        let (decided, placed) = match (&decided, &placed) {
+            (Some(d), Some(p)) => (d.as_str(), p.as_str()),
+            _ => (text, text),
+        };
+        let located = Located::new(file, placed);
         if let Some(p) = located.non_finite().first() {
             return Err(located.error(p));
         }
-        let sf: SceneFile = match toml::from_str(text) {
+        let sf: SceneFile = match toml::from_str(decided) {
             Ok(sf) => sf,
             Err(e) => {
                 return Err(located.error_at(e.span().unwrap_or(0..0), e.message()));
             }
         };
         match Scene::build(&sf) {
+            // Not reached with stubs (the fault is outside them); else the
+            // scene as the whole-document parse reads it.
+            Ok(_) if stubbed => Self::refusal(file, text, false),
             Ok(scene) => Ok((sf, scene)),
             Err(problems) => Err(located.error(&problems[0])),
         }
-    }
-
-    /// The scene in `text` when it parses, holds no non-finite number and
-    /// validates; `None` for anything else (the caller then finds where).
-    /// Objects written in the usual forms are read one at a time
-    /// ([`stream`]); any other text is parsed as one document.
-    fn parse_valid(text: &str) -> Option<(SceneFile, Scene)> {
-        let sf = stream::scene_file(text).or_else(|| stream::whole_document(text))?;
-        let scene = Scene::build(&sf).ok()?;
-        Some((sf, scene))
     }
 
     /// Validates the file model and precomputes the render model. Returns
@@ -295,7 +334,7 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
-        v.camera_off_surfaces(camera.position, &objects);
+        v.camera_off_surfaces(sf, camera.position, &objects);
         // Pushed one by one, the vector may have room for nearly as many
         // again (760 bytes each): give it back (tests/memory.rs).
         objects.shrink_to_fit();
@@ -368,7 +407,7 @@ mod tests {
             for &(pos, rot) in &placements {
                 let glass = Material::glass(Rgb::ONE, Index::Constant(1.5));
                 let o = Object::new("o".into(), shape.clone(), glass, pos, rot);
-                assert!(o.face_normals.is_some());
+                assert_eq!(o.face_normals.is_some(), rot != DVec3::ZERO);
                 for part in 0..faces as u8 {
                     for p in [pos, pos + DVec3::new(0.3, -0.2, 0.1), DVec3::new(100.0, 3.0, -50.0)] {
                         assert_eq!(o.world_normal(p, part), o.transformed_normal(p, part), "part {part}");

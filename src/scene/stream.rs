@@ -20,31 +20,67 @@ use toml::de::{DeTable, DeValue};
 use toml_parser::lexer::{Token, TokenKind};
 
 /// One object as written in the file.
-enum Piece<'a> {
+#[derive(Clone, Copy)]
+pub(super) enum Piece<'a> {
     /// An element of `objects = [ … ]`: an inline table.
     Value(&'a str),
     /// The body of a `[[objects]]` table (the lines after its header).
     Table(&'a str),
 }
 
-/// The scene file in `text`, read object by object; `None` when the text
-/// is not a valid scene file in the forms read here.
-pub(super) fn scene_file(text: &str) -> Option<SceneFile> {
+impl<'a> Piece<'a> {
+    fn text(self) -> &'a str {
+        match self {
+            Piece::Value(s) | Piece::Table(s) => s,
+        }
+    }
+}
+
+/// What [`scene_file`] makes of a text (made once a load: its size does
+/// not matter).
+#[allow(clippy::large_enum_variant)]
+pub(super) enum Read {
+    /// A scene file, every number finite.
+    Scene(SceneFile),
+    /// Objects written in the forms read here, and something wrong.
+    Invalid,
+    /// Objects written in another form, or a text that cannot be scanned:
+    /// for the whole-document parse to decide.
+    OtherForm,
+}
+
+/// The scene file in `text`, read object by object.
+pub(super) fn scene_file(text: &str) -> Read {
     let mut objects = Vec::new();
-    let rest = split(text, &mut |piece| {
-        objects.push(object(piece)?);
+    let mut invalid = false;
+    let Some(rest) = split(text, &mut |piece| {
+        objects.push(object(piece).or_else(|| {
+            invalid = true;
+            None
+        })?);
         Some(())
-    })?;
-    let table = DeTable::parse(&rest).ok()?;
+    }) else {
+        return if invalid { Read::Invalid } else { Read::OtherForm };
+    };
+    let Ok(table) = DeTable::parse(&rest) else {
+        return Read::Invalid;
+    };
     // Objects written any other way (`[objects]`, `objects.x = …`, a quoted
     // key) are left to the whole-document parse.
-    if !all_finite(table.get_ref()) || table.get_ref().keys().any(|k| k.get_ref() == "objects") {
-        return None;
+    if table.get_ref().keys().any(|k| k.get_ref() == "objects") {
+        return Read::OtherForm;
     }
-    let mut sf = SceneFile::deserialize(toml::de::Deserializer::from(table)).ok()?;
-    objects.shrink_to_fit();
-    sf.objects = objects;
-    Some(sf)
+    if !all_finite(table.get_ref()) {
+        return Read::Invalid;
+    }
+    match SceneFile::deserialize(toml::de::Deserializer::from(table)) {
+        Ok(mut sf) => {
+            objects.shrink_to_fit();
+            sf.objects = objects;
+            Read::Scene(sf)
+        }
+        Err(_) => Read::Invalid,
+    }
 }
 
 /// The scene file in `text` parsed as one document, as `toml` reads it;
@@ -55,6 +91,78 @@ pub(super) fn whole_document(text: &str) -> Option<SceneFile> {
         return None;
     }
     SceneFile::deserialize(toml::de::Deserializer::from(table)).ok()
+}
+
+/// Whether an object, as written, parses and reads as an [`ObjectFile`]
+/// on its own (no non-finite number): what cannot be the fault when the
+/// file is refused.
+pub(super) fn parses(piece: Piece) -> bool {
+    object(piece).is_some()
+}
+
+/// The smallest object: a stub needs no more room than any object that
+/// reads (`type` and a kind are needed).
+const STUB: &str = "type=\"prism\"";
+
+/// What replaces an object in [`stubbed`].
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Stub {
+    /// [`STUB`], an object that reads: the text parses as the original
+    /// would but for the objects replaced.
+    Object,
+    /// The cheapest placeholder for the span-keeping parse, which only
+    /// places errors: `0` for an element, nothing for a table's body (each
+    /// object keeps its number).
+    Place,
+}
+
+/// `text` with each object that `stub` picks (given its number) replaced by
+/// `kind` padded with spaces, every other byte and every line break in
+/// place: errors in what is left are found at the same line and column.
+/// An object too short for the stub, or an element over several lines,
+/// is kept. `None` when the objects cannot be found ([`split`]).
+pub(super) fn stubbed(text: &str, kind: Stub, stub: &mut dyn FnMut(usize, Piece) -> bool) -> Option<String> {
+    let mut out = String::with_capacity(text.len());
+    let (mut copied, mut i) = (0, 0);
+    split(text, &mut |piece| {
+        let s = piece.text();
+        let at = s.as_ptr() as usize - text.as_ptr() as usize;
+        if stub(i, piece)
+            && let Some(r) = stub_for(piece, kind)
+        {
+            out.push_str(&text[copied..at]);
+            out.push_str(&r);
+            copied = at + s.len();
+        }
+        i += 1;
+        Some(())
+    })?;
+    out.push_str(&text[copied..]);
+    Some(out)
+}
+
+/// The stub `kind` in the room of `piece`, or `None` where it does not fit.
+fn stub_for(piece: Piece, kind: Stub) -> Option<String> {
+    let stub = if kind == Stub::Object { STUB } else { "" };
+    match piece {
+        Piece::Value(s) if !s.contains('\n') && s.len() >= STUB.len() + 2 => Some(match kind {
+            Stub::Object => format!("{{{STUB}}}{}", " ".repeat(s.len() - STUB.len() - 2)),
+            Stub::Place => format!("0{}", " ".repeat(s.len() - 1)),
+        }),
+        Piece::Value(_) => None,
+        Piece::Table(s) => {
+            // The stub on the first line long enough; spaces elsewhere.
+            let line = s.split('\n').scan(0, |at, l| {
+                let start = *at;
+                *at += l.len() + 1;
+                Some((start, l.len()))
+            });
+            let (start, _) = line.into_iter().find(|&(_, len)| len >= STUB.len())?;
+            let mut b: Vec<u8> = s.bytes().map(|c| if c == b'\n' { c } else { b' ' }).collect();
+            b[start..start + stub.len()].copy_from_slice(stub.as_bytes());
+            String::from_utf8(b).ok()
+        }
+    }
 }
 
 fn object(piece: Piece) -> Option<ObjectFile> {
@@ -268,4 +376,123 @@ fn split<'a>(text: &'a str, each: &mut dyn FnMut(Piece<'a>) -> Option<()>) -> Op
         None => rest.push_str(&text[kept_from..]),
     }
     Some(rest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    const HEAD: &str = "[camera]\nposition = [0, 1, 5]\n[materials.m]\ncolor = [0.5, 0.5, 0.5]\n";
+
+    /// Texts in both forms read here, with comments, strings holding
+    /// brackets and `#`, multi-line values and arrays, read object by
+    /// object into exactly what the whole-document parse gives.
+    #[test]
+    fn objects_read_one_at_a_time_are_the_whole_documents() {
+        let cases = [
+            "objects = [\n  {type=\"cuboid\", size=[1,2,3]}, # a [comment], {x\n  {type = 'sphere', radius = 2, name = \"a],}[{\" },\n]\n",
+            "objects = [{type=\"sphere\",radius=1,position=[\n 1, 2,\n 3]},{type=\"prism\",side=1,height=2,material=\"m\"}] # end\n",
+            "objects = []\n",
+            "objects = [ # none\n]\n",
+            "title = \"\"\"\nobjects = [ {type=\"x\"} ]\n\"\"\"\n",
+            "[[objects]]\ntype = \"cuboid\"\nsize = [1, 1, 1]\n\n# between\n[[objects]] # a comment\ntype = \"sphere\"\nname = \"\"\"two\n[[lines]]\"\"\"\nradius = 1\n",
+            "[[ objects ]]\ntype = \"pyramid\"\nside = 1\nheight = 1\n[[objects]]\ntype = \"sphere\"\nradius = 3\n",
+        ];
+        for (i, body) in cases.iter().enumerate() {
+            // The objects first (the root array must be), then the rest;
+            // and the tables also before the other tables.
+            for text in [format!("{body}{HEAD}"), format!("{HEAD}{body}")] {
+                let whole = whole_document(&text);
+                match scene_file(&text) {
+                    Read::Scene(sf) => assert_eq!(Some(sf), whole, "case {i}:\n{text}"),
+                    // A root array after a table belongs to that table.
+                    _ => assert!(whole.is_none() || body.starts_with("title"), "case {i}:\n{text}"),
+                }
+            }
+        }
+        // Each case read object by object at least once.
+        let read = |t: &str| matches!(scene_file(t), Read::Scene(_));
+        let unread: Vec<_> = cases.iter().filter(|b| !read(&format!("{b}{HEAD}"))).collect();
+        // Only the one whose `objects` is inside a string (and `title` is
+        // not a key of a scene).
+        assert_eq!(unread, [&cases[4]]);
+    }
+
+    /// Objects written otherwise, or both forms, or the key twice, are not
+    /// taken in here; the scene (or the refusal) is the whole document's.
+    #[test]
+    fn other_forms_are_left_to_the_whole_document() {
+        let other = [
+            "objects = [{type=\"sphere\",radius=1}]\n[[objects]]\ntype=\"sphere\"\nradius=1\n",
+            "objects = [{type=\"sphere\",radius=1}]\nobjects = []\n",
+            "\"objects\" = [{type=\"sphere\",radius=1}]\n",
+            "[[objects]]\ntype=\"sphere\"\nradius=1\n[objects.x]\n",
+            "objects = [{type=\"sphere\",radius=1} {type=\"sphere\",radius=1}]\n",
+            "objects = [{type=\"sphere\",radius=1},,]\n",
+            "objects = [{type=\"sphere\",radius=1}] x\n",
+            "objects = [{type=\"sphere\",radius=1}\n",
+        ];
+        for (i, body) in other.iter().enumerate() {
+            let text = format!("{body}{HEAD}");
+            assert!(!matches!(scene_file(&text), Read::Scene(_)), "case {i}");
+            let e = Scene::parse("x.toml", &text).map(|_| ()).map_err(|e| e.to_string());
+            let whole = Scene::refusal("x.toml", &text, false)
+                .map(|_| ())
+                .map_err(|e| e.to_string());
+            assert_eq!(e, whole, "case {i}");
+        }
+    }
+
+    /// A refusal found in the text with stubs names the same file, line,
+    /// column, field and message as in the whole text, wherever the fault
+    /// is: in an object among many, in the rest, in validation.
+    #[test]
+    fn refusals_with_stubs_are_the_whole_texts() {
+        let objects: String = (0..40)
+            .map(|i| format!("  {{type=\"cuboid\", position=[{i}, 0, 0], size=[0.5, 0.5, 0.5], material=\"m\"}},\n"))
+            .collect();
+        let tables: String = (0..40)
+            .map(|i| format!("[[objects]]\ntype = \"sphere\"\nposition = [{i}, 0, 0]\nradius = 0.25\n"))
+            .collect();
+        let inline = format!("objects = [\n{objects}]\n{HEAD}");
+        let aot = format!("{HEAD}{tables}");
+        let faults = [
+            ("position=[17, 0, 0]", "position=[17, 0, nan]"),
+            ("position=[17, 0, 0]", "position=[17, 0, 0], colour=1"),
+            (
+                "size=[0.5, 0.5, 0.5], material=\"m\"}},\n  {type=\"cuboid\", position=[9,",
+                "size=[0.5, -0.5, 0.5], material=\"q\"}},\n  {type=\"cuboid\", position=[9,",
+            ),
+            ("position = [17, 0, 0]", "position = [17, 0, 1e999]"),
+            ("position = [17, 0, 0]", "position = [17, 0]"),
+            (
+                "radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+                "radius = -1\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+            ),
+            (
+                "radius = 0.25\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+                "radius = 0.25\nradius = 1\n[[objects]]\ntype = \"sphere\"\nposition = [30",
+            ),
+            ("position = [0, 1, 5]", "position = [0, 1, 5]\nfov = nan"),
+            ("position = [0, 1, 5]", "position = [0, 1, 5]\nposition = 2"),
+            ("position = [0, 1, 5]", "position = [3.25, 0, 0]"),
+            ("color = [0.5, 0.5, 0.5]", "color = [0.5, 0.5, -1]"),
+        ];
+        let mut checked = 0;
+        for (from, to) in faults {
+            for base in [&inline, &aot] {
+                if !base.contains(from) {
+                    continue;
+                }
+                let text = base.replacen(from, to, 1);
+                let e = Scene::parse("x.toml", &text).err().map(|e| e.to_string());
+                let whole = Scene::refusal("x.toml", &text, false).err().map(|e| e.to_string());
+                assert_eq!(e, whole, "{to}");
+                checked += usize::from(e.is_some());
+            }
+        }
+        // Every fault refused at least once (the camera's in both forms).
+        assert!(checked >= faults.len(), "{checked}");
+    }
 }

@@ -120,7 +120,8 @@ impl Validator {
 
     /// `[[objects]]` with their materials.
     pub(super) fn objects(&mut self, sf: &SceneFile) -> Vec<Object> {
-        let mut objects = Vec::new();
+        // The lenses are added after them (tests/memory.rs: no regrowth).
+        let mut objects = Vec::with_capacity(sf.objects.len() + sf.lenses.len());
         for (i, o) in sf.objects.iter().enumerate() {
             let p = FieldPath::root("objects").index(i);
             let material = match &o.material {
@@ -133,7 +134,9 @@ impl Validator {
                     }
                 },
             };
-            let name = o.name.clone().unwrap_or_else(|| format!("{} {}", o.kind.name(), i + 1));
+            // Unnamed, no name is kept (an allocation an object); messages
+            // call it by its kind and number ([`label`]).
+            let name = o.name.clone().unwrap_or_default();
             if let Some(shape) = self.shape(&p, o) {
                 objects.push(Object::new(
                     name,
@@ -156,10 +159,10 @@ impl Validator {
             let index = self.index(&p.key("n"), l.n);
             match Lens::new(DVec3::from(l.center), DVec3::from(l.axis), l.d, l.r1, l.r2, index) {
                 Ok(lens) => {
-                    let name = l.name.clone().unwrap_or_else(|| format!("lens {}", i + 1));
+                    let name = l.name.clone().unwrap_or_default();
                     objects.push(Object::new(
                         name,
-                        Shape::Lens(lens),
+                        Shape::Lens(Box::new(lens)),
                         Material::glass(tint, index),
                         DVec3::ZERO,
                         DVec3::ZERO,
@@ -177,14 +180,14 @@ impl Validator {
     /// on the solid, where its roots near 0 are rounding noise (speckled
     /// false hits). "On" is within 4 ray offsets ([`surface_offset`]): the
     /// solid's inside changes under a nudge that small along an axis.
-    pub(super) fn camera_off_surfaces(&mut self, camera: DVec3, objects: &[Object]) {
-        for o in objects {
+    pub(super) fn camera_off_surfaces(&mut self, sf: &SceneFile, camera: DVec3, objects: &[Object]) {
+        for (i, o) in objects.iter().enumerate() {
             let delta = 4.0 * surface_offset(camera, o.scale);
             let b = &o.world_bounds;
             if (camera - b.min).min_element() < -delta || (b.max - camera).min_element() < -delta {
                 continue;
             }
-            let at = o.object_from_world * (camera - o.position);
+            let at = o.object_from_world() * (camera - o.position);
             let inside = o.shape.contains(at);
             let nudged = |k: usize, s: f64| {
                 let mut e = DVec3::ZERO;
@@ -196,7 +199,7 @@ impl Validator {
                     FieldPath::root("camera").key("position"),
                     format!(
                         "lies on the surface of `{}` (within {delta:.1e}): camera rays would start on it; move the camera off",
-                        o.name
+                        label(sf, i)
                     ),
                 );
                 return;
@@ -401,4 +404,16 @@ impl Validator {
         };
         if self.problems.len() > before { None } else { shape }
     }
+}
+
+/// What messages call the `i`-th object of the render model (the file's
+/// objects, then its lenses, when none was refused): its name, else its
+/// kind and number in its list (`cuboid 3`, `lens 1`).
+pub(super) fn label(sf: &SceneFile, i: usize) -> String {
+    let n = sf.objects.len();
+    let (name, kind, k) = match sf.objects.get(i) {
+        Some(o) => (&o.name, o.kind.name(), i),
+        None => (sf.lenses.get(i - n).map_or(&None, |l| &l.name), "lens", i - n),
+    };
+    name.clone().unwrap_or_else(|| format!("{kind} {}", k + 1))
 }

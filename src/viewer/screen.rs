@@ -178,6 +178,12 @@ impl Screen {
             _ => buf.fill(0),
         }
         let size = self.window.inner_size();
+        // A window with no area (minimised) has no surface to present to:
+        // pixels would retry it without bound. Skip the frame; the next
+        // redraw after it is restored presents.
+        if size.width == 0 || size.height == 0 {
+            return Some((x0, Ok(())));
+        }
         if let Err(e) = self.fit_surface(size.width, size.height) {
             return Some((x0, Err(e)));
         }
