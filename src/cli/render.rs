@@ -1,9 +1,9 @@
-//! `lensview render`: one image, headless, to a PNG file.
+//! `lensview render`: one image, headless, to a PNG or OpenEXR file.
 
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
-use lensview::render::{RenderSettings, render};
+use lensview::render::{ImageFormat, RenderSettings, render};
 use lensview::{limits, output};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -13,7 +13,7 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// Scene file (TOML); the embedded default scene when omitted.
     pub scene: Option<PathBuf>,
-    /// Output PNG file.
+    /// Output file: .png (8-bit sRGB) or .exr (linear RGB, 32-bit float, unclamped).
     #[arg(short, long, default_value = "lensview.png")]
     pub output: PathBuf,
     /// Image width in pixels.
@@ -35,7 +35,9 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     if let Some(spp) = a.spp {
         limits::check_spp("--spp", spp)?;
     }
-    // A directory, device or FIFO at -o is refused before rendering.
+    // A directory, device or FIFO at -o, or an unknown extension, is
+    // refused before rendering.
+    let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     output::check_target(&a.output)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
     let spp = a.spp.unwrap_or(scene.spp);
@@ -54,7 +56,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     if tty {
         eprint!("\r");
     }
-    img.write_png(&a.output)?;
+    img.write_as(&a.output, format)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     println!(
         "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",
