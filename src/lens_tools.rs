@@ -186,7 +186,10 @@ impl Serialize for Streamed<'_> {
         use serde::ser::SerializeStruct;
         let cases = self.0.cases.iter().enumerate();
         let mut st = s.serialize_struct("TraceOutput", 1)?;
-        st.serialize_field("cases", &CollectSeq(cases.map(|(ci, c)| StreamedCase(ci, c, self.0.branches))))?;
+        st.serialize_field(
+            "cases",
+            &CollectSeq(cases.map(|(ci, c)| StreamedCase(ci, c, self.0.branches))),
+        )?;
         st.end()
     }
 }
@@ -331,9 +334,10 @@ impl RayOutput {
 fn ray_branches(lens: &Lens, p: &LensPath, r: &RaySpec, n: f64) -> (Vec<BranchOutput>, f64) {
     let start = match p.entry {
         Some((_, x, inside)) => Some((x, inside)),
-        None if p.status != LensTraceStatus::Miss => {
-            Some((DVec3::from(r.origin), crate::math::rescale_pow2(DVec3::from(r.direction)).normalize()))
-        }
+        None if p.status != LensTraceStatus::Miss => Some((
+            DVec3::from(r.origin),
+            crate::math::rescale_pow2(DVec3::from(r.direction)).normalize(),
+        )),
         None => None,
     };
     let Some((x, u)) = start else {

@@ -94,7 +94,10 @@ fn exr_is_the_linear_radiance_and_png_its_clamped_encoding() {
         assert_eq!(*got, [want.x as f32, want.y as f32, want.z as f32]);
         above_one += usize::from(want.max_element() > 1.0);
     }
-    assert!(above_one > 10, "only {above_one} pixels above 1: the test needs unclamped values");
+    assert!(
+        above_one > 10,
+        "only {above_one} pixels above 1: the test needs unclamped values"
+    );
     // The PNG: the EXR's values clamped and encoded.
     let decoded = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
     let mut reader = decoded.read_info().unwrap();
@@ -112,7 +115,17 @@ fn an_unknown_extension_is_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("a.tiff");
     let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .args(["render", "-o", out.to_str().unwrap(), "--width", "8", "--height", "8", "--spp", "1"])
+        .args([
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+        ])
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(1));

@@ -21,7 +21,12 @@ fn lenses() -> Vec<(Lens, f64)> {
         (2.0, 1.0, 3.0, 1.9),
     ]
     .into_iter()
-    .map(|(d, r1, r2, n)| (Lens::new(DVec3::ZERO, DVec3::Z, d, r1, r2, Index::Constant(n)).unwrap(), n))
+    .map(|(d, r1, r2, n)| {
+        (
+            Lens::new(DVec3::ZERO, DVec3::Z, d, r1, r2, Index::Constant(n)).unwrap(),
+            n,
+        )
+    })
     .collect()
 }
 
@@ -76,7 +81,11 @@ fn weights_out_of_a_lens_sum_to_one_before_pruning() {
                 let phi = s.next_f64() * std::f64::consts::TAU;
                 let tilt = 85f64.to_radians() * s.next_f64();
                 let aim = DVec3::new(h * phi.cos(), h * phi.sin(), 0.0);
-                let dir = DVec3::new(tilt.sin() * (phi + 1.0).cos(), tilt.sin() * (phi + 1.0).sin(), -tilt.cos());
+                let dir = DVec3::new(
+                    tilt.sin() * (phi + 1.0).cos(),
+                    tilt.sin() * (phi + 1.0).sin(),
+                    -tilt.cos(),
+                );
                 let p = lens.trace(aim - dir * 4.0 * lens.d, dir, n);
                 let Some((_, x, inside)) = p.entry else { continue };
                 (x, inside)

@@ -37,8 +37,8 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     // A directory, device or FIFO at -o, or an unknown extension, is
     // refused before rendering.
-    let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     output::check_target(&a.output)?;
+    let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
     let spp = a.spp.unwrap_or(scene.spp);
     limits::check_work("the render", a.width, a.height, spp as u64, 1)?;
