@@ -11,6 +11,10 @@ pub enum LensCommand {
     Trace {
         /// The cases file: { "cases": [ { "id", "lens": {center, axis, d, R1, R2, n}, "rays": [...] } ] }.
         cases: PathBuf,
+        /// Also list each ray's weighted branches: every ray out of the lens's
+        /// Whitted tree (Fresnel-weighted, those above 1e-12) and the weight left out.
+        #[arg(long)]
+        branches: bool,
     },
     /// Paraxial data of a lens (light entering through S1), its real marginal focus and axial colour.
     Info(LensInfoArgs),
@@ -64,14 +68,15 @@ fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
     }
 }
 
-fn lens_trace(path: &Path) -> Result<()> {
+fn lens_trace(path: &Path, branches: bool) -> Result<()> {
     use lensview::lens_tools::{TraceInput, check_cases, write_trace_json};
     use std::io::Write;
     let name = path.display();
     let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;
-    let input: TraceInput =
+    let mut input: TraceInput =
         serde_json::from_slice(&bytes).map_err(|e| anyhow::anyhow!("{name}:{}:{}: {e}", e.line(), e.column()))?;
     drop(bytes);
+    input.branches = branches;
     // Every case and ray is checked before anything is written (a refusal
     // writes nothing); then each ray is traced as its JSON is written, so
     // the output is never held whole (10^6 rays would take over 1 GB).
@@ -108,7 +113,7 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
 
 pub fn lens(c: LensCommand) -> Result<()> {
     match c {
-        LensCommand::Trace { cases } => lens_trace(&cases),
+        LensCommand::Trace { cases, branches } => lens_trace(&cases, branches),
         LensCommand::Info(a) => lens_info(&a),
         LensCommand::Fan(a) => super::lens_figures::fan(&a),
         LensCommand::Spot(a) => super::lens_figures::spot(&a),

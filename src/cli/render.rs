@@ -1,9 +1,9 @@
-//! `lensview render`: one image, headless, to a PNG file.
+//! `lensview render`: one image, headless, to a PNG or OpenEXR file.
 
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
-use lensview::render::{RenderSettings, render};
+use lensview::render::{ImageFormat, RenderSettings, render};
 use lensview::{limits, output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,7 +12,7 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// Scene file (TOML); the embedded default scene when omitted.
     pub scene: Option<PathBuf>,
-    /// Output PNG file.
+    /// Output file: .png (8-bit sRGB) or .exr (linear RGB, 32-bit float, unclamped).
     #[arg(short, long, default_value = "lensview.png")]
     pub output: PathBuf,
     /// Image width in pixels.
@@ -34,8 +34,10 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     if let Some(spp) = a.spp {
         limits::check_spp("--spp", spp)?;
     }
-    // A directory, device or FIFO at -o is refused before rendering.
+    // A directory, device or FIFO at -o, or an unknown extension, is
+    // refused before rendering.
     output::check_target(&a.output)?;
+    let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
     let spp = a.spp.unwrap_or(scene.spp);
     limits::check_work("the render", a.width, a.height, spp as u64, 1)?;
@@ -51,7 +53,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
     let secs = start.elapsed().as_secs_f64();
     progress.finish();
-    img.write_png(&a.output)?;
+    img.write_as(&a.output, format)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     println!(
         "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",

@@ -34,6 +34,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a checkerboard wall behind the lens: magnification and distortion",
         text: include_str!("../../scenes/optical-bench.toml"),
     },
+    Preset {
+        name: "rim lens",
+        file: "rim-lens.toml",
+        about: "a strong lens seen obliquely: the rim ring and the ghosts of reflections inside",
+        text: include_str!("../../scenes/rim-lens.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).

@@ -17,7 +17,10 @@ mod sphere;
 pub use aabb::{Aabb, BOX_PAD, slab_hit, slab_overlap};
 pub use cuboid::Cuboid;
 pub(crate) use lens::LaneExits;
-pub use lens::{ExitCrossing, Inside, Lens, LensBranch, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS, Pruning};
+pub use lens::{
+    ExitCrossing, Inside, Lens, LensBranch, LensError, LensPath, LensSurface, LensTraceStatus,
+    MAX_INTERNAL_REFLECTIONS, Pruning,
+};
 pub use prism::Prism;
 pub use pyramid::Pyramid;
 pub use sphere::Sphere;

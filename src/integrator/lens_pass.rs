@@ -66,6 +66,16 @@ pub fn transmitted_rays(
     }
 }
 
+/// The first ray that carries on from [`transmitted_rays`], nothing
+/// pruned: for a lens, its principal ray out (what `lens trace` reports).
+pub fn transmitted_ray(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: DVec3, ior: f64) -> Option<Transmitted> {
+    let mut first = None;
+    transmitted_rays(obj, p, nf, entering, dir, ior, &Pruning::NONE, &mut |t| {
+        first.get_or_insert(t);
+    });
+    first
+}
+
 /// The ray of a branch out of `lens`.
 #[inline(always)]
 fn out_of(lens: &Lens, b: &LensBranch) -> Transmitted {
@@ -137,7 +147,10 @@ impl LensPasses {
                 });
             }
             let (y, normal) = (lane(&ex.local, l), lane(&ex.normal, l));
-            if lens.reflect_inside(&mut on, y, normal, ex.reflectance[l], prune).is_err() {
+            if lens
+                .reflect_inside(&mut on, y, normal, ex.reflectance[l], prune)
+                .is_err()
+            {
                 return;
             }
         }
@@ -286,7 +299,11 @@ fn lens_lanes_impl(
     // `Lens::reflect_inside`'s new direction.
     let mut on = [[0.0; LANES]; 3];
     for l in 0..LANES {
-        set_lane(&mut on, l, optics::reflect(lane(&inside, l), lane(&e.normal, l)).normalize());
+        set_lane(
+            &mut on,
+            l,
+            optics::reflect(lane(&inside, l), lane(&e.normal, l)).normalize(),
+        );
     }
     let second = LaneExit::new(lens, &lens.exit_lanes_local(&e.local, &on, ior));
     let mut exits = [first, second];
@@ -400,7 +417,9 @@ mod tests {
                 for l in 0..LANES {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
                     let mut want = Vec::new();
-                    transmitted_rays(obj, at(&x), at(&nf), true, at(&dir), ior, prune, &mut |t| want.push(key(&t)));
+                    transmitted_rays(obj, at(&x), at(&nf), true, at(&dir), ior, prune, &mut |t| {
+                        want.push(key(&t))
+                    });
                     let mut got = Vec::new();
                     passes.transmitted(l, lens, at(&x), ior, prune, &mut |t| got.push(key(&t)));
                     assert_eq!(got, want);

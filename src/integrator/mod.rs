@@ -48,7 +48,7 @@ mod scalar;
 mod shade;
 mod surface;
 
-pub use lens_pass::{Transmitted, transmitted_rays};
+pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
 pub use packet::PacketScratch;
 pub use shade::{LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};

@@ -16,7 +16,9 @@ pub use fan::{Fan, fan};
 pub use setup::{Setup, SetupError};
 pub use spot::{SpotDiagram, spot_diagram};
 
-use crate::geometry::{Lens, LensError, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
+use crate::geometry::{
+    Lens, LensBranch, LensError, LensPath, LensSurface, LensTraceStatus, MAX_INTERNAL_REFLECTIONS, Pruning,
+};
 use crate::optics::{Index, ThickLens, WAVELENGTH_D_UM};
 use crate::render::RGB_WAVELENGTHS_UM;
 use crate::scene::file::IndexFile;
@@ -27,6 +29,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, Deserialize)]
 pub struct TraceInput {
     pub cases: Vec<TraceCase>,
+    /// Also list each ray's weighted branches ([`BranchOutput`]): set by
+    /// `lens trace --branches`, never read from the file.
+    #[serde(skip)]
+    pub branches: bool,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -93,6 +99,32 @@ pub struct RayOutput {
     pub n_internal_reflections: u32,
     /// Index used for this ray (after the wavelength, for Cauchy glass).
     pub n: f64,
+    /// With `--branches`: every ray out of the lens's Whitted tree, in the
+    /// order the chain inside meets them ([`Lens::branches_inside`]),
+    /// those of weight above [`BRANCH_LIST_MIN`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub branches: Option<Vec<BranchOutput>>,
+    /// With `--branches`: the weight not listed (branches below
+    /// [`BRANCH_LIST_MIN`], and light still inside after the most
+    /// reflections); with the listed weights it sums to 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub branches_dropped: Option<f64>,
+}
+
+/// The weight below which `lens trace --branches` leaves a branch out.
+pub const BRANCH_LIST_MIN: f64 = 1e-12;
+
+/// One ray out of the lens ([`LensBranch`]) as `lens trace --branches`
+/// prints it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BranchOutput {
+    pub exit_surface: &'static str,
+    pub exit_point: [f64; 3],
+    pub exit_direction: [f64; 3],
+    /// The share of the light that entered leaving along this ray.
+    pub weight: f64,
+    /// Reflections inside before it (total and partial).
+    pub n_internal_reflections: u32,
 }
 
 /// A problem with one case or ray, named by its position and id.
@@ -124,7 +156,7 @@ pub fn trace_cases(input: &TraceInput) -> Result<TraceOutput, TraceError> {
     for (ci, case) in input.cases.iter().enumerate() {
         let lens = case_lens(ci, case)?;
         let rays = (case.rays.iter().enumerate())
-            .map(|(ri, r)| trace_ray(&lens, ci, case, ri, r))
+            .map(|(ri, r)| trace_ray(&lens, ci, case, ri, r, input.branches))
             .collect::<Result<_, _>>()?;
         cases.push(CaseOutput {
             id: case.id.clone(),
@@ -159,16 +191,19 @@ pub fn write_trace_json(input: &TraceInput, out: impl std::io::Write) -> serde_j
 /// [`TraceOutput`] of an input, traced while serialised.
 struct Streamed<'a>(&'a TraceInput);
 /// [`CaseOutput`] of one case, traced while serialised.
-struct StreamedCase<'a>(usize, &'a TraceCase);
+struct StreamedCase<'a>(usize, &'a TraceCase, bool);
 /// [`CaseOutput::rays`] of one case, traced while serialised.
-struct StreamedRays<'a>(usize, &'a TraceCase);
+struct StreamedRays<'a>(usize, &'a TraceCase, bool);
 
 impl Serialize for Streamed<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let cases = self.0.cases.iter().enumerate();
         let mut st = s.serialize_struct("TraceOutput", 1)?;
-        st.serialize_field("cases", &CollectSeq(cases.map(|(ci, c)| StreamedCase(ci, c))))?;
+        st.serialize_field(
+            "cases",
+            &CollectSeq(cases.map(|(ci, c)| StreamedCase(ci, c, self.0.branches))),
+        )?;
         st.end()
     }
 }
@@ -178,7 +213,7 @@ impl Serialize for StreamedCase<'_> {
         use serde::ser::SerializeStruct;
         let mut st = s.serialize_struct("CaseOutput", 2)?;
         st.serialize_field("id", &self.1.id)?;
-        st.serialize_field("rays", &StreamedRays(self.0, self.1))?;
+        st.serialize_field("rays", &StreamedRays(self.0, self.1, self.2))?;
         st.end()
     }
 }
@@ -190,7 +225,7 @@ impl Serialize for StreamedRays<'_> {
         let lens = case_lens(ci, case).map_err(S::Error::custom)?;
         let mut seq = s.serialize_seq(Some(case.rays.len()))?;
         for (ri, r) in case.rays.iter().enumerate() {
-            seq.serialize_element(&trace_ray(&lens, ci, case, ri, r).map_err(S::Error::custom)?)?;
+            seq.serialize_element(&trace_ray(&lens, ci, case, ri, r, self.2).map_err(S::Error::custom)?)?;
         }
         seq.end()
     }
@@ -262,8 +297,16 @@ fn ray_index(ci: usize, case: &TraceCase, ri: usize, r: &RaySpec, index: Index) 
     Ok(n)
 }
 
-/// Ray `ri` of case `ci` traced through `lens` (the case's lens).
-fn trace_ray(lens: &Lens, ci: usize, case: &TraceCase, ri: usize, r: &RaySpec) -> Result<RayOutput, TraceError> {
+/// Ray `ri` of case `ci` traced through `lens` (the case's lens), with its
+/// weighted branches when `branches`.
+fn trace_ray(
+    lens: &Lens,
+    ci: usize,
+    case: &TraceCase,
+    ri: usize,
+    r: &RaySpec,
+    branches: bool,
+) -> Result<RayOutput, TraceError> {
     let n = ray_index(ci, case, ri, r, index_of(case.lens.n))?;
     let p = lens.trace(DVec3::from(r.origin), DVec3::from(r.direction), n);
     let side = |x: Option<(LensSurface, DVec3, DVec3)>| x.map(|(s, p, d)| (s.name(), p.to_array(), d.to_array()));
@@ -284,7 +327,51 @@ fn trace_ray(lens: &Lens, ci: usize, case: &TraceCase, ri: usize, r: &RaySpec) -
         exit_direction: exit.map(|e| e.2),
         n_internal_reflections: p.internal_reflections,
         n,
-    })
+        branches: None,
+        branches_dropped: None,
+    }
+    .with_branches(branches.then(|| ray_branches(lens, &p, r, n))))
+}
+
+impl RayOutput {
+    fn with_branches(mut self, b: Option<(Vec<BranchOutput>, f64)>) -> Self {
+        if let Some((list, dropped)) = b {
+            self.branches = Some(list);
+            self.branches_dropped = Some(dropped);
+        }
+        self
+    }
+}
+
+/// The branches of the ray `r` (index `n`) whose principal path is `p`:
+/// from its entry, or from its origin when it starts inside; none for a miss.
+fn ray_branches(lens: &Lens, p: &LensPath, r: &RaySpec, n: f64) -> (Vec<BranchOutput>, f64) {
+    let start = match p.entry {
+        Some((_, x, inside)) => Some((x, inside)),
+        None if p.status != LensTraceStatus::Miss => Some((
+            DVec3::from(r.origin),
+            crate::math::rescale_pow2(DVec3::from(r.direction)).normalize(),
+        )),
+        None => None,
+    };
+    let Some((x, u)) = start else {
+        return (Vec::new(), 1.0);
+    };
+    let prune = Pruning {
+        min: BRANCH_LIST_MIN,
+        ..Pruning::NONE
+    };
+    let mut list = Vec::new();
+    let dropped = lens.branches_inside(x, u, n, &prune, &mut |b: LensBranch| {
+        list.push(BranchOutput {
+            exit_surface: b.face.name(),
+            exit_point: b.point.to_array(),
+            exit_direction: b.dir.to_array(),
+            weight: b.weight,
+            n_internal_reflections: b.reflections,
+        })
+    });
+    (list, dropped)
 }
 
 /// `lens info`: paraxial data, the real marginal-ray focus, axial colour.

@@ -1,4 +1,5 @@
-//! A linear-light image and its 8-bit sRGB PNG encoding.
+//! A linear-light image, its 8-bit sRGB PNG encoding and its linear
+//! OpenEXR one (`exr.rs`).
 
 use crate::color::{Rgb, to_srgb8};
 use crate::output::{WriteError, write_with};
@@ -45,6 +46,20 @@ impl Image {
         })
     }
 
+    /// Writes a linear RGB OpenEXR file atomically ([`crate::output`]): each
+    /// channel the `f32` nearest the pixel's radiance, unclamped.
+    pub fn write_exr(&self, path: &Path) -> Result<(), WriteError> {
+        crate::output::write_file(path, &super::exr::encode(self.width, self.height, &self.pixels))
+    }
+
+    /// Writes the image in `format`.
+    pub fn write_as(&self, path: &Path, format: ImageFormat) -> Result<(), WriteError> {
+        match format {
+            ImageFormat::Png => self.write_png(path),
+            ImageFormat::Exr => self.write_exr(path),
+        }
+    }
+
     /// Reads an 8-bit RGB or RGBA PNG back into linear light.
     pub fn read_png(path: &Path) -> std::io::Result<Image> {
         let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path)?));
@@ -69,5 +84,30 @@ impl Image {
             *px = Rgb::new(f(b[0]), f(b[1]), f(b[2]));
         }
         Ok(img)
+    }
+}
+
+/// The formats an image is written in, told by the file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// 8-bit sRGB, clamped to [0, 1] ([`Image::write_png`]).
+    Png,
+    /// Linear 32-bit float, unclamped ([`Image::write_exr`]).
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format for `path` by its extension (`.png` or `.exr`, any case),
+    /// or a one-line reason naming the path.
+    pub fn of(path: &Path) -> Result<ImageFormat, String> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(ImageFormat::Png),
+            Some("exr") => Ok(ImageFormat::Exr),
+            _ => Err(format!(
+                "{}: unknown image extension (use .png for 8-bit sRGB or .exr for linear float)",
+                path.display()
+            )),
+        }
     }
 }

@@ -4,11 +4,12 @@
 //! Each pixel depends only on (scene, camera, pixel, sample index, seed), so
 //! the image is bit-identical on any number of threads.
 
+pub mod exr;
 mod image;
 pub mod progressive;
 pub mod worker;
 
-pub use image::Image;
+pub use image::{Image, ImageFormat};
 
 use crate::color::Rgb;
 use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};

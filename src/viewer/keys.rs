@@ -50,6 +50,7 @@ pub enum Action {
     DuplicateSelected,
     // Pressed: display only (no restart).
     Screenshot,
+    ScreenshotExr,
     ToggleOverlay,
     ToggleHelp,
     HalfResolution,
@@ -80,6 +81,7 @@ impl Action {
         !matches!(
             self,
             Action::Screenshot
+                | Action::ScreenshotExr
                 | Action::ToggleOverlay
                 | Action::ToggleHelp
                 | Action::Quit
@@ -203,6 +205,13 @@ pub const CTRL_BINDINGS: &[(KeyCode, bool, &str, Action, &str)] = &[
         "save the scene as…",
     ),
     (KeyCode::KeyO, false, "Ctrl+O", Action::Open, "open a scene file"),
+    (
+        KeyCode::KeyP,
+        false,
+        "Ctrl+P",
+        Action::ScreenshotExr,
+        "save a screenshot EXR (linear float, unclamped)",
+    ),
     (
         KeyCode::KeyD,
         false,

@@ -250,13 +250,13 @@ impl Viewer {
                     self.submit();
                 }
             }
-            Command::Screenshot => {
+            Command::Screenshot(format) => {
                 let Some((w, h)) = self.screen.as_ref().and_then(|s| s.render_size(&self.display)) else {
                     return;
                 };
                 let div = self.display.res_div;
                 let scene = self.session.doc.built().clone();
-                self.session.message = self.refine.screenshot(scene, (w * div, h * div));
+                self.session.message = self.refine.screenshot(scene, (w * div, h * div), format);
             }
         }
     }

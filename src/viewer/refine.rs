@@ -6,6 +6,7 @@
 //! thread of its own.
 
 use lensview::limits;
+use lensview::render::ImageFormat;
 use lensview::render::progressive::{Progressive, Stage};
 use lensview::render::worker::{Frame, Job, Worker};
 use lensview::scene::Scene;
@@ -109,7 +110,7 @@ impl Refine {
     /// Saves `scene` at `width`×`height` with the samples refined so far
     /// (at least one), rendered on its own thread so the window stays live.
     /// Returns the line for the message bar.
-    pub fn screenshot(&mut self, scene: Arc<Scene>, (w, h): (u32, u32)) -> String {
+    pub fn screenshot(&mut self, scene: Arc<Scene>, (w, h): (u32, u32), format: ImageFormat) -> String {
         let spp = self.frame.as_ref().map_or(1, |f| f.spp.max(1));
         // The same limits as `render`: refused before anything is allocated.
         let bpp = limits::PROGRESSIVE_BYTES_PER_PIXEL + 3;
@@ -120,17 +121,18 @@ impl Refine {
         }
         self.screenshots += 1;
         let name = PathBuf::from(format!(
-            "lensview-{}-{}.png",
+            "lensview-{}-{}.{}",
             std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_secs()),
-            self.screenshots
+            self.screenshots,
+            if format == ImageFormat::Exr { "exr" } else { "png" }
         ));
         let msg = format!("saving {} ({w}×{h}, {spp} spp)…", name.display());
         std::thread::spawn(move || {
             let mut p = Progressive::new(w, h, 0);
             p.run(&scene, Stage::Samples(spp), &|| false);
-            match p.image().write_png(&name) {
+            match p.image().write_as(&name, format) {
                 Ok(()) => eprintln!("saved {}", name.display()),
                 Err(e) => eprintln!("error: {e}"),
             }

@@ -20,7 +20,8 @@ pub enum Command {
     Resolution(u32),
     SampleCap(u32),
     TogglePause,
-    Screenshot,
+    /// Save the picture at full resolution in this format.
+    Screenshot(lensview::render::ImageFormat),
 }
 
 /// What the keys and clicks since the last [`Session::take_outcome`] did.

@@ -164,9 +164,13 @@ mod tests {
             max_reflections: 40,
         };
         let mut outs = Vec::new();
-        let dropped = l.branches_inside(DVec3::ZERO, DVec3::new(1.0, 0.0, 0.05).normalize(), 4.0, &prune, &mut |b| {
-            outs.push(b)
-        });
+        let dropped = l.branches_inside(
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.0, 0.05).normalize(),
+            4.0,
+            &prune,
+            &mut |b| outs.push(b),
+        );
         assert!(!outs.is_empty());
         assert!(outs[0].reflections >= 1, "{outs:?}");
         for b in &outs {

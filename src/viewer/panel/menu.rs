@@ -97,7 +97,7 @@ fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
         cx.reset_view();
     }
     if entry(ui, "Screenshot PNG", Action::Screenshot) {
-        cx.ask(Command::Screenshot);
+        cx.ask(Command::Screenshot(lensview::render::ImageFormat::Png));
     }
 }
 
