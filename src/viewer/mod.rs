@@ -135,6 +135,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
             overlay: overlay::OverlayMode::Compact,
             help: false,
             panel: opts.panel,
+            panel_expanded: false,
             res_div: 1,
         },
         refine: Refine::new(worker, opts.max_spp),
@@ -224,6 +225,15 @@ impl Viewer {
             Command::ShowPanel(shown) => {
                 if shown != self.display.panel {
                     self.display.panel = shown;
+                    // Asked for by name: shown whole, even in a narrow window.
+                    self.display.panel_expanded = shown;
+                    self.flight.end_drag();
+                    self.resize_buffers();
+                }
+            }
+            Command::ExpandPanel(open) => {
+                if open != self.display.panel_expanded {
+                    self.display.panel_expanded = open;
                     self.flight.end_drag();
                     self.resize_buffers();
                 }
