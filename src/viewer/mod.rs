@@ -36,11 +36,11 @@ mod session;
 mod stats;
 
 use anyhow::{Context, Result, anyhow};
-pub use platform::quiet_wayland_probe;
 use lensview::edit::{Document, Source};
 use lensview::render::worker::Worker;
 use lensview::scene::SceneFile;
 use pacing::{Decision, Pacer};
+pub use platform::quiet_wayland_probe;
 use refine::Refine;
 use screen::{Display, Screen};
 use session::{Command, Outcome, Session};

@@ -62,7 +62,11 @@ impl Pacer {
     /// when unknown).
     pub fn refresh_period(millihertz: Option<u32>) -> Duration {
         let hz = millihertz.map_or(60.0, |m| m as f64 / 1000.0);
-        let hz = if hz.is_finite() && hz > 0.0 { hz.clamp(30.0, 240.0) } else { 60.0 };
+        let hz = if hz.is_finite() && hz > 0.0 {
+            hz.clamp(30.0, 240.0)
+        } else {
+            60.0
+        };
         Duration::from_secs_f64(1.0 / hz)
     }
 
@@ -186,7 +190,10 @@ mod tests {
     #[test]
     fn the_refresh_period_comes_from_the_monitor_within_bounds() {
         assert_eq!(Pacer::refresh_period(None), Duration::from_secs_f64(1.0 / 60.0));
-        assert_eq!(Pacer::refresh_period(Some(144_000)), Duration::from_secs_f64(1.0 / 144.0));
+        assert_eq!(
+            Pacer::refresh_period(Some(144_000)),
+            Duration::from_secs_f64(1.0 / 144.0)
+        );
         assert_eq!(Pacer::refresh_period(Some(0)), Duration::from_secs_f64(1.0 / 60.0));
         assert_eq!(Pacer::refresh_period(Some(1_000)), Duration::from_secs_f64(1.0 / 30.0));
     }
