@@ -146,7 +146,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         stats: Stats::new(log),
         minimised: false,
         repaint_at: None,
-        pacer: Pacer::new(false, Pacer::refresh_period(None)),
+        pacer: Pacer::new(false, Pacer::refresh_period(None), 1),
         present_at: None,
         asked: false,
         quit: false,
@@ -353,7 +353,7 @@ impl Viewer {
         if let Err(e) = result {
             self.session.message = format!("present failed: {e}");
         }
-        self.pacer.presented(Instant::now());
+        self.pacer.presented(Instant::now(), t0.elapsed());
         let p = Presented {
             frame: self.refine.frame(),
             x0,
@@ -421,7 +421,8 @@ impl ApplicationHandler<UserEvent> for Viewer {
         }
         match Screen::open(event_loop, (self.opts.width, self.opts.height), self.title()) {
             Ok(s) => {
-                self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()));
+                let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
+                self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()), cores);
                 self.screen = Some(s);
             }
             Err(e) => {
