@@ -636,7 +636,17 @@ fn bench_refuses_an_unwritable_out_dir_before_measuring() {
 fn render_piped_prints_no_progress_bar() {
     let out = tmp("piped.png");
     let o = bin()
-        .args(["render", "-o", out.to_str().unwrap(), "--width", "160", "--height", "120", "--spp", "2"])
+        .args([
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--spp",
+            "2",
+        ])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

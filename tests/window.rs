@@ -132,11 +132,24 @@ impl<'a> Session<'a> {
     fn launch(x: &'a Xvfb, dir: &Path, scene: &Path, args: &[&str], log: PathBuf) -> Session<'a> {
         let runtime = dir.join("xdg");
         std::fs::create_dir_all(&runtime).unwrap();
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_lensview"));
+        cmd.env("XDG_RUNTIME_DIR", &runtime);
+        Self::launch_with(cmd, x, dir, scene, args, log)
+    }
+
+    /// Like `launch`, with `cmd` (the binary, its environment) given.
+    fn launch_with(
+        mut cmd: Command,
+        x: &'a Xvfb,
+        dir: &Path,
+        scene: &Path,
+        args: &[&str],
+        log: PathBuf,
+    ) -> Session<'a> {
         let _ = std::fs::remove_file(&log);
-        let app = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        let app = cmd
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
-            .env("XDG_RUNTIME_DIR", &runtime)
             .current_dir(dir)
             .args(["view", scene.to_str().unwrap()])
             .args(args)
@@ -388,9 +401,12 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
         },
         None,
     );
-    let n = s.frames().len();
-    s.key("F1");
-    s.wait_present(n, "F1");
+    // F1 twice: the overlay from compact (the default) to full to off.
+    for _ in 0..2 {
+        let n = s.frames().len();
+        s.key("F1");
+        s.wait_present(n, "F1");
+    }
     let shot = s.screenshot("start.png");
     assert_eq!((shot.width, shot.height), (W, H), "window size");
     assert!(spread(&shot) > 20.0, "the window is blank");
@@ -412,11 +428,13 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
         gens.iter().all(|g| g == g1),
         "toggling the overlay restarted refinement: {gens:?} after {g1}"
     );
-    // Below the overlay box (11 lines of 20 px) the picture is untouched.
+    // Below the compact overlay (three lines) the picture is untouched.
     assert!(
-        diff(&with_overlay, &shot, 260, H) < 1.0,
+        diff(&with_overlay, &shot, 120, H) < 1.0,
         "the overlay toggle re-rendered the picture"
     );
+    // Full, then off again.
+    s.key("F1");
     s.key("F1");
 
     // Pressing W moves the camera: a new generation and a different picture.
@@ -535,10 +553,12 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     assert_eq!(first["width"].as_u64().unwrap() as u32, ew - x0);
     let title = s.title();
     assert!(title.contains("cubes.toml") && !title.ends_with('*'), "{title}");
-    // Overlay off, so pictures compare exactly.
-    let n = s.frames().len();
-    s.chord("F1");
-    s.wait_present(n, "F1");
+    // Overlay off (compact → full → off), so pictures compare exactly.
+    for _ in 0..2 {
+        let n = s.frames().len();
+        s.chord("F1");
+        s.wait_present(n, "F1");
+    }
     let before = s.screenshot("editor-start.png");
     assert_eq!((before.width, before.height), (ew, eh));
     assert!(spread(&before) > 20.0, "the window is blank");
@@ -584,10 +604,15 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     assert_eq!(saved.objects[26].kind.name(), "sphere");
     assert_eq!(s.last_generation(), g4, "saving restarted refinement");
 
-    // Keyboard flight still works with the panel shown (it has no focus).
+    // Keyboard flight still works with the panel shown (it has no focus);
+    // the title says the camera moved (not an unsaved edit).
     s.hold("w", 400);
-    s.wait_frame(g4, 1, "W with the panel shown");
-    assert!(s.title().ends_with('*'), "flying moved the camera: an unsaved change");
+    let g5 = s.wait_frame(g4, 1, "W with the panel shown");
+    assert!(s.title().ends_with("(camera moved)"), "{}", s.title());
+    // A lens key (2) after it: an unsaved edit, the question at quit.
+    s.chord("2");
+    s.wait_frame(g5, 1, "the lens key");
+    assert!(s.title().ends_with('*'), "{}", s.title());
 
     // Escape with unsaved changes asks; Escape again cancels the question.
     s.chord("Escape");
@@ -624,5 +649,163 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     }
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
     let (after, _) = Scene::load(&scene).unwrap();
-    assert_eq!(after, saved, "the flight after the save was not written");
+    assert_eq!(after, saved, "the flight and edit after the save were not written");
+}
+
+/// The bounding box (x0, y0, x1, y1, inclusive) of the pixels where `a` and
+/// `b` differ by more than `level` in some channel (8-bit).
+fn changed_box(a: &Image, b: &Image, level: u8) -> Option<(u32, u32, u32, u32)> {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let (a8, b8) = (a.to_srgb8(), b.to_srgb8());
+    let mut bx: Option<(u32, u32, u32, u32)> = None;
+    for y in 0..a.height {
+        for x in 0..a.width {
+            let i = ((y * a.width + x) * 3) as usize;
+            if (0..3).any(|c| a8[i + c].abs_diff(b8[i + c]) > level) {
+                bx = Some(bx.map_or((x, y, x, y), |(x0, y0, x1, y1)| {
+                    (x0.min(x), y0.min(y), x1.max(x), y1.max(y))
+                }));
+            }
+        }
+    }
+    bx
+}
+
+impl Session<'_> {
+    /// Waits (up to 60 s) for the viewer to exit; its status and stderr.
+    fn wait_exit(&mut self, what: &str) -> (std::process::ExitStatus, String) {
+        let mut status = None;
+        wait_until(Duration::from_secs(60), || {
+            status = self.app.try_wait().unwrap();
+            status.is_some()
+        });
+        let status = status.unwrap_or_else(|| panic!("the viewer did not exit after {what}"));
+        let mut err = String::new();
+        if let Some(mut e) = self.app.stderr.take() {
+            use std::io::Read;
+            let _ = e.read_to_string(&mut err);
+        }
+        (status, err)
+    }
+
+    /// Presses `key` and waits until the window presented again.
+    fn key_and_present(&self, key: &str) {
+        let n = self.frames().len();
+        self.key(key);
+        self.wait_present(n, key);
+    }
+}
+
+/// At 640×480 (started without XDG_RUNTIME_DIR, as on a bare X11 session):
+/// the panel is a strip and opens and folds back; the overlay sits at the
+/// picture's top-left, inside it, in compact and full form, and F1 cycles
+/// compact → full → off → compact; after flying alone Escape quits at once;
+/// nothing on stderr mentions XDG_RUNTIME_DIR.
+#[test]
+fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let dir = dir().join("small");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ui_log = dir.join("ui.json");
+    let _ = std::fs::remove_file(&ui_log);
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let (w, h) = (W.to_string(), H.to_string());
+    let args = [
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--max-spp",
+        "1",
+        "--exit-after",
+        "600",
+        "--ui-log",
+        ui_log.to_str().unwrap(),
+    ];
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_lensview"));
+    cmd.env_remove("XDG_RUNTIME_DIR");
+    let mut s = Session::launch_with(cmd, &x, &dir, &scene, &args, dir.join("frames.jsonl"));
+
+    // The panel is a strip: the picture keeps most of the width.
+    let g1 = s.wait_frame(0, 1, "start");
+    let first = s.frames().into_iter().find(|f| f["generation"] == g1).unwrap();
+    let x0 = first["x0"].as_u64().unwrap() as u32;
+    assert!(x0 > 0 && x0 <= 48, "the panel did not fold to a strip: {first}");
+    assert_eq!(first["width"].as_u64().unwrap() as u32, W - x0);
+
+    // The overlay: compact (the default), full, off.
+    let compact = s.screenshot("small-compact.png");
+    s.key_and_present("F1");
+    let full = s.screenshot("small-full.png");
+    s.key_and_present("F1");
+    let off = s.screenshot("small-off.png");
+    let cb = changed_box(&compact, &off, 40).expect("no compact overlay");
+    let fb = changed_box(&full, &off, 40).expect("no full overlay");
+    for (name, b) in [("compact", cb), ("full", fb)] {
+        // At the picture's top-left (right of the strip), and inside it:
+        // not cut off at the right or the bottom.
+        assert!(b.0 >= x0 && b.0 < x0 + 24 && b.1 < 24, "{name} overlay at {b:?}");
+        assert!(b.2 < W - 4 && b.3 < H - 4, "{name} overlay clipped: {b:?}");
+    }
+    assert!(fb.3 > cb.3 + 40, "full {fb:?} is not taller than compact {cb:?}");
+    s.key_and_present("F1");
+    let again = changed_box(&s.screenshot("small-again.png"), &off, 40).expect("F1 did not come back to compact");
+    assert!(again.3.abs_diff(cb.3) <= 4, "compact again {again:?}, first {cb:?}");
+
+    // The strip's button opens the panel; « folds it back.
+    let g = s.last_generation();
+    s.click(&ui_log, "open panel");
+    let g = s.wait_frame_where(g, 1, "opening the panel", |f| f["x0"].as_u64().unwrap_or(0) >= 300);
+    s.click(&ui_log, "fold panel");
+    let g = s.wait_frame_where(g, 1, "folding the panel", |f| f["x0"].as_u64() == Some(x0 as u64));
+
+    // Flying alone: the title says so, and Escape quits without a question.
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    s.hold("w", 400);
+    s.wait_frame(g, 1, "W");
+    assert!(s.title().ends_with("(camera moved)"), "{}", s.title());
+    s.key("Escape");
+    let (status, err) = s.wait_exit("Escape after flying alone");
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+    assert!(!err.contains("XDG_RUNTIME_DIR"), "stderr: {err}");
+}
+
+/// `--exit-after` closes the window while the unsaved-changes question is
+/// up, with status 0.
+#[test]
+fn exit_after_closes_the_window_with_a_question_open() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let dir = dir().join("exit-after");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ui_log = dir.join("ui.json");
+    let _ = std::fs::remove_file(&ui_log);
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let args = [
+        "--width",
+        "640",
+        "--height",
+        "480",
+        "--max-spp",
+        "1",
+        "--exit-after",
+        "45",
+        "--ui-log",
+        ui_log.to_str().unwrap(),
+    ];
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let g1 = s.wait_frame(0, 1, "start");
+    s.key("2");
+    s.wait_frame(g1, 1, "the lens key");
+    s.key("Escape");
+    assert!(
+        wait_until(Duration::from_secs(30), || s
+            .rects(&ui_log)
+            .contains_key("confirm discard")),
+        "Escape after an edit did not ask (or the viewer had exited already)"
+    );
+    assert!(s.app.try_wait().unwrap().is_none(), "quit without asking");
+    let (status, err) = s.wait_exit("--exit-after with the question open");
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }

@@ -172,7 +172,12 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         Action::Screenshot,
         "save a screenshot PNG (full resolution)",
     ),
-    (KeyCode::F1, "F1", Action::ToggleOverlay, "overlay: off / compact / full"),
+    (
+        KeyCode::F1,
+        "F1",
+        Action::ToggleOverlay,
+        "overlay: off / compact / full",
+    ),
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
@@ -243,7 +248,11 @@ pub fn label_of(action: Action) -> &'static str {
 /// The key help, (keys, what they do): one row per labelled binding, plus
 /// the mouse and modifiers.
 pub fn help_rows() -> Vec<(&'static str, &'static str)> {
-    let mut v: Vec<_> = BINDINGS.iter().filter(|b| !b.1.is_empty()).map(|b| (b.1, b.3)).collect();
+    let mut v: Vec<_> = BINDINGS
+        .iter()
+        .filter(|b| !b.1.is_empty())
+        .map(|b| (b.1, b.3))
+        .collect();
     v.extend(CTRL_BINDINGS.iter().filter(|b| !b.2.is_empty()).map(|b| (b.2, b.4)));
     v.push(("Shift", "fly faster;  wheel: flight speed"));
     v.push(("Mouse", "drag with the left button to look around"));

@@ -36,11 +36,11 @@ mod session;
 mod stats;
 
 use anyhow::{Context, Result, anyhow};
-pub use platform::quiet_wayland_probe;
 use lensview::edit::{Document, Source};
 use lensview::render::worker::Worker;
 use lensview::scene::SceneFile;
 use pacing::{Decision, Pacer};
+pub use platform::quiet_wayland_probe;
 use refine::Refine;
 use screen::{Display, Screen};
 use session::{Command, Outcome, Session};
@@ -135,6 +135,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
             overlay: overlay::OverlayMode::Compact,
             help: false,
             panel: opts.panel,
+            panel_expanded: false,
             res_div: 1,
         },
         refine: Refine::new(worker, opts.max_spp),
@@ -145,7 +146,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         stats: Stats::new(log),
         minimised: false,
         repaint_at: None,
-        pacer: Pacer::new(false, Pacer::refresh_period(None)),
+        pacer: Pacer::new(false, Pacer::refresh_period(None), 1),
         present_at: None,
         asked: false,
         quit: false,
@@ -224,6 +225,15 @@ impl Viewer {
             Command::ShowPanel(shown) => {
                 if shown != self.display.panel {
                     self.display.panel = shown;
+                    // Asked for by name: shown whole, even in a narrow window.
+                    self.display.panel_expanded = shown;
+                    self.flight.end_drag();
+                    self.resize_buffers();
+                }
+            }
+            Command::ExpandPanel(open) => {
+                if open != self.display.panel_expanded {
+                    self.display.panel_expanded = open;
                     self.flight.end_drag();
                     self.resize_buffers();
                 }
@@ -343,7 +353,7 @@ impl Viewer {
         if let Err(e) = result {
             self.session.message = format!("present failed: {e}");
         }
-        self.pacer.presented(Instant::now());
+        self.pacer.presented(Instant::now(), t0.elapsed());
         let p = Presented {
             frame: self.refine.frame(),
             x0,
@@ -411,7 +421,8 @@ impl ApplicationHandler<UserEvent> for Viewer {
         }
         match Screen::open(event_loop, (self.opts.width, self.opts.height), self.title()) {
             Ok(s) => {
-                self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()));
+                let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
+                self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()), cores);
                 self.screen = Some(s);
             }
             Err(e) => {

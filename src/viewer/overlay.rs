@@ -51,6 +51,9 @@ pub fn show(ctx: &Context, picture: Rect, lines: &[String]) {
     egui::Area::new(Id::new("lensview-overlay"))
         .order(Order::Background)
         .interactable(false)
+        // Shown in the first present after F1 (a fade would cost a CPU
+        // rasterizer a burst of presents).
+        .fade_in(false)
         .fixed_pos(picture.min + Vec2::splat(MARGIN))
         .constrain_to(picture)
         .show(ctx, |ui| {
@@ -79,6 +82,7 @@ pub fn help_window(ctx: &Context, open: &mut bool) {
     let screen = ctx.content_rect();
     egui::Window::new("Keys")
         .open(open)
+        .fade_in(false)
         .collapsible(false)
         .resizable(false)
         .anchor(Align2::RIGHT_TOP, Vec2::new(-MARGIN, MARGIN))

@@ -2,7 +2,9 @@
 //! same frame and an unchanged UI), happens at most once per display
 //! refresh, and, when the adapter is a CPU rasterizer (Mesa lavapipe,
 //! llvmpipe: presenting takes the tracer's cores), the refining frames of a
-//! generation after its first are shown at most [`CPU_PACE`] apart. The
+//! generation after its first are shown at least [`CPU_PACE`] apart, and
+//! further apart when presents would take more than [`PRESENT_SHARE`] of
+//! the machine's CPU time. The
 //! first frame of a new generation (the answer to an input) goes at once;
 //! a UI change made by that input (the message line, the overlay's figures)
 //! waits for it, up to [`AWAIT_LIMIT`], so the two share one present.
@@ -14,6 +16,10 @@ use std::time::{Duration, Instant};
 
 /// Least time between two refining frames on a CPU rasterizer: 10 a second.
 pub const CPU_PACE: Duration = Duration::from_millis(100);
+/// On a CPU rasterizer, the share of the machine's CPU time that presenting
+/// refining frames may take: a present costing `c` on `n` cores is
+/// followed by at least `c / (PRESENT_SHARE · n)` (2 cores, 27 ms: 270 ms).
+pub const PRESENT_SHARE: f64 = 0.05;
 /// How long a UI change waits for the first frame of the generation its
 /// input started.
 pub const AWAIT_LIMIT: Duration = Duration::from_millis(100);
@@ -43,11 +49,16 @@ pub struct Pacer {
     awaiting: Option<Instant>,
     /// The generation of the newest frame that arrived.
     generation: Option<u64>,
+    /// Smoothed time a present takes, and the machine's cores.
+    present_cost: Duration,
+    cores: u32,
 }
 
 impl Pacer {
-    pub fn new(cpu: bool, refresh: Duration) -> Self {
+    pub fn new(cpu: bool, refresh: Duration, cores: u32) -> Self {
         Pacer {
+            present_cost: Duration::ZERO,
+            cores: cores.max(1),
             cpu,
             refresh,
             last: None,
@@ -62,7 +73,11 @@ impl Pacer {
     /// when unknown).
     pub fn refresh_period(millihertz: Option<u32>) -> Duration {
         let hz = millihertz.map_or(60.0, |m| m as f64 / 1000.0);
-        let hz = if hz.is_finite() && hz > 0.0 { hz.clamp(30.0, 240.0) } else { 60.0 };
+        let hz = if hz.is_finite() && hz > 0.0 {
+            hz.clamp(30.0, 240.0)
+        } else {
+            60.0
+        };
         Duration::from_secs_f64(1.0 / hz)
     }
 
@@ -97,7 +112,7 @@ impl Pacer {
         let mut at = last + self.refresh;
         if self.new_frame.is_some() {
             if self.cpu && !first && !self.ui {
-                at = at.max(last + CPU_PACE);
+                at = at.max(last + self.cpu_pace());
             }
         } else if let Some(t) = self.awaiting {
             at = at.max(t + AWAIT_LIMIT);
@@ -105,8 +120,21 @@ impl Pacer {
         if at <= now { Decision::Now } else { Decision::At(at) }
     }
 
-    /// A present happened at `now`: everything pending is on screen.
-    pub fn presented(&mut self, now: Instant) {
+    /// Least time between refining frames on a CPU rasterizer: 10 a
+    /// second, or longer when presents cost more than their share.
+    fn cpu_pace(&self) -> Duration {
+        let share = self.present_cost.as_secs_f64() / (PRESENT_SHARE * self.cores as f64);
+        CPU_PACE.max(Duration::from_secs_f64(share.min(1.0)))
+    }
+
+    /// A present that took `cost` ended at `now`: everything pending is on
+    /// screen.
+    pub fn presented(&mut self, now: Instant, cost: Duration) {
+        self.present_cost = if self.last.is_none() {
+            cost
+        } else {
+            self.present_cost.mul_f64(0.8) + cost.mul_f64(0.2)
+        };
         self.last = Some(now);
         self.new_frame = None;
         self.ui = false;
@@ -126,17 +154,17 @@ mod tests {
     #[test]
     fn nothing_new_is_never_presented_and_one_present_per_refresh() {
         let t = Instant::now();
-        let mut p = Pacer::new(false, HZ60);
+        let mut p = Pacer::new(false, HZ60, 2);
         assert_eq!(p.decide(t), Decision::Skip, "nothing to show yet");
         p.frame_arrived(1);
         assert_eq!(p.decide(t), Decision::Now);
-        p.presented(t);
+        p.presented(t, Duration::ZERO);
         assert_eq!(p.decide(ms(t, 1)), Decision::Skip, "the same frame twice");
         // A refining frame 5 ms later waits for the next refresh.
         p.frame_arrived(1);
         assert_eq!(p.decide(ms(t, 5)), Decision::At(t + HZ60));
         assert_eq!(p.decide(ms(t, 17)), Decision::Now, "a GPU is not paced");
-        p.presented(ms(t, 17));
+        p.presented(ms(t, 17), Duration::ZERO);
         p.ui_changed();
         assert_eq!(p.decide(ms(t, 40)), Decision::Now);
     }
@@ -144,9 +172,9 @@ mod tests {
     #[test]
     fn on_a_cpu_rasterizer_refinement_is_paced_but_the_first_frame_is_not() {
         let t = Instant::now();
-        let mut p = Pacer::new(true, HZ60);
+        let mut p = Pacer::new(true, HZ60, 2);
         p.frame_arrived(1);
-        p.presented(t);
+        p.presented(t, Duration::ZERO);
         p.frame_arrived(1);
         assert_eq!(p.decide(ms(t, 30)), Decision::At(t + CPU_PACE));
         // Another refining frame replaces it: still one present at the pace.
@@ -157,18 +185,35 @@ mod tests {
         p.submitted(ms(t, 50));
         p.frame_arrived(2);
         assert_eq!(p.decide(ms(t, 60)), Decision::Now);
-        p.presented(ms(t, 60));
+        p.presented(ms(t, 60), Duration::ZERO);
         p.frame_arrived(2);
         p.ui_changed();
         assert_eq!(p.decide(ms(t, 80)), Decision::Now, "a UI change is not paced");
     }
 
     #[test]
+    fn costly_presents_are_spaced_to_their_share_of_the_cpu() {
+        let t = Instant::now();
+        // 27 ms presents on 2 cores: 5 % of the CPU allows one per 270 ms.
+        let mut p = Pacer::new(true, HZ60, 2);
+        p.frame_arrived(1);
+        p.presented(t, Duration::from_millis(27));
+        p.frame_arrived(1);
+        assert_eq!(p.decide(ms(t, 100)), Decision::At(ms(t, 270)));
+        // On 16 cores the 10-a-second pace is the bound.
+        let mut p = Pacer::new(true, HZ60, 16);
+        p.frame_arrived(1);
+        p.presented(t, Duration::from_millis(27));
+        p.frame_arrived(1);
+        assert_eq!(p.decide(ms(t, 50)), Decision::At(t + CPU_PACE));
+    }
+
+    #[test]
     fn a_ui_change_waits_for_the_first_frame_of_its_generation() {
         let t = Instant::now();
-        let mut p = Pacer::new(true, HZ60);
+        let mut p = Pacer::new(true, HZ60, 2);
         p.frame_arrived(1);
-        p.presented(t);
+        p.presented(t, Duration::ZERO);
         // A key at 500 ms: the message changed and a generation started.
         p.ui_changed();
         p.submitted(ms(t, 500));
@@ -176,7 +221,7 @@ mod tests {
         // Its frame comes 15 ms later: both go in one present, at once.
         p.frame_arrived(2);
         assert_eq!(p.decide(ms(t, 515)), Decision::Now);
-        p.presented(ms(t, 515));
+        p.presented(ms(t, 515), Duration::ZERO);
         // A frame that never comes does not hold the UI back for ever.
         p.ui_changed();
         p.submitted(ms(t, 900));
@@ -186,7 +231,10 @@ mod tests {
     #[test]
     fn the_refresh_period_comes_from_the_monitor_within_bounds() {
         assert_eq!(Pacer::refresh_period(None), Duration::from_secs_f64(1.0 / 60.0));
-        assert_eq!(Pacer::refresh_period(Some(144_000)), Duration::from_secs_f64(1.0 / 144.0));
+        assert_eq!(
+            Pacer::refresh_period(Some(144_000)),
+            Duration::from_secs_f64(1.0 / 144.0)
+        );
         assert_eq!(Pacer::refresh_period(Some(0)), Duration::from_secs_f64(1.0 / 60.0));
         assert_eq!(Pacer::refresh_period(Some(1_000)), Duration::from_secs_f64(1.0 / 30.0));
     }

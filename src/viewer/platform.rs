@@ -62,9 +62,15 @@ mod tests {
         let tmp = tmp.to_str().unwrap();
         assert!(probe_fails(env(&[("DISPLAY", ":0")])));
         assert!(probe_fails(env(&[("DISPLAY", ":0"), ("XDG_RUNTIME_DIR", "relative")])));
-        assert!(probe_fails(env(&[("DISPLAY", ":0"), ("XDG_RUNTIME_DIR", "/no/such/dir")])));
+        assert!(probe_fails(env(&[
+            ("DISPLAY", ":0"),
+            ("XDG_RUNTIME_DIR", "/no/such/dir")
+        ])));
         assert!(!probe_fails(env(&[("DISPLAY", ":0"), ("XDG_RUNTIME_DIR", tmp)])));
-        assert!(!probe_fails(env(&[("DISPLAY", ":0"), ("WAYLAND_DISPLAY", "wayland-0")])));
+        assert!(!probe_fails(env(&[
+            ("DISPLAY", ":0"),
+            ("WAYLAND_DISPLAY", "wayland-0")
+        ])));
         assert!(!probe_fails(env(&[])), "no display: nothing to quiet");
         assert!(!probe_fails(env(&[("DISPLAY", ":0"), ("DRI_PRIME", "1")])));
         assert!(!probe_fails(env(&[("DISPLAY", ":0"), ("NODEVICE_SELECT", "0")])));

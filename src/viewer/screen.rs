@@ -5,7 +5,7 @@
 
 use super::gui::Gui;
 use super::overlay::OverlayMode;
-use super::panel::PANEL_WIDTH;
+use super::panel::{NARROW, PANEL_WIDTH, STRIP_WIDTH};
 use anyhow::{Result, anyhow};
 use lensview::render::worker::Frame;
 use pixels::{Pixels, SurfaceTexture};
@@ -22,8 +22,42 @@ pub struct Display {
     pub help: bool,
     /// The editing panel (F4).
     pub panel: bool,
+    /// In a window narrower than [`NARROW`] the panel is a strip with a
+    /// button that opens it; true once the user opened it there.
+    pub panel_expanded: bool,
     /// Render at 1/res_div of the window's resolution (F3: 2).
     pub res_div: u32,
+}
+
+/// How the panel is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PanelShape {
+    Hidden,
+    /// A strip with the button that opens the panel (narrow windows).
+    Strip,
+    Full,
+}
+
+impl Display {
+    /// The panel's shape in a window `width` points wide.
+    pub fn panel_shape(&self, width: f32) -> PanelShape {
+        if !self.panel {
+            PanelShape::Hidden
+        } else if width < NARROW && !self.panel_expanded {
+            PanelShape::Strip
+        } else {
+            PanelShape::Full
+        }
+    }
+
+    /// The panel's width in points in a window `width` points wide.
+    pub fn panel_width(&self, width: f32) -> f32 {
+        match self.panel_shape(width) {
+            PanelShape::Hidden => 0.0,
+            PanelShape::Strip => STRIP_WIDTH,
+            PanelShape::Full => PANEL_WIDTH,
+        }
+    }
 }
 
 pub struct Screen {
@@ -104,10 +138,9 @@ impl Screen {
         let Some((bw, _)) = self.buffer_size(d) else {
             return 0;
         };
-        if !d.panel {
-            return 0;
-        }
-        let px = (PANEL_WIDTH as f64 * self.window.scale_factor()).ceil() as u32;
+        let scale = self.window.scale_factor();
+        let points = (self.window.inner_size().width as f64 / scale) as f32;
+        let px = (d.panel_width(points) as f64 * scale).ceil() as u32;
         px.div_ceil(d.res_div).min(bw.saturating_sub(1))
     }
 
@@ -167,6 +200,7 @@ impl Screen {
         let (row, fw) = (bw as usize * 4, w as usize * 4);
         match frame {
             Some(f) if f.width == w && f.height == h && f.rgba.len() == fw * h as usize => {
+                // (Columns 0..x0 lie under the panel or its strip.)
                 for (y, src) in f.rgba.chunks_exact(fw).enumerate() {
                     let start = y * row + x0 as usize * 4;
                     buf[start..start + fw].copy_from_slice(src);

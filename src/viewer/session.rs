@@ -16,6 +16,8 @@ use std::path::Path;
 pub enum Command {
     Quit,
     ShowPanel(bool),
+    /// In a narrow window: open the panel from its strip, or fold it back.
+    ExpandPanel(bool),
     /// Render at 1/n of the window's resolution.
     Resolution(u32),
     SampleCap(u32),

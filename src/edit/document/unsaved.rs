@@ -73,7 +73,11 @@ impl Document {
             [init @ .., last] => format!("{} and {last}", init.join(", ")),
         };
         if self.unsaved().view {
-            s = if s.is_empty() { "the camera".into() } else { format!("{s} (and the camera)") };
+            s = if s.is_empty() {
+                "the camera".into()
+            } else {
+                format!("{s} (and the camera)")
+            };
         }
         s
     }
@@ -92,19 +96,37 @@ mod tests {
         assert_eq!(doc.unsaved_summary(), "");
         let (p, r) = doc.camera_pose();
         doc.fly_camera(p + DVec3::new(0.0, 0.0, -1.0), r).unwrap();
-        assert_eq!(doc.unsaved(), Unsaved { content: false, view: true });
+        assert_eq!(
+            doc.unsaved(),
+            Unsaved {
+                content: false,
+                view: true
+            }
+        );
         assert!(doc.is_dirty() && !doc.has_unsaved_content());
         assert_eq!(doc.unsaved_summary(), "the camera");
         assert_eq!(doc.title(), "preset cubes (not saved) (camera moved)");
         doc.apply_edit(Edit::LightIntensity(2.0)).unwrap();
-        assert_eq!(doc.unsaved(), Unsaved { content: true, view: true });
+        assert_eq!(
+            doc.unsaved(),
+            Unsaved {
+                content: true,
+                view: true
+            }
+        );
         assert_eq!(doc.unsaved_summary(), "lights (and the camera)");
         assert!(doc.title().ends_with(" *"), "{}", doc.title());
         doc.apply_edit(Edit::LensDiameter(0.1)).unwrap();
         assert_eq!(doc.unsaved_summary(), "lenses and lights (and the camera)");
         // Back where it was opened: only the edits are left.
         doc.reset_view().unwrap();
-        assert_eq!(doc.unsaved(), Unsaved { content: true, view: false });
+        assert_eq!(
+            doc.unsaved(),
+            Unsaved {
+                content: true,
+                view: false
+            }
+        );
         assert_eq!(doc.unsaved_summary(), "lenses and lights");
     }
 
@@ -114,7 +136,13 @@ mod tests {
         let (p, r) = doc.camera_pose();
         doc.set_camera(p, r, 40.0).unwrap();
         // The same pose, a narrower field: content only.
-        assert_eq!(doc.unsaved(), Unsaved { content: true, view: false });
+        assert_eq!(
+            doc.unsaved(),
+            Unsaved {
+                content: true,
+                view: false
+            }
+        );
         assert_eq!(doc.unsaved_summary(), "field of view");
         let path = std::env::temp_dir().join(format!("lensview-unsaved-{}.toml", std::process::id()));
         doc.save_as(&path).unwrap();

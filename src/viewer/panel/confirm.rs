@@ -34,8 +34,9 @@ pub fn modal(ctx: &egui::Context, cx: &mut Ctx) {
     } else {
         "Save as… (S)"
     };
+    let width = 440.0f32.min(ctx.content_rect().width() - 40.0).max(120.0);
     egui::Modal::new(egui::Id::new("unsaved-changes")).show(ctx, |ui| {
-        ui.set_max_width(440.0);
+        ui.set_max_width(width);
         ui.heading("Unsaved changes");
         ui.label(format!(
             "{} has changes that are not saved: {}. {what}",
@@ -43,7 +44,7 @@ pub fn modal(ctx: &egui::Context, cx: &mut Ctx) {
             cx.doc.unsaved_summary()
         ));
         ui.add_space(8.0);
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             for (label, name, answer) in [
                 (save, "confirm save", Answer::Save),
                 (go, "confirm discard", Answer::Discard),

@@ -193,10 +193,15 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         DialogMode::SaveAs => "Save the scene as",
     };
     let mut choice = Choice::Nothing;
+    // Never larger than the window: its buttons stay reachable at any size.
+    let screen = ctx.content_rect();
     egui::Window::new(title)
         .collapsible(false)
         .resizable(true)
-        .default_width(480.0)
+        .constrain_to(screen)
+        .default_width(480.0f32.min(screen.width() - 24.0))
+        .max_width((screen.width() - 24.0).max(120.0))
+        .max_height((screen.height() - 24.0).max(120.0))
         .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
         .show(ctx, |ui| choice = contents(ui, cx, &mut d));
     match choice {

@@ -17,6 +17,14 @@ fn entry(ui: &mut egui::Ui, text: &str, action: Action) -> bool {
 
 pub fn menu_bar(ui: &mut egui::Ui, cx: &mut Ctx) {
     egui::MenuBar::new().ui(ui, |ui| {
+        // In a narrow window the panel folds back to its strip.
+        if ui.ctx().content_rect().width() < super::NARROW {
+            let r = ui.button("«").on_hover_text("fold the panel to a strip");
+            cx.ui.rect(ui, "fold panel", &r);
+            if r.clicked() {
+                cx.ask(Command::ExpandPanel(false));
+            }
+        }
         ui.menu_button("File", |ui| file_menu(ui, cx));
         ui.menu_button("Edit", |ui| edit_menu(ui, cx));
         ui.menu_button("View", |ui| view_menu(ui, cx));

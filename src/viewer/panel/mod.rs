@@ -32,7 +32,8 @@ mod widgets;
 pub use confirm::{Answer, Pending};
 pub use file_dialog::{DialogMode, FileDialog};
 
-use super::screen::Display;
+use super::screen::{Display, PanelShape};
+use super::session::Command;
 use super::session::Session;
 use egui::Color32;
 use lensview::edit::{Change, Document, Item, Rejected, Source};
@@ -44,6 +45,11 @@ use std::path::{Path, PathBuf};
 
 /// Width of the panel in points (logical pixels), margins included.
 pub const PANEL_WIDTH: f32 = 340.0;
+/// Below this window width (points) the panel collapses to a strip, so the
+/// picture keeps most of the width.
+pub const NARROW: f32 = 900.0;
+/// Width of the collapsed panel: the button that opens it.
+pub const STRIP_WIDTH: f32 = 30.0;
 
 const ERROR: Color32 = Color32::from_rgb(255, 110, 100);
 const WARN: Color32 = Color32::from_rgb(255, 190, 90);
@@ -195,7 +201,12 @@ pub fn show(ui: &mut egui::Ui, cx: &mut Ctx) {
     {
         cx.ui.selected = None;
     }
-    if cx.display.panel {
+    let width = ui.ctx().content_rect().width();
+    let shape = cx.display.panel_shape(width);
+    if shape == PanelShape::Strip {
+        strip(ui, cx);
+    }
+    if shape == PanelShape::Full {
         let r = egui::Panel::left("lensview-panel")
             .exact_size(PANEL_WIDTH)
             .resizable(false)
@@ -218,6 +229,23 @@ pub fn show(ui: &mut egui::Ui, cx: &mut Ctx) {
     let ctx = ui.ctx().clone();
     file_dialog::window(&ctx, cx);
     confirm::modal(&ctx, cx);
+}
+
+/// The collapsed panel of a narrow window: a strip with the button that
+/// opens it.
+fn strip(ui: &mut egui::Ui, cx: &mut Ctx) {
+    egui::Panel::left("lensview-strip")
+        .exact_size(STRIP_WIDTH)
+        .resizable(false)
+        .show(ui, |ui| {
+            let r = ui
+                .add(egui::Button::new(egui::RichText::new("»").strong()).min_size(egui::vec2(20.0, 28.0)))
+                .on_hover_text("open the editing panel (F4 hides it)");
+            cx.ui.rect(ui, "open panel", &r);
+            if r.clicked() {
+                cx.ask(Command::ExpandPanel(true));
+            }
+        });
 }
 
 /// A collapsing section whose header is recorded as `section NAME`.
