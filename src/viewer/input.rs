@@ -127,6 +127,8 @@ impl Viewer {
             Action::Screenshot => s.ask(Command::Screenshot),
             Action::ToggleOverlay => self.display.overlay = !self.display.overlay,
             Action::ToggleHelp => self.display.help = !self.display.help,
+            Action::ToggleOptics => s.ui.analysis.optics ^= true,
+            Action::ToggleAnalysis => s.ui.analysis.window ^= true,
             Action::Undo => s.undo(),
             Action::Redo => s.redo(),
             Action::Save => {

@@ -52,6 +52,8 @@ pub enum Action {
     Screenshot,
     ToggleOverlay,
     ToggleHelp,
+    ToggleOptics,
+    ToggleAnalysis,
     HalfResolution,
     Quit,
 }
@@ -82,6 +84,8 @@ impl Action {
             Action::Screenshot
                 | Action::ToggleOverlay
                 | Action::ToggleHelp
+                | Action::ToggleOptics
+                | Action::ToggleAnalysis
                 | Action::Quit
                 | Action::Undo
                 | Action::Redo
@@ -174,6 +178,13 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
+    (
+        KeyCode::F6,
+        "F6",
+        Action::ToggleOptics,
+        "optics over the picture on/off (axis, F, F', H, H', ray fan)",
+    ),
+    (KeyCode::F7, "F7", Action::ToggleAnalysis, "lens analysis window on/off"),
     (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
     (
         KeyCode::Delete,

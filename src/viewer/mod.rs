@@ -26,6 +26,7 @@ mod flight;
 mod gui;
 mod input;
 mod keys;
+mod optics;
 mod overlay;
 mod panel;
 mod refine;
@@ -261,6 +262,7 @@ impl Viewer {
     /// asked.
     fn run_ui(&mut self) {
         let Some(screen) = &mut self.screen else { return };
+        let pic = optics::picture(screen, &self.display);
         let mut cx = panel::Ctx {
             session: &mut self.session,
             display: &mut self.display,
@@ -271,7 +273,10 @@ impl Viewer {
                 frame: self.refine.frame(),
             },
         };
-        let delay = screen.gui.run(&screen.window, |ui| panel::show(ui, &mut cx));
+        let delay = screen.gui.run(&screen.window, |ui| {
+            panel::show(ui, &mut cx);
+            optics::overlay(ui.ctx(), cx.session, pic);
+        });
         self.repaint_at = delay.map(|d| Instant::now() + d);
         if delay == Some(Duration::ZERO) {
             screen.window.request_redraw();
