@@ -189,7 +189,8 @@ pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
     let font = egui::FontId::proportional(15.0);
     let label = |at: egui::Pos2, text: &str, colour: egui::Color32| {
         let g = painter.layout_no_wrap(text.to_string(), font.clone(), colour);
-        let r = egui::Rect::from_min_size(at + egui::vec2(6.0, -g.size().y - 4.0), g.size()).expand(2.0);
+        // Up and right, clear of a marker's disc (radius 5).
+        let r = egui::Rect::from_min_size(at + egui::vec2(9.0, -g.size().y - 9.0), g.size()).expand(2.0);
         painter.rect_filled(r, 2.0, egui::Color32::from_black_alpha(170));
         painter.galley(r.min + egui::vec2(2.0, 2.0), g, colour);
     };
