@@ -809,3 +809,96 @@ fn exit_after_closes_the_window_with_a_question_open() {
     let (status, err) = s.wait_exit("--exit-after with the question open");
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
+
+/// The camera's projection of a world point to pixel coordinates of a
+/// `W × H` picture (y down): `Camera::ray` inverted, written here again.
+fn project(cam: &lensview::camera::Camera, p: glam::DVec3) -> (f64, f64) {
+    let d = p - cam.position;
+    let z = d.dot(cam.forward());
+    assert!(z > 0.0, "behind the camera");
+    let tan = (cam.fov_y_deg.to_radians() / 2.0).tan();
+    let aspect = W as f64 / H as f64;
+    let (sx, sy) = (d.dot(cam.right()) / z / (tan * aspect), d.dot(cam.up()) / z / tan);
+    ((sx + 1.0) * W as f64 / 2.0, (1.0 - sy) * H as f64 / 2.0)
+}
+
+#[test]
+fn optics_overlay_draws_f_prime_where_lens_info_puts_it_without_restarting() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let dir = dir();
+    // cubes.toml seen from the side, where the fan and F′ are spread out.
+    let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml")).unwrap();
+    let text = text
+        .replace("position = [0, 6, 10]", "position = [7.5, 4.2, 4.4]")
+        .replace("rotation = [-28.810794, 0, 0]", "rotation = [-10, 90, 0]");
+    let scene = dir.join("cubes-side.toml");
+    std::fs::write(&scene, text).unwrap();
+    let (w, h) = (W.to_string(), H.to_string());
+    let args = [
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--max-spp",
+        "2",
+        "--exit-after",
+        "600",
+        "--no-panel",
+    ];
+    let s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let g1 = s.wait_frame_where(0, 2, "start", |f| f["width"] == W && f["x0"] == 0);
+    // F′ from `lens info` (BFD from V2) and the scene's lens pose.
+    let (sf, sc) = Scene::load(&scene).unwrap();
+    let l = &sf.lenses[0];
+    let out = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .args(["lens", "info", "--d", &l.d.to_string(), "--r1", &l.r1.to_string()])
+        .args(["--r2", &l.r2.to_string(), "--n", "1.5", "--json"])
+        .output()
+        .unwrap();
+    let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let a = glam::DVec3::from(l.axis).normalize();
+    let v2 = glam::DVec3::from(l.center) - a * info["sag2"].as_f64().unwrap();
+    let f_back = v2 - a * info["bfd"].as_f64().unwrap();
+    let (px, py) = project(&sc.camera, f_back);
+    assert!(
+        px > 10.0 && px < W as f64 - 10.0 && py > 10.0 && py < H as f64 - 10.0,
+        "F′ off screen"
+    );
+    // The marker: a magenta disc (radius 5) centred within a pixel of the
+    // projection (pixel centres at half-integers).
+    let magenta_near = |img: &Image| {
+        let rgb = img.to_srgb8();
+        let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
+        for y in (py as i64 - 7)..=(py as i64 + 7) {
+            for x in (px as i64 - 7)..=(px as i64 + 7) {
+                let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
+                if p[0] > 200 && p[1] < 80 && p[2] > 200 {
+                    n += 1.0;
+                    sx += x as f64 + 0.5;
+                    sy += y as f64 + 0.5;
+                }
+            }
+        }
+        n >= 40.0 && (sx / n - px).hypot(sy / n - py) < 1.0
+    };
+    // The text overlay off; then the optics on.
+    let n = s.frames().len();
+    s.key("F1");
+    s.wait_present(n, "F1");
+    assert!(
+        !magenta_near(&s.screenshot("before.png")),
+        "magenta at F′ before the overlay"
+    );
+    let n = s.frames().len();
+    s.key("F6");
+    s.wait_screenshot("optics.png", "F′ at its projected pixel", magenta_near);
+    s.wait_present(n, "F6");
+    s.key("F6");
+    s.wait_screenshot("no-optics.png", "the optics switched off", |img| !magenta_near(img));
+    let gens: Vec<_> = s.frames()[n..].iter().map(|f| f["generation"].clone()).collect();
+    assert!(
+        gens.iter().all(|g| g == g1),
+        "toggling the optics restarted refinement: {gens:?} after {g1}"
+    );
+}

@@ -129,6 +129,8 @@ impl Viewer {
             Action::ScreenshotExr => s.ask(Command::Screenshot(ImageFormat::Exr)),
             Action::ToggleOverlay => self.display.overlay = self.display.overlay.next(),
             Action::ToggleHelp => self.display.help = !self.display.help,
+            Action::ToggleOptics => s.ui.analysis.optics ^= true,
+            Action::ToggleAnalysis => s.ui.analysis.window ^= true,
             Action::Undo => s.undo(),
             Action::Redo => s.redo(),
             Action::Save => {

@@ -53,6 +53,8 @@ pub enum Action {
     ScreenshotExr,
     ToggleOverlay,
     ToggleHelp,
+    ToggleOptics,
+    ToggleAnalysis,
     HalfResolution,
     Quit,
 }
@@ -84,6 +86,8 @@ impl Action {
                 | Action::ScreenshotExr
                 | Action::ToggleOverlay
                 | Action::ToggleHelp
+                | Action::ToggleOptics
+                | Action::ToggleAnalysis
                 | Action::Quit
                 | Action::Undo
                 | Action::Redo
@@ -181,6 +185,13 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
+    (
+        KeyCode::F6,
+        "F6",
+        Action::ToggleOptics,
+        "optics over the picture on/off (axis, F, F', H, H', ray fan)",
+    ),
+    (KeyCode::F7, "F7", Action::ToggleAnalysis, "lens analysis window on/off"),
     (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
     (
         KeyCode::Delete,

@@ -26,6 +26,7 @@ mod flight;
 mod gui;
 mod input;
 mod keys;
+mod optics;
 mod overlay;
 mod pacing;
 mod panel;
@@ -308,6 +309,7 @@ impl Viewer {
     fn run_ui(&mut self, lines: &[String]) {
         let Some(screen) = &mut self.screen else { return };
         let picture = screen.picture_rect(&self.display);
+        let pic = optics::picture(screen, &self.display);
         let mut cx = panel::Ctx {
             session: &mut self.session,
             display: &mut self.display,
@@ -321,6 +323,7 @@ impl Viewer {
         let delay = screen.gui.run(&screen.window, |ui| {
             overlay::show(ui.ctx(), picture, lines);
             panel::show(ui, &mut cx);
+            optics::overlay(ui.ctx(), cx.session, pic);
             overlay::help_window(ui.ctx(), &mut cx.display.help);
         });
         self.repaint_at = delay.map(|d| Instant::now() + d);

@@ -18,6 +18,7 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     let header = egui::CollapsingHeader::new("Lens").open(open);
     super::section(ui, cx, header, "Lens", |ui, cx| {
         let count = cx.doc.scene().lenses.len();
+        super::analysis::toggles(ui, cx);
         if count == 0 {
             ui.weak("No lens in this scene: Add → lens puts one in front of the camera.");
             return;

@@ -18,6 +18,7 @@
 //! reverted.
 
 mod add;
+mod analysis;
 mod camera;
 mod confirm;
 mod file_dialog;
@@ -26,9 +27,11 @@ mod light;
 mod material;
 mod menu;
 mod objects;
+mod plots;
 mod render;
 mod widgets;
 
+pub use analysis::AnalysisState;
 pub use confirm::{Answer, Pending};
 pub use file_dialog::{DialogMode, FileDialog};
 
@@ -131,6 +134,8 @@ pub struct UiState {
     pub error: Option<String>,
     rects: Rects,
     start_dir: PathBuf,
+    /// The optics overlay and analysis window (`analysis`).
+    pub analysis: AnalysisState,
 }
 
 impl UiState {
@@ -156,6 +161,7 @@ impl UiState {
             error: None,
             rects: Rects::default(),
             start_dir,
+            analysis: AnalysisState::default(),
         }
     }
 
@@ -227,6 +233,7 @@ pub fn show(ui: &mut egui::Ui, cx: &mut Ctx) {
         cx.ui.rects.insert("panel", r.response.rect, ppp);
     }
     let ctx = ui.ctx().clone();
+    analysis::window(&ctx, cx);
     file_dialog::window(&ctx, cx);
     confirm::modal(&ctx, cx);
 }

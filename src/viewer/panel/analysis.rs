@@ -1,0 +1,211 @@
+//! The optics switches (in the *Lens* section: the overlay in the picture,
+//! F6; the analysis window, F7) and the *Lens analysis* window: the
+//! cross-section to scale with the ray fan and F, F′, H, H′ and the real
+//! marginal focus M; the longitudinal spherical aberration; the spot
+//! diagram for the C, d and F lines at a chosen image plane; distortion
+//! against field angle. Everything is computed by `lensview::lens_tools`
+//! (every ray by `Lens::trace`) from the lens as it is in this very UI pass,
+//! so an edit by key, panel or undo shows in the same frame.
+
+use super::Ctx;
+use super::plots::{Series, plot, sketch};
+use egui::{Color32, Vec2};
+use lensview::lens_tools::{Setup, distortion, fan, spot_diagram};
+
+/// The optics display state (not part of the scene).
+pub struct AnalysisState {
+    /// The optics overlay over the picture (F6).
+    pub optics: bool,
+    /// The analysis window (F7).
+    pub window: bool,
+    /// Object at infinity, else at `object_distance` before V1.
+    pub infinity: bool,
+    pub object_distance: f64,
+    pub field_deg: f64,
+    /// The image plane's distance from the paraxial image (defocus).
+    pub defocus: f64,
+    pub rings: u32,
+}
+
+impl Default for AnalysisState {
+    fn default() -> Self {
+        AnalysisState {
+            optics: false,
+            window: false,
+            infinity: true,
+            object_distance: 20.0,
+            field_deg: 0.0,
+            defocus: 0.0,
+            rings: 6,
+        }
+    }
+}
+
+impl AnalysisState {
+    /// The object distance the figures use (`None`: at infinity).
+    pub fn object(&self) -> Option<f64> {
+        (!self.infinity).then_some(self.object_distance)
+    }
+}
+
+/// The two switches, for the *Lens* section.
+pub fn toggles(ui: &mut egui::Ui, cx: &mut Ctx) {
+    let a = &mut cx.ui.analysis;
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut a.optics, "Show optics (F6)")
+            .on_hover_text("axis, F, F′, H, H′ and a real ray fan over the picture");
+        ui.checkbox(&mut a.window, "Analysis (F7)");
+    });
+}
+
+const LINES: [Color32; 3] = [
+    Color32::from_rgb(235, 70, 60),
+    Color32::from_rgb(90, 210, 90),
+    Color32::from_rgb(90, 140, 255),
+];
+
+/// The *Lens analysis* window, when open.
+pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
+    if !cx.ui.analysis.window {
+        return;
+    }
+    let mut open = true;
+    let lens = (cx.doc.built().objects.iter().filter_map(|o| o.lens()))
+        .nth(cx.ui.lens)
+        .cloned();
+    egui::Window::new("Lens analysis")
+        .open(&mut open)
+        .default_size([760.0, 640.0])
+        .default_pos([360.0, 40.0])
+        .show(ctx, |ui| {
+            let Some(lens) = lens else {
+                ui.label("No lens in this scene.");
+                return;
+            };
+            controls(ui, &mut cx.ui.analysis);
+            let a = &cx.ui.analysis;
+            match Setup::new(lens.d, lens.r1, lens.r2, lens.index, a.object(), a.field_deg) {
+                Ok(s) => figures(ui, &s, a),
+                Err(e) => {
+                    ui.colored_label(super::ERROR, e.to_string());
+                }
+            }
+        });
+    cx.ui.analysis.window &= open;
+}
+
+fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut a.infinity, "object at infinity");
+        ui.add_enabled(
+            !a.infinity,
+            egui::DragValue::new(&mut a.object_distance)
+                .range(1e-3..=1e6)
+                .speed(0.1)
+                .prefix("distance before V1 "),
+        );
+        ui.add(
+            egui::Slider::new(&mut a.field_deg, -60.0..=60.0)
+                .text("field °")
+                .step_by(0.5),
+        );
+    });
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut a.defocus)
+                .speed(0.01)
+                .prefix("image plane: paraxial focus + "),
+        );
+        ui.add(egui::Slider::new(&mut a.rings, 1..=16).text("spot rings"));
+    });
+}
+
+fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) {
+    let width = ui.available_width().max(300.0);
+    match fan(s, 7, None) {
+        Ok(f) => {
+            let c = &f.cardinal;
+            let opt = |x: Option<f64>| x.map_or("—".into(), |x| format!("{x:.5}"));
+            ui.label(format!(
+                "EFL {}   BFD {}   FFD {}   marginal focus M {} from V2",
+                opt(c.efl),
+                opt(c.bfd),
+                opt(c.ffd),
+                opt(c.marginal_focus_from_v2)
+            ));
+            sketch(ui, &f.sketch(s), width, 240.0);
+            ui.horizontal(|ui| {
+                let size = Vec2::new((width / 3.0 - 8.0).max(160.0), 230.0);
+                let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
+                let series = [Series {
+                    colour: LINES[1],
+                    points: lsa,
+                    dots: false,
+                }];
+                plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
+                spot(ui, s, a, size);
+                distortion_plot(ui, s, size);
+            });
+        }
+        Err(e) => {
+            ui.colored_label(super::ERROR, e.to_string());
+        }
+    }
+}
+
+fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) {
+    let paraxial = s.image_plane(None).ok();
+    let plane = paraxial.map(|p| p + a.defocus).filter(|p| *p > 0.0);
+    let Some(Ok(sd)) = plane.map(|p| spot_diagram(s, Some(p), a.rings)) else {
+        ui.allocate_ui(size, |ui| {
+            ui.label("Spot: no real image plane after V2 here.");
+        });
+        return;
+    };
+    ui.vertical(|ui| {
+        let series: Vec<Series> = (sd.spots.iter().zip(LINES))
+            .map(|(sp, colour)| Series {
+                colour,
+                points: sp
+                    .rays
+                    .iter()
+                    .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
+                    .collect(),
+                dots: true,
+            })
+            .collect();
+        let title = format!("Spot at {:.4} after V2", sd.image_plane_from_v2);
+        plot(ui, size, &title, ("x", "y"), &series, true);
+        for (sp, colour) in sd.spots.iter().zip(LINES) {
+            let c = sp
+                .centroid
+                .map_or("—".into(), |c| format!("({:.2e}, {:.2e})", c[0], c[1]));
+            let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
+            ui.colored_label(colour, format!("{}: RMS {r}  centroid {c}", sp.line));
+        }
+    });
+}
+
+fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
+    match distortion(s, 30.0, 30) {
+        Ok(d) => {
+            let mut pts = vec![[0.0, 0.0]];
+            pts.extend(
+                d.points
+                    .iter()
+                    .filter_map(|p| Some([p.field_deg, p.distortion_percent?])),
+            );
+            let series = [Series {
+                colour: LINES[2],
+                points: pts,
+                dots: false,
+            }];
+            plot(ui, size, "Distortion", ("field °", "%"), &series, false);
+        }
+        Err(_) => {
+            ui.allocate_ui(size, |ui| {
+                ui.label("Distortion: no real paraxial image.");
+            });
+        }
+    }
+}
