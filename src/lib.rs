@@ -11,7 +11,7 @@
 //!
 //! ```text
 //! math · color · sampling · optics · simd     pure functions and lane helpers
-//! limits · output                             size/work limits · atomic file writes
+//! limits · output · photon                    size/work limits · atomic file writes · photon map
 //!         ↑
 //! geometry · material · light · camera        one closed set of shapes
 //!         ↑
@@ -77,6 +77,7 @@ pub mod material;
 pub mod math;
 pub mod optics;
 pub mod output;
+pub mod photon;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -3,6 +3,7 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
+use lensview::render::caustics::{CausticSettings, passes_for_spp, with_caustics};
 use lensview::render::{RenderSettings, render};
 use lensview::{limits, output};
 use std::io::IsTerminal;
@@ -49,6 +50,11 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let tty = std::io::stderr().is_terminal();
     let show = |f: f64| eprint!("\rrendering {:3.0}%", f * 100.0);
     let start = Instant::now();
+    let photon_settings = CausticSettings {
+        seed: a.seed,
+        ..CausticSettings::default()
+    };
+    let scene = with_caustics(&scene, passes_for_spp(spp), photon_settings);
     let img = render(&scene, &settings, if tty { Some(&show) } else { None });
     let secs = start.elapsed().as_secs_f64();
     if tty {
@@ -56,8 +62,12 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     img.write_png(&a.output)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
+    let photons = match &scene.caustic_map {
+        Some(m) => format!(", caustics: {} photon passes, {} photons", m.0.passes(), m.0.photons()),
+        None => String::new(),
+    };
     println!(
-        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",
+        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads{photons}) → {}",
         a.width,
         a.height,
         spp,

@@ -34,6 +34,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a checkerboard wall behind the lens: magnification and distortion",
         text: include_str!("../../scenes/optical-bench.toml"),
     },
+    Preset {
+        name: "focal spot",
+        file: "focal-spot.toml",
+        about: "a point light above a lens: the focal spot and its caustic ring on the floor",
+        text: include_str!("../../scenes/focal-spot.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).

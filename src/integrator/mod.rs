@@ -20,7 +20,9 @@
 //!   one's arithmetic, and its working memory ([`PacketScratch`]);
 //! - `lens_pass.rs`: the pass through a lens of one ray
 //!   ([`transmitted_ray`]) or of a packet's lanes at once, from the same
-//!   per-ray steps.
+//!   per-ray steps;
+//! - `photons.rs`: caustic photons from the lights through the glass and
+//!   off the mirrors to the diffuse surfaces ([`photon_pass`]).
 //!
 //! [`Features`]: crate::scene::Features
 
@@ -42,12 +44,14 @@ macro_rules! with_features {
 
 mod lens_pass;
 mod packet;
+mod photons;
 mod scalar;
 mod shade;
 mod surface;
 
 pub use lens_pass::{Transmitted, transmitted_ray};
 pub use packet::PacketScratch;
+pub use photons::{Targets, photon_pass};
 pub use shade::{Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 

@@ -4,6 +4,7 @@
 //! Each pixel depends only on (scene, camera, pixel, sample index, seed), so
 //! the image is bit-identical on any number of threads.
 
+pub mod caustics;
 mod image;
 pub mod progressive;
 pub mod worker;
