@@ -129,3 +129,108 @@ pub fn with_caustics(scene: &Scene, passes: u32, settings: CausticSettings) -> S
     }
     out
 }
+
+/// The caustics the render thread keeps from job to job: one photon map
+/// for as long as the lights, objects and materials stay the same (camera
+/// moves keep it), refined by [`PASSES_PER_SPP`] passes per sample per
+/// pixel a stage adds, before the stage.
+#[derive(Default)]
+pub struct Interleaved {
+    scene: Option<Arc<Scene>>,
+    caustics: Option<Caustics>,
+}
+
+impl Interleaved {
+    /// Takes the scene of a new job: the estimate is kept when only the
+    /// camera (or the image) changed, else started again.
+    pub fn follow(&mut self, scene: &Arc<Scene>) {
+        let same = self
+            .scene
+            .as_ref()
+            .is_some_and(|s| Caustics::same_light_paths(s, scene));
+        if !same {
+            self.caustics = Caustics::new(scene, CausticSettings::default());
+        }
+        self.scene = Some(scene.clone());
+    }
+
+    /// Adds the passes due before a stage that brings `added_spp` samples
+    /// per pixel (none for a block preview), stopping early when
+    /// `cancelled` says so or the map is full.
+    pub fn refine(&mut self, added_spp: u32, cancelled: &dyn Fn() -> bool) {
+        let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
+            return;
+        };
+        for _ in 0..added_spp.saturating_mul(PASSES_PER_SPP) {
+            if cancelled() || !c.can_refine() {
+                break;
+            }
+            c.add_pass(scene);
+        }
+    }
+
+    /// The scene to render the stage with: the job's with the map, or
+    /// `None` when there is no map (render the job's scene itself). Drop it
+    /// before the next [`Self::refine`], which then changes the map in
+    /// place.
+    pub fn scene_with_map(&self) -> Option<Scene> {
+        let (c, scene) = (self.caustics.as_ref()?, self.scene.as_ref()?);
+        let map = c.shared()?;
+        let mut s = Scene::clone(scene);
+        s.caustic_map = Some(map);
+        Some(s)
+    }
+
+    /// Passes and photons of the current map (zero without one).
+    pub fn counts(&self) -> (u32, usize) {
+        self.caustics.as_ref().map_or((0, 0), |c| (c.passes(), c.photons()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn focal_spot() -> Scene {
+        let text = include_str!("../../scenes/focal-spot.toml");
+        Scene::parse("focal-spot.toml", text).unwrap().1
+    }
+
+    /// A camera move keeps the estimate; a light move starts it again.
+    #[test]
+    fn the_estimate_survives_camera_moves_only() {
+        let base = focal_spot();
+        let mut it = Interleaved::default();
+        it.follow(&Arc::new(base.clone()));
+        it.refine(1, &|| false);
+        let (passes, photons) = it.counts();
+        assert_eq!(passes, PASSES_PER_SPP);
+        assert!(photons > 1000, "{photons}");
+        let mut moved = base.clone();
+        moved.camera.position.x += 1.0;
+        it.follow(&Arc::new(moved));
+        assert_eq!(it.counts(), (passes, photons));
+        let shown = it.scene_with_map().unwrap();
+        assert_eq!(shown.camera.position.x, base.camera.position.x + 1.0);
+        assert_eq!(shown.caustic_map.unwrap().0.passes(), passes);
+        let mut lit = base.clone();
+        if let crate::light::Light::Point { position, .. } = &mut lit.lights[0] {
+            position.x += 0.5;
+        }
+        it.follow(&Arc::new(lit));
+        assert_eq!(it.counts(), (0, 0));
+        assert!(it.scene_with_map().is_none());
+        // Cancelled: no pass.
+        it.refine(4, &|| true);
+        assert_eq!(it.counts(), (0, 0));
+    }
+
+    /// Passes for a headless render: in proportion to the samples.
+    #[test]
+    fn headless_passes_follow_the_samples() {
+        assert_eq!(passes_for_spp(1), MIN_PASSES);
+        assert_eq!(passes_for_spp(64), 64 * PASSES_PER_SPP);
+        let s = with_caustics(&focal_spot(), 3, CausticSettings::default());
+        assert_eq!(s.caustic_map.unwrap().0.passes(), 3);
+    }
+}

@@ -53,6 +53,7 @@ pub enum Action {
     ToggleOverlay,
     ToggleHelp,
     HalfResolution,
+    ToggleCaustics,
     Quit,
 }
 
@@ -90,6 +91,7 @@ impl Action {
                 | Action::Open
                 | Action::TogglePanel
                 | Action::Pause
+                | Action::ToggleCaustics
                 | Action::DeleteSelected
                 | Action::DuplicateSelected
         )
@@ -174,6 +176,12 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::F2, "F2", Action::ToggleHelp, "this help on/off"),
     (KeyCode::F3, "F3", Action::HalfResolution, "half resolution on/off"),
     (KeyCode::F4, "F4", Action::TogglePanel, "editing panel on/off"),
+    (
+        KeyCode::KeyC,
+        "C",
+        Action::ToggleCaustics,
+        "caustics (photon mapping) on/off",
+    ),
     (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
     (
         KeyCode::Delete,
