@@ -48,58 +48,138 @@ impl Photon {
     }
 }
 
-/// A cheap, deterministic hash for integer cell keys (a multiply-xorshift).
+/// A cell's key: its integer coordinates.
+type Key = [i64; 3];
+
+/// A cheap hash of a cell's key, for the map and the occupancy bits.
+#[inline]
+fn cell_hash(k: Key) -> u64 {
+    let h = (k[0] as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        ^ (k[1] as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+        ^ (k[2] as u64).wrapping_mul(0x1656_67b1_9e37_79f9);
+    h ^ (h >> 29)
+}
+
+/// The hasher of [`Cells`]: [`cell_hash`] of the key, whatever else is
+/// written (the length of nothing: keys are arrays).
 #[derive(Default)]
 struct CellHasher(u64);
 
 impl Hasher for CellHasher {
     fn finish(&self) -> u64 {
-        crate::sampling::mix64(self.0)
+        self.0
     }
     fn write(&mut self, bytes: &[u8]) {
         for &b in bytes {
             self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
         }
     }
-    fn write_i64(&mut self, v: i64) {
-        self.0 = (self.0 ^ v as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(23);
+    fn write_u64(&mut self, v: u64) {
+        self.take(v);
     }
 }
 
-type Cells = HashMap<[i64; 3], Vec<Photon>, BuildHasherDefault<CellHasher>>;
+/// A cell key hashed whole (not element by element).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct CellKey(Key);
+
+impl std::hash::Hash for CellKey {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        state.write_u64(cell_hash(self.0));
+    }
+}
+
+impl CellHasher {
+    fn take(&mut self, v: u64) {
+        self.0 = v;
+    }
+}
+
+type Cells = HashMap<CellKey, Vec<Photon>, BuildHasherDefault<CellHasher>>;
+
+/// Bits of a level's occupancy filter: a cell whose bit is clear holds no
+/// photon, so most queries away from caustics cost a few bit tests.
+const OCCUPANCY_BITS: u32 = 18;
+
+/// Which cells of side `cell` hold a photon, as bits indexed by a hash of
+/// the cell (no false "empty": a clear bit means no photon there).
+#[derive(Clone, Debug)]
+struct Occupancy {
+    cell: f64,
+    bits: Vec<u64>,
+}
+
+impl Occupancy {
+    fn new(cell: f64) -> Self {
+        Occupancy {
+            cell,
+            bits: vec![0; 1 << (OCCUPANCY_BITS - 6)],
+        }
+    }
+
+    #[inline]
+    fn key(&self, p: DVec3) -> Key {
+        let c = (p / self.cell).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
+    }
+
+    /// The word and bit of cell `k`.
+    #[inline]
+    fn bit(k: Key) -> (usize, u64) {
+        let b = (cell_hash(k) >> (64 - OCCUPANCY_BITS)) as usize;
+        (b >> 6, 1u64 << (b & 63))
+    }
+
+    fn mark(&mut self, k: Key) {
+        let (w, b) = Self::bit(k);
+        self.bits[w] |= b;
+    }
+
+    #[inline]
+    fn may_hold(&self, k: Key) -> bool {
+        let (w, b) = Self::bit(k);
+        self.bits[w] & b != 0
+    }
+
+    /// Whether any cell within `r` of `x` may hold a photon.
+    fn near(&self, x: DVec3, r: f64) -> bool {
+        let (a, b) = (self.key(x - r), self.key(x + r));
+        (a[0]..=b[0]).any(|i| (a[1]..=b[1]).any(|j| (a[2]..=b[2]).any(|k| self.may_hold([i, j, k]))))
+    }
+}
 
 /// The photons of one level of passes, all gathered with one radius, in
 /// cubic cells of side twice the radius (a query visits at most 8).
 #[derive(Clone, Debug)]
 struct Level {
     radius: f64,
-    cell: f64,
     lo: DVec3,
     hi: DVec3,
     cells: Cells,
+    occupied: Occupancy,
 }
 
 impl Level {
     fn new(radius: f64) -> Self {
         Level {
             radius,
-            cell: 2.0 * radius,
             lo: DVec3::INFINITY,
             hi: DVec3::NEG_INFINITY,
             cells: Cells::default(),
+            occupied: Occupancy::new(2.0 * radius),
         }
     }
 
-    fn key(&self, p: DVec3) -> [i64; 3] {
-        let c = (p / self.cell).floor();
-        [c.x as i64, c.y as i64, c.z as i64]
+    fn key(&self, p: DVec3) -> Key {
+        self.occupied.key(p)
     }
 
     fn insert(&mut self, ph: Photon) {
         self.lo = self.lo.min(ph.p);
         self.hi = self.hi.max(ph.p);
         let k = self.key(ph.p);
-        self.cells.entry(k).or_default().push(ph);
+        self.occupied.mark(k);
+        self.cells.entry(CellKey(k)).or_default().push(ph);
     }
 
     /// The power of the photons within the radius of `x` that arrived on
@@ -115,7 +195,12 @@ impl Level {
         for i in a[0]..=b[0] {
             for j in a[1]..=b[1] {
                 for k in a[2]..=b[2] {
-                    let Some(v) = self.cells.get(&[i, j, k]) else { continue };
+                    if !self.occupied.may_hold([i, j, k]) {
+                        continue;
+                    }
+                    let Some(v) = self.cells.get(&CellKey([i, j, k])) else {
+                        continue;
+                    };
                     for ph in v {
                         if (ph.p - x).length_squared() < r2 && ph.faces(n) {
                             for (acc, &w) in sum.iter_mut().zip(&ph.power) {
@@ -140,6 +225,9 @@ pub struct PhotonMap {
     passes: u32,
     photons: usize,
     levels: Vec<Level>,
+    /// Every photon's cell at the first (largest) radius: a query with
+    /// nothing near skips all levels at once.
+    coarse: Occupancy,
 }
 
 impl PhotonMap {
@@ -150,6 +238,7 @@ impl PhotonMap {
             passes: 0,
             photons: 0,
             levels: Vec::new(),
+            coarse: Occupancy::new(2.0 * r0),
         }
     }
 
@@ -171,6 +260,8 @@ impl PhotonMap {
         }
         for &ph in photons {
             self.levels[level].insert(ph);
+            let k = self.coarse.key(ph.p);
+            self.coarse.mark(k);
         }
         self.photons += photons.len();
     }
@@ -194,7 +285,7 @@ impl PhotonMap {
     /// normal (toward the viewer) is `n`: the mean over the passes of each
     /// pass's density estimate. Zero before the first pass.
     pub fn irradiance(&self, x: DVec3, n: DVec3) -> Rgb {
-        if self.passes == 0 || self.photons == 0 {
+        if self.passes == 0 || self.photons == 0 || !self.coarse.near(x, self.r0) {
             return Rgb::ZERO;
         }
         let mut e = Rgb::ZERO;

@@ -55,6 +55,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
         ..CausticSettings::default()
     };
     let scene = with_caustics(&scene, passes_for_spp(spp), photon_settings);
+    let photon_secs = start.elapsed().as_secs_f64();
     let img = render(&scene, &settings, if tty { Some(&show) } else { None });
     let secs = start.elapsed().as_secs_f64();
     if tty {
@@ -63,7 +64,11 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     img.write_png(&a.output)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     let photons = match &scene.caustic_map {
-        Some(m) => format!(", caustics: {} photon passes, {} photons", m.0.passes(), m.0.photons()),
+        Some(m) => format!(
+            ", caustics: {} photon passes in {photon_secs:.3} s, {} photons",
+            m.0.passes(),
+            m.0.photons()
+        ),
         None => String::new(),
     };
     println!(
