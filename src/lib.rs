@@ -11,7 +11,7 @@
 //!
 //! ```text
 //! math · color · sampling · optics · simd     pure functions and lane helpers
-//! limits · output                             size/work limits · atomic file writes
+//! limits · output · photon                    size/work limits · atomic file writes · photon map
 //!         ↑
 //! geometry · material · light · camera        one closed set of shapes
 //!         ↑
@@ -53,6 +53,7 @@
 //! | the pass through a lens, scalar and in lanes | `integrator/lens_pass.rs` |
 //! | feature dispatch, entry points | `integrator/mod.rs` |
 //! | rendering an image, the progressive schedule, the render thread | `render/{mod,progressive,worker}.rs` |
+//! | caustics: the photon map, photons traced, passes scheduled | `photon.rs`, `integrator/photons.rs`, `render/caustics.rs` |
 //! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
 //! | the viewer's shell, flight, refinement, statistics | `viewer/{mod,flight,refine,stats,session,screen,input}.rs` (binary) |
@@ -78,6 +79,7 @@ pub mod material;
 pub mod math;
 pub mod optics;
 pub mod output;
+pub mod photon;
 pub mod render;
 pub mod sampling;
 pub mod scene;

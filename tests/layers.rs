@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 
 /// Top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers").
 const LAYERS: &[&[&str]] = &[
-    &["math", "color", "sampling", "optics", "simd", "limits", "output"],
+    &[
+        "math", "color", "sampling", "optics", "simd", "limits", "output", "photon",
+    ],
     &["geometry", "material", "light", "camera"],
     &["accel"],
     &["scene"],

@@ -3,6 +3,7 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
+use lensview::render::caustics::{CausticSettings, passes_for_spp, with_caustics};
 use lensview::render::{ImageFormat, RenderSettings, render};
 use lensview::{limits, output};
 use std::path::PathBuf;
@@ -50,13 +51,27 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
+    let photon_settings = CausticSettings {
+        seed: a.seed,
+        ..CausticSettings::default()
+    };
+    let scene = with_caustics(&scene, passes_for_spp(spp), photon_settings);
+    let photon_secs = start.elapsed().as_secs_f64();
     let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
     let secs = start.elapsed().as_secs_f64();
     progress.finish();
     img.write_as(&a.output, format)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
+    let photons = match &scene.caustic_map {
+        Some(m) => format!(
+            ", caustics: {} photon passes in {photon_secs:.3} s, {} photons",
+            m.0.passes(),
+            m.0.photons()
+        ),
+        None => String::new(),
+    };
     println!(
-        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads) → {}",
+        "rendered {}×{} at {} spp in {:.3} s ({:.2} M camera samples/s, {} threads{photons}) → {}",
         a.width,
         a.height,
         spp,

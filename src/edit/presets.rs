@@ -40,6 +40,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a strong lens seen obliquely: the rim ring and the ghosts of reflections inside",
         text: include_str!("../../scenes/rim-lens.toml"),
     },
+    Preset {
+        name: "focal spot",
+        file: "focal-spot.toml",
+        about: "a point light above a lens: the focal spot and its caustic ring on the floor",
+        text: include_str!("../../scenes/focal-spot.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).

@@ -22,7 +22,9 @@
 //!   one's arithmetic, and its working memory ([`PacketScratch`]);
 //! - `lens_pass.rs`: the pass through a lens of one ray
 //!   ([`transmitted_rays`]: every ray out of the lens's Whitted tree) or of
-//!   a packet's lanes at once, from the same per-ray steps.
+//!   a packet's lanes at once, from the same per-ray steps;
+//! - `photons.rs`: caustic photons from the lights through the glass and
+//!   off the mirrors to the diffuse surfaces ([`photon_pass`]).
 //!
 //! [`Features`]: crate::scene::Features
 
@@ -44,12 +46,14 @@ macro_rules! with_features {
 
 mod lens_pass;
 mod packet;
+mod photons;
 mod scalar;
 mod shade;
 mod surface;
 
 pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
 pub use packet::PacketScratch;
+pub use photons::{Targets, photon_pass};
 pub use shade::{LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 

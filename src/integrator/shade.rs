@@ -102,13 +102,18 @@ pub(super) fn visibility_matters<const GLASS: bool, const SPECULAR: bool>(
     SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > s.object.lobe_cos_min
 }
 
-/// The ambient term at the surface: where local shading starts.
+/// The ambient term at the surface, and the caustic photons' light there
+/// when the scene has a photon map: where local shading starts.
 #[inline(always)]
 pub(super) fn ambient<const GLASS: bool>(scene: &Scene, s: &Surface) -> Rgb {
     let m = &s.object.material;
     let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
     let mut color = Rgb::ZERO;
     color += m.color * scene.ambient * (m.ambient * opacity);
+    if let Some(map) = &scene.caustic_map {
+        // The caustic irradiance, lit like a light's: `kd·C·E`.
+        color += m.color * map.0.irradiance(s.p, s.nf) * (m.diffuse * opacity);
+    }
     color
 }
 

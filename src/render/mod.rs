@@ -5,6 +5,7 @@
 //! the image is bit-identical on any number of threads.
 
 pub mod exr;
+pub mod caustics;
 mod image;
 pub mod progressive;
 pub mod worker;

@@ -6,6 +6,7 @@
 //! pause). [`Worker::newest_frame`] hands out only frames of the job that
 //! is still wanted.
 
+use super::caustics::Interleaved;
 use super::progressive::{Progressive, Stage, first_stage, schedule};
 use crate::scene::Scene;
 use crossbeam_channel::{Receiver, Sender, unbounded};
@@ -52,6 +53,10 @@ pub struct Frame {
     pub samples_per_s: f64,
     /// True for the last stage of the schedule.
     pub last: bool,
+    /// Caustic photons stored so far, and the passes that shot them (zero
+    /// without caustics).
+    pub photons: usize,
+    pub photon_passes: u32,
 }
 
 /// The value of `Worker::wanted` that no job has: nothing is to be rendered.
@@ -128,6 +133,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
     // Reused across jobs of the same size: allocating and zeroing two
     // full-resolution buffers per keypress costs milliseconds.
     let mut prog = Progressive::new(0, 0, 0);
+    // The photon map, kept across jobs that change only the camera.
+    let mut caustics = Interleaved::default();
     while let Ok(mut job) = jobs.recv() {
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
@@ -141,12 +148,18 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
         let queued_ms = job.input_time.elapsed().as_secs_f64() * 1e3;
         let generation = job.generation;
         let cancelled = || wanted.load(Ordering::Relaxed) != generation;
+        caustics.follow(&job.scene);
         for (i, &stage) in stages.iter().enumerate().skip(first) {
             let cost = stage.cost(job.width, job.height, prog.spp);
             let t0 = Instant::now();
-            if !prog.run(&job.scene, stage, &cancelled) {
+            if let Stage::Samples(n) = stage {
+                caustics.refine(n.saturating_sub(prog.spp), &cancelled);
+            }
+            let with_map = caustics.scene_with_map();
+            if !prog.run(with_map.as_ref().unwrap_or(&job.scene), stage, &cancelled) {
                 break;
             }
+            drop(with_map);
             let dt = t0.elapsed().as_secs_f64();
             if cost >= 1000 {
                 let sps = dt / cost as f64;
@@ -169,6 +182,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
                 since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
                 samples_per_s: if dt > 0.0 { cost as f64 / dt } else { 0.0 },
                 last: i + 1 == stages.len(),
+                photons: caustics.counts().1,
+                photon_passes: caustics.counts().0,
             };
             if frames.send(frame).is_err() {
                 return;

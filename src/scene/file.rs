@@ -39,6 +39,10 @@ pub struct RenderFile {
     /// Samples per pixel for `lensview render` when `--spp` is not given.
     #[serde(default = "default_spp")]
     pub spp: u32,
+    /// Caustics by photon mapping; `None`: on when glass or a mirror and a
+    /// light are present.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub caustics: Option<bool>,
 }
 
 impl Default for RenderFile {
@@ -48,6 +52,7 @@ impl Default for RenderFile {
             max_depth: default_max_depth(),
             shadows: true,
             spp: default_spp(),
+            caustics: None,
         }
     }
 }

@@ -166,6 +166,11 @@ pub struct Features {
     /// Some transparent material has a wavelength-dependent index: three
     /// wavelengths a sample instead of one.
     pub dispersion: bool,
+    /// Caustics by photon mapping: on by `[render] caustics`, or by default
+    /// when glass or a mirror and a light are present. Shadow rays then stop
+    /// at glass ([`Scene::shadow_filter`]): light through it arrives as
+    /// photons ([`Scene::caustic_map`]).
+    pub caustics: bool,
 }
 
 impl Features {
@@ -175,6 +180,7 @@ impl Features {
         mirror: true,
         specular: true,
         dispersion: true,
+        caustics: true,
     };
 }
 
@@ -194,6 +200,12 @@ pub struct Scene {
     pub max_depth: u32,
     pub shadows: bool,
     pub spp: u32,
+    /// `[render] caustics` as written (`None`: the default, see
+    /// [`Features::caustics`]).
+    pub caustics: Option<bool>,
+    /// The caustic photon map shading adds (`kd·C·E`), when one has been
+    /// built for this scene (`crate::render::caustics`); `None` adds nothing.
+    pub caustic_map: Option<crate::photon::SharedMap>,
     /// What the scene uses ([`Scene::compile`]).
     pub features: Features,
     /// A BVH over `objects` when there are at least [`BVH_MIN_OBJECTS`].
@@ -237,12 +249,14 @@ impl Scene {
     pub fn compile(&mut self) {
         let mats = || self.objects.iter().map(|o| &o.material);
         let glass = mats().any(|m| m.transparency > 0.0);
+        let glass_or_mirror = glass || mats().any(|m| m.reflectivity > 0.0);
         self.features = Features {
             shadows: self.shadows && !self.lights.is_empty() && self.objects.len() > 1,
             glass,
             mirror: glass || mats().any(|m| m.reflectivity > 0.0),
             specular: mats().any(|m| m.specular > 0.0),
             dispersion: mats().any(|m| m.transparency > 0.0 && m.ior.is_dispersive()),
+            caustics: self.caustics.unwrap_or(true) && glass_or_mirror && !self.lights.is_empty(),
         };
         self.bvh = (self.objects.len() >= BVH_MIN_OBJECTS).then(|| {
             let bounds: Vec<Aabb> = self.objects.iter().map(|o| o.world_bounds).collect();
@@ -329,6 +343,7 @@ impl Scene {
     pub fn build(sf: &SceneFile) -> Result<Scene, Vec<Problem>> {
         let mut v = Validator::default();
         let (background, max_depth, shadows, spp) = v.render_settings(sf);
+        let caustics = sf.render.caustics;
         let camera = v.camera(sf);
         let ambient = v.ambient(sf);
         let lights = v.lights(sf);
@@ -350,12 +365,26 @@ impl Scene {
             max_depth,
             shadows,
             spp,
+            caustics,
+            caustic_map: None,
             features: Features::ALL,
             bvh: None,
             others_bounds: Vec::new(),
         };
         scene.compile();
         Ok(scene)
+    }
+
+    /// What a shadow ray keeps crossing object `i`: its material's
+    /// [`Material::shadow_transmittance`], or nothing with caustics on (the
+    /// light through glass arrives as photons instead, not twice).
+    #[inline]
+    pub fn shadow_filter(&self, i: usize) -> Rgb {
+        if self.features.caustics {
+            Rgb::ZERO
+        } else {
+            self.objects[i].material.shadow_transmittance()
+        }
     }
 
     pub fn has_transparency(&self) -> bool {

@@ -388,7 +388,7 @@ impl Visitor for Shadow {
     fn visit(&mut self, scene: &Scene, p: &Packet, i: u32, lanes: u32, skipped: u32, t_max: &mut Lanes<f64>) {
         let h = test_object(scene, i, lanes, skipped, p, t_max);
         if h.hit.contains(&1) {
-            let filter = scene.objects[i as usize].material.shadow_transmittance();
+            let filter = scene.shadow_filter(i as usize);
             for l in 0..LANES {
                 if h.hit[l] != 0 {
                     self.light[l] *= filter;

@@ -62,7 +62,7 @@ pub fn transmittance_skip(scene: &Scene, ray: &Ray, dist: f64, skip: usize) -> R
     let mut test = |i: usize| {
         let o = &scene.objects[i];
         if i != skip && o.shape.intersect(&o.to_object(ray), 0.0, dist).is_some() {
-            t *= o.material.shadow_transmittance();
+            t *= scene.shadow_filter(i);
         }
         t != Rgb::ZERO
     };

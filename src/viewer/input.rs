@@ -140,6 +140,7 @@ impl Viewer {
             Action::Open => s.ui.open_file_dialog(DialogMode::Open, s.doc.source()),
             Action::TogglePanel => s.ask(Command::ShowPanel(!self.display.panel)),
             Action::Pause => s.ask(Command::TogglePause),
+            Action::ToggleCaustics => s.toggle_caustics(),
             Action::DeleteSelected => s.delete_selected(),
             Action::DuplicateSelected => s.duplicate_selected(),
             Action::Quit => s.request_quit(),

@@ -56,6 +56,7 @@ pub enum Action {
     ToggleOptics,
     ToggleAnalysis,
     HalfResolution,
+    ToggleCaustics,
     Quit,
 }
 
@@ -96,6 +97,7 @@ impl Action {
                 | Action::Open
                 | Action::TogglePanel
                 | Action::Pause
+                | Action::ToggleCaustics
                 | Action::DeleteSelected
                 | Action::DuplicateSelected
         )
@@ -192,6 +194,12 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         "optics over the picture on/off (axis, F, F', H, H', ray fan)",
     ),
     (KeyCode::F7, "F7", Action::ToggleAnalysis, "lens analysis window on/off"),
+    (
+        KeyCode::KeyC,
+        "C",
+        Action::ToggleCaustics,
+        "caustics (photon mapping) on/off",
+    ),
     (KeyCode::Space, "Space", Action::Pause, "pause/resume refinement"),
     (
         KeyCode::Delete,

@@ -76,6 +76,14 @@ impl Session {
         self.out.redraw = true;
     }
 
+    /// Turns caustics off when the scene computes them, else on (a scene
+    /// without lit glass or mirror then computes nothing still).
+    pub fn toggle_caustics(&mut self) {
+        let on = !self.doc.built().features.caustics;
+        let r = self.doc.set_caustics(on);
+        self.apply_result(if on { "caustics on" } else { "caustics off" }, r);
+    }
+
     /// Shows `what` for an accepted edit, or why it was refused.
     pub fn apply_result(&mut self, what: &str, r: Result<Change, Rejected>) {
         match r {

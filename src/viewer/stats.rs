@@ -66,6 +66,7 @@ impl Stats {
                 "queued_ms": f.queued_ms,
                 "sent_ms_since_input": f.since_input_ms,
                 "present_ms": self.present_ms,
+                "photons": f.photons,
                 "t": (now - self.started).as_secs_f64(),
             });
             let _ = writeln!(log, "{line}");
@@ -83,7 +84,7 @@ impl Stats {
         } else {
             0.0
         };
-        vec![
+        let mut lines = vec![
             format!(
                 "{} in {:.0} ms, {:.2} M rays/s",
                 stage_text(f, paused),
@@ -94,7 +95,11 @@ impl Stats {
                 "frame {:.1} ms ({:.0} fps), present {:.1} ms",
                 self.frame_ms, fps, self.present_ms
             ),
-        ]
+        ];
+        if f.photon_passes > 0 {
+            lines.push(format!("caustics: {} photons, {} passes", f.photons, f.photon_passes));
+        }
+        lines
     }
 }
 
@@ -220,6 +225,8 @@ mod tests {
             since_input_ms: 20.0,
             samples_per_s: 1e6,
             last: false,
+            photons: 4096,
+            photon_passes: 2,
         };
         let input_time = Instant::now() - Duration::from_millis(80);
         let t0 = Instant::now();
@@ -261,7 +268,8 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 12, "{keys:?}");
+        assert_eq!(keys.len(), 13, "{keys:?}");
+        assert_eq!(l["photons"], 4096);
         assert_eq!(l["generation"], 7);
         assert_eq!(l["level"], "4 spp");
         assert_eq!(l["spp"], 4);

@@ -192,6 +192,11 @@ impl Document {
         self.edit_merged("ambient", "edit the ambient light", |sf| sf.ambient = ambient)
     }
 
+    /// Caustics by photon mapping on or off (written as `[render] caustics`).
+    pub fn set_caustics(&mut self, on: bool) -> Result<Change, Rejected> {
+        self.edit("caustics on/off", |sf| sf.render.caustics = Some(on))
+    }
+
     pub fn set_shadows(&mut self, on: bool) -> Result<Change, Rejected> {
         self.edit("shadows on/off", |sf| sf.render.shadows = on)
     }

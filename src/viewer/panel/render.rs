@@ -13,6 +13,15 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
             .num_columns(2)
             .show(ui, |ui| resolution_and_cap(ui, cx));
         scene_settings(ui, cx);
+        let mut caustics = cx.doc.built().features.caustics;
+        if ui
+            .checkbox(&mut caustics, "caustics")
+            .on_hover_text("light through glass and off mirrors by photon mapping (C)")
+            .changed()
+        {
+            let r = cx.doc.set_caustics(caustics);
+            cx.apply_result(if caustics { "caustics on" } else { "caustics off" }, r);
+        }
         ui.horizontal(|ui| {
             let label = if cx.render.paused {
                 "Resume refinement"
@@ -32,6 +41,9 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
                 f.render_ms,
                 f.samples_per_s / 1e6
             ));
+            if f.photon_passes > 0 {
+                ui.weak(format!("caustics: {} photons, {} passes", f.photons, f.photon_passes));
+            }
         }
     });
 }

@@ -223,6 +223,12 @@ fn render_settings_and_the_ambient_light() {
     assert_eq!(doc.set_shadows(false).unwrap(), Change::Picture);
     assert!(!doc.scene().render.shadows);
     assert_eq!(doc.undo_label(), Some("shadows on/off"));
+    // Caustics: on by default in cubes (a lit lens), off by the key, and
+    // the file says so when saved.
+    assert!(doc.built().features.caustics);
+    assert_eq!(doc.set_caustics(false).unwrap(), Change::Picture);
+    assert!(!doc.built().features.caustics);
+    assert_eq!(doc.scene().render.caustics, Some(false));
     doc.set_max_depth(3).unwrap();
     assert_eq!(doc.scene().render.max_depth, 3);
     assert!(doc.set_max_depth(1000).is_err(), "beyond the depth limit");

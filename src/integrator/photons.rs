@@ -1,0 +1,245 @@
+//! Caustic photons: shot from each light toward the glass and mirrors only
+//! ([`Targets`]), carried through lenses by the renderer's own pass
+//! ([`transmitted_rays`]: the lens's exact tracer and its Whitted tree, one
+//! branch drawn by its Fresnel weight, [`one_branch`]), through other glass and
+//! off mirrors by Russian roulette on the Fresnel split, and recorded where
+//! they land on a diffuse surface after at least one specular bounce
+//! ([`photon_pass`]). Every photon draws from `Sampler(seed, photon, pass)`
+//! and the pass keeps them in photon order, so a pass is the same on any
+//! number of threads.
+
+use super::lens_pass::{Transmitted, transmitted_rays};
+use super::surface::{spawn_ray, surface};
+use crate::color::Rgb;
+use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning};
+use crate::light::Light;
+use crate::math::{Ray, orthonormal_basis};
+use crate::optics::{self, WAVELENGTH_D_UM};
+use crate::photon::Photon;
+use crate::sampling::Sampler;
+use crate::scene::{Object, Scene};
+use crate::trace::closest_hit_skip;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Photons traced by one task of a pass.
+const CHUNK: usize = 1024;
+
+/// The bounding spheres of the objects that can bend or mirror light: the
+/// only directions worth a photon (one that meets none of them first lands
+/// on a diffuse surface without a specular bounce, which direct light
+/// already gives).
+#[derive(Clone, Debug)]
+pub struct Targets {
+    spheres: Vec<(DVec3, f64)>,
+    /// Centre and radius of a sphere around every object (where a
+    /// directional light's photons start from).
+    world: (DVec3, f64),
+}
+
+impl Targets {
+    pub fn of(scene: &Scene) -> Self {
+        let sphere = |b: &crate::geometry::Aabb| ((b.min + b.max) * 0.5, (b.max - b.min).length() * 0.5);
+        let spheres = scene
+            .objects
+            .iter()
+            .filter(|o| o.material.transparency > 0.0 || o.material.reflectivity > 0.0)
+            .map(|o| sphere(&o.world_bounds))
+            .collect();
+        let world = scene
+            .objects
+            .iter()
+            .map(|o| o.world_bounds)
+            .reduce(|a, b| a.union(&b))
+            .map_or((DVec3::ZERO, 0.0), |b| sphere(&b));
+        Targets { spheres, world }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.spheres.is_empty()
+    }
+}
+
+/// Half-angle cosine and solid angle of target `(c, r)` seen from `from`
+/// (the whole sphere of directions when `from` is inside it).
+fn cone(from: DVec3, (c, r): (DVec3, f64)) -> (f64, f64) {
+    let d2 = (c - from).length_squared();
+    if d2 <= r * r {
+        return (-1.0, 4.0 * PI);
+    }
+    let cos_max = (1.0 - r * r / d2).max(0.0).sqrt();
+    (cos_max, 2.0 * PI * (1.0 - cos_max))
+}
+
+/// A photon's first ray and the power it carries: photon `i` of `per_light`
+/// of light `light` aims at target `i mod T`; its power is the light's over
+/// the number of photons and the density of the mixture of all targets'
+/// cones (discs for a directional light) at the ray drawn, so that the
+/// photons of a pass deliver the light's power exactly in expectation.
+fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sampler) -> (Ray, Rgb) {
+    let n_t = t.spheres.len();
+    let aim = t.spheres[i % n_t];
+    let share = (per_light / n_t) as f64;
+    let (u1, u2) = rng.next_2d();
+    match *light {
+        Light::Point {
+            position,
+            color,
+            intensity,
+        } => {
+            let (cos_max, _) = cone(position, aim);
+            let axis = (aim.0 - position).try_normalize().unwrap_or(DVec3::Z);
+            let cos = 1.0 - u1 * (1.0 - cos_max);
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            let (a, b) = orthonormal_basis(axis);
+            let phi = 2.0 * PI * u2;
+            let dir = (axis * cos + a * (sin * phi.cos()) + b * (sin * phi.sin())).normalize();
+            // Photons per steradian along `dir`, summed over the targets.
+            let density: f64 = t
+                .spheres
+                .iter()
+                .map(|&s| {
+                    let (cmax, omega) = cone(position, s);
+                    let inside = cmax <= -1.0 || dir.dot((s.0 - position).normalize()) >= cmax;
+                    if inside { share / omega } else { 0.0 }
+                })
+                .sum();
+            let power = color * (intensity / (4.0 * PI) / density.max(f64::MIN_POSITIVE));
+            (Ray { origin: position, dir }, power)
+        }
+        Light::Directional {
+            direction,
+            color,
+            intensity,
+        } => {
+            let (a, b) = orthonormal_basis(direction);
+            let rr = aim.1 * u1.sqrt();
+            let phi = 2.0 * PI * u2;
+            let q = aim.0 + a * (rr * phi.cos()) + b * (rr * phi.sin());
+            let back = (q - t.world.0).dot(direction).max(0.0) + t.world.1 + 1.0;
+            let origin = q - direction * back;
+            // Photons per unit area across the beam, summed over the discs.
+            let density: f64 = t
+                .spheres
+                .iter()
+                .map(|&(c, r)| {
+                    let off = (q - c) - direction * (q - c).dot(direction);
+                    if off.length_squared() <= r * r {
+                        share / (PI * r * r)
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            let power = color * (intensity / density.max(f64::MIN_POSITIVE));
+            (Ray { origin, dir: direction }, power)
+        }
+    }
+}
+
+/// Follows one photon: at each surface it is recorded if the surface is
+/// diffuse and the photon has been bent or mirrored, then goes on by
+/// reflection or refraction with their Fresnel shares (Russian roulette),
+/// until it leaves the scene, is absorbed, or `max_depth` is used up.
+fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, out: &mut Vec<Photon>) {
+    let (mut skip, mut depth, mut bounced) = (usize::MAX, 0u32, false);
+    while depth < scene.max_depth.max(1) {
+        let Some((i, h)) = closest_hit_skip(scene, &ray, f64::INFINITY, skip) else {
+            return;
+        };
+        let s = surface(scene, &ray, i, h);
+        let m = &s.object.material;
+        if bounced && m.diffuse * (1.0 - m.transparency) > 0.0 {
+            out.push(Photon::new(s.p, ray.dir, power));
+        }
+        let ior = m.ior.at(WAVELENGTH_D_UM);
+        let f = if m.transparency > 0.0 {
+            let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
+            optics::fresnel_at(ray.dir, s.nf, n1, n2)
+        } else {
+            0.0
+        };
+        let (kr, kt) = (m.reflectivity + m.transparency * f, m.transparency * (1.0 - f));
+        let total = kr + kt;
+        let go_on = total.min(1.0);
+        let u = rng.next_f64();
+        if !(u < go_on) {
+            return;
+        }
+        power *= total / go_on;
+        if u < go_on * kr / total {
+            let r = optics::reflect(ray.dir, s.nf);
+            ray = spawn_ray(s.p, s.nf, r, s.object.scale);
+            skip = s.leaving(r);
+            depth += 1;
+        } else {
+            let Some(tr) = one_branch(s.object, s.p, s.nf, s.entering, ray.dir, ior, rng.next_f64()) else {
+                return;
+            };
+            power *= m.color * tr.factor;
+            skip = if s.outward(tr.ray.dir) || s.object.lens().is_some() {
+                s.index
+            } else {
+                usize::MAX
+            };
+            ray = tr.ray;
+            depth += tr.bounces;
+        }
+        bounced = true;
+    }
+}
+
+/// Branches lighter than this, relative to the photon, are not followed
+/// through a lens (the light they carry is dropped: at most this fraction).
+const PHOTON_BRANCH_MIN: f64 = 1e-4;
+
+/// One ray out of the refraction at a hit, for a photon: through a lens,
+/// branch `i` of its Whitted tree is drawn with probability `w_i / W` (`u`
+/// uniform in [0, 1)) and carries the factor `W = Σ w_i`, so the expected
+/// power out is `Σ w_i` — every ghost and rim reflection the renderer
+/// follows, without splitting the photon.
+fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: DVec3, ior: f64, u: f64) -> Option<Transmitted> {
+    let prune = Pruning {
+        scale: 1.0,
+        min: PHOTON_BRANCH_MIN,
+        max_reflections: MAX_INTERNAL_REFLECTIONS,
+    };
+    let mut out: Vec<Transmitted> = Vec::new();
+    transmitted_rays(obj, p, nf, entering, dir, ior, &prune, &mut |t| out.push(t));
+    let total: f64 = out.iter().map(|t| t.factor).sum();
+    let mut left = u * total;
+    let pick = out.iter().position(|t| {
+        left -= t.factor;
+        left < 0.0
+    });
+    let mut tr = *out.get(pick.unwrap_or(out.len().saturating_sub(1)))?;
+    tr.factor = total;
+    Some(tr)
+}
+
+/// The photons of pass `pass` (from 1): `per_light` photons from each light
+/// (rounded up to a multiple of the number of targets) toward the targets,
+/// those that land after a specular bounce, in photon order. Empty when the
+/// scene has no light or nothing specular.
+pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize, seed: u64) -> Vec<Photon> {
+    if targets.is_empty() || scene.lights.is_empty() {
+        return Vec::new();
+    }
+    let per_light = per_light.max(1).div_ceil(targets.spheres.len()) * targets.spheres.len();
+    let total = per_light * scene.lights.len();
+    let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut out = Vec::new();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(total) {
+                let mut rng = Sampler::new(seed, i as u64, pass as u64);
+                let light = &scene.lights[i / per_light];
+                let (ray, power) = emit(light, targets, i % per_light, per_light, &mut rng);
+                trace_photon(scene, ray, power, &mut rng, &mut out);
+            }
+            out
+        })
+        .collect();
+    chunks.concat()
+}

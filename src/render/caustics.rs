@@ -1,0 +1,236 @@
+//! The caustic estimate of a scene, refined pass by pass ([`Caustics`]):
+//! what the render thread interleaves with camera samples, and what
+//! `lensview render` runs before its samples ([`with_caustics`]), in a fixed
+//! proportion to them ([`PASSES_PER_SPP`]).
+//!
+//! The estimate depends on the lights, objects and materials only, never
+//! on the camera ([`Caustics::same_light_paths`] decides when it can be
+//! kept).
+
+use crate::integrator::{Targets, photon_pass};
+use crate::photon::{PhotonMap, SharedMap, initial_radius};
+use crate::scene::Scene;
+use std::sync::Arc;
+
+/// Photons shot from each light in one pass.
+pub const PHOTONS_PER_PASS: usize = 1 << 16;
+/// Photon passes `lensview render` runs per sample per pixel.
+pub const PASSES_PER_SPP: u32 = 2;
+/// The fewest photon passes `lensview render` runs.
+pub const MIN_PASSES: u32 = 8;
+/// The starting radius holds about this many photons of the first pass.
+pub const FIRST_PASS_NEIGHBOURS: usize = 24;
+/// The most photons kept: past it no pass is added (the estimate stays).
+pub const MAX_PHOTONS: usize = 1 << 22;
+
+/// How a scene's photon passes are shot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CausticSettings {
+    pub photons_per_pass: usize,
+    /// The first pass's gather radius; `None`: from the first pass's
+    /// photons (the median distance to the [`FIRST_PASS_NEIGHBOURS`]-th
+    /// nearest).
+    pub initial_radius: Option<f64>,
+    pub seed: u64,
+}
+
+impl Default for CausticSettings {
+    fn default() -> Self {
+        CausticSettings {
+            photons_per_pass: PHOTONS_PER_PASS,
+            initial_radius: None,
+            seed: 0,
+        }
+    }
+}
+
+/// A scene's photon map and what is needed to add passes to it.
+pub struct Caustics {
+    targets: Targets,
+    settings: CausticSettings,
+    map: Option<Arc<PhotonMap>>,
+}
+
+impl Caustics {
+    /// `None` when the scene computes no caustics (off, or nothing
+    /// specular lit by a light).
+    pub fn new(scene: &Scene, settings: CausticSettings) -> Option<Self> {
+        let targets = Targets::of(scene);
+        (scene.features.caustics && !targets.is_empty() && !scene.lights.is_empty()).then_some(Caustics {
+            targets,
+            settings,
+            map: None,
+        })
+    }
+
+    /// Whether the caustics of `a` hold for `b`: the same lights, objects
+    /// (with their materials) and depth, whatever the cameras.
+    pub fn same_light_paths(a: &Scene, b: &Scene) -> bool {
+        a.features == b.features && a.max_depth == b.max_depth && a.lights == b.lights && a.objects == b.objects
+    }
+
+    /// Passes added so far.
+    pub fn passes(&self) -> u32 {
+        self.map.as_ref().map_or(0, |m| m.passes())
+    }
+
+    /// Photons stored so far.
+    pub fn photons(&self) -> usize {
+        self.map.as_ref().map_or(0, |m| m.photons())
+    }
+
+    /// Whether another pass may be added ([`MAX_PHOTONS`]).
+    pub fn can_refine(&self) -> bool {
+        self.photons() < MAX_PHOTONS
+    }
+
+    /// Shoots one more pass and adds it. The map is changed in place when
+    /// no scene holds it any more (drop [`Self::shared`]'s copies first),
+    /// else copied.
+    pub fn add_pass(&mut self, scene: &Scene) {
+        let pass = self.passes() + 1;
+        let s = self.settings;
+        let photons = photon_pass(scene, &self.targets, pass, s.photons_per_pass, s.seed);
+        let map = self.map.get_or_insert_with(|| {
+            let floor = 1e-9 * (1.0 + scene.camera.position.length());
+            let r0 = s
+                .initial_radius
+                .or_else(|| initial_radius(&photons, FIRST_PASS_NEIGHBOURS, floor))
+                .unwrap_or(1e-3);
+            Arc::new(PhotonMap::new(r0))
+        });
+        Arc::make_mut(map).add_pass(&photons);
+    }
+
+    /// The map as a scene holds it (`None` before the first pass).
+    pub fn shared(&self) -> Option<SharedMap> {
+        self.map.clone().map(SharedMap)
+    }
+}
+
+/// The photon passes `lensview render` runs for `spp` samples per pixel:
+/// [`PASSES_PER_SPP`] per sample, at least [`MIN_PASSES`].
+pub fn passes_for_spp(spp: u32) -> u32 {
+    spp.saturating_mul(PASSES_PER_SPP).max(MIN_PASSES)
+}
+
+/// `scene` with its caustic map after `passes` passes (the scene itself,
+/// copied, when it computes no caustics). The same on any thread count.
+pub fn with_caustics(scene: &Scene, passes: u32, settings: CausticSettings) -> Scene {
+    let mut out = scene.clone();
+    if let Some(mut c) = Caustics::new(scene, settings) {
+        for _ in 0..passes {
+            if !c.can_refine() {
+                break;
+            }
+            c.add_pass(scene);
+        }
+        out.caustic_map = c.shared();
+    }
+    out
+}
+
+/// The caustics the render thread keeps from job to job: one photon map
+/// for as long as the lights, objects and materials stay the same (camera
+/// moves keep it), refined by [`PASSES_PER_SPP`] passes per sample per
+/// pixel a stage adds, before the stage.
+#[derive(Default)]
+pub struct Interleaved {
+    scene: Option<Arc<Scene>>,
+    caustics: Option<Caustics>,
+}
+
+impl Interleaved {
+    /// Takes the scene of a new job: the estimate is kept when only the
+    /// camera (or the image) changed, else started again.
+    pub fn follow(&mut self, scene: &Arc<Scene>) {
+        let same = self
+            .scene
+            .as_ref()
+            .is_some_and(|s| Caustics::same_light_paths(s, scene));
+        if !same {
+            self.caustics = Caustics::new(scene, CausticSettings::default());
+        }
+        self.scene = Some(scene.clone());
+    }
+
+    /// Adds the passes due before a stage that brings `added_spp` samples
+    /// per pixel (none for a block preview), stopping early when
+    /// `cancelled` says so or the map is full.
+    pub fn refine(&mut self, added_spp: u32, cancelled: &dyn Fn() -> bool) {
+        let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
+            return;
+        };
+        for _ in 0..added_spp.saturating_mul(PASSES_PER_SPP) {
+            if cancelled() || !c.can_refine() {
+                break;
+            }
+            c.add_pass(scene);
+        }
+    }
+
+    /// The scene to render the stage with: the job's with the map, or
+    /// `None` when there is no map (render the job's scene itself). Drop it
+    /// before the next [`Self::refine`], which then changes the map in
+    /// place.
+    pub fn scene_with_map(&self) -> Option<Scene> {
+        let (c, scene) = (self.caustics.as_ref()?, self.scene.as_ref()?);
+        let map = c.shared()?;
+        let mut s = Scene::clone(scene);
+        s.caustic_map = Some(map);
+        Some(s)
+    }
+
+    /// Passes and photons of the current map (zero without one).
+    pub fn counts(&self) -> (u32, usize) {
+        self.caustics.as_ref().map_or((0, 0), |c| (c.passes(), c.photons()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn focal_spot() -> Scene {
+        let text = include_str!("../../scenes/focal-spot.toml");
+        Scene::parse("focal-spot.toml", text).unwrap().1
+    }
+
+    /// A camera move keeps the estimate; a light move starts it again.
+    #[test]
+    fn the_estimate_survives_camera_moves_only() {
+        let base = focal_spot();
+        let mut it = Interleaved::default();
+        it.follow(&Arc::new(base.clone()));
+        it.refine(1, &|| false);
+        let (passes, photons) = it.counts();
+        assert_eq!(passes, PASSES_PER_SPP);
+        assert!(photons > 1000, "{photons}");
+        let mut moved = base.clone();
+        moved.camera.position.x += 1.0;
+        it.follow(&Arc::new(moved));
+        assert_eq!(it.counts(), (passes, photons));
+        let shown = it.scene_with_map().unwrap();
+        assert_eq!(shown.camera.position.x, base.camera.position.x + 1.0);
+        assert_eq!(shown.caustic_map.unwrap().0.passes(), passes);
+        let mut lit = base.clone();
+        if let crate::light::Light::Point { position, .. } = &mut lit.lights[0] {
+            position.x += 0.5;
+        }
+        it.follow(&Arc::new(lit));
+        assert_eq!(it.counts(), (0, 0));
+        assert!(it.scene_with_map().is_none());
+        // Cancelled: no pass.
+        it.refine(4, &|| true);
+        assert_eq!(it.counts(), (0, 0));
+    }
+
+    /// Passes for a headless render: in proportion to the samples.
+    #[test]
+    fn headless_passes_follow_the_samples() {
+        assert_eq!(passes_for_spp(1), MIN_PASSES);
+        assert_eq!(passes_for_spp(64), 64 * PASSES_PER_SPP);
+        let s = with_caustics(&focal_spot(), 3, CausticSettings::default());
+        assert_eq!(s.caustic_map.unwrap().0.passes(), 3);
+    }
+}
