@@ -58,6 +58,7 @@
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
 //! | the viewer's shell, flight, refinement, statistics | `viewer/{mod,flight,refine,stats,session,screen,input}.rs` (binary) |
 //! | each panel section | `viewer/panel/{add,objects,material,camera,lens,light,render,menu,file_dialog,confirm}.rs` (binary) |
+//! | optics over the picture (F6); the lens analysis window (F7) and its plots | `viewer/optics.rs`; `viewer/panel/{analysis,plots}.rs` (binary) |
 //! | the limits of every command; atomic, safe file writes | `limits.rs`, `output.rs` |
 //! | each command (`render`, `lens`, `bench`, `converge`, `view`) | `cli/*.rs` (binary) |
 

@@ -834,18 +834,8 @@ fn optics_overlay_draws_f_prime_where_lens_info_puts_it_without_restarting() {
         .replace("rotation = [-28.810794, 0, 0]", "rotation = [-10, 90, 0]");
     let scene = dir.join("cubes-side.toml");
     std::fs::write(&scene, text).unwrap();
-    let (w, h) = (W.to_string(), H.to_string());
-    let args = [
-        "--width",
-        &w,
-        "--height",
-        &h,
-        "--max-spp",
-        "2",
-        "--exit-after",
-        "600",
-        "--no-panel",
-    ];
+    let line = format!("--width {W} --height {H} --max-spp 2 --exit-after 600 --no-panel");
+    let args: Vec<&str> = line.split(' ').collect();
     let s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
     let g1 = s.wait_frame_where(0, 2, "start", |f| f["width"] == W && f["x0"] == 0);
     // F′ from `lens info` (BFD from V2) and the scene's lens pose.

@@ -3,7 +3,8 @@
 
 use super::setup::{ListedRay, PUPIL_FILL, Setup, SetupError, axis_crossing, bad};
 use super::sketch::{Kind, Sketch};
-use crate::optics::sagitta;
+use super::{LensInfo, lens_info};
+use crate::optics::{WAVELENGTH_D_UM, sagitta};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -33,23 +34,17 @@ pub struct LsaPoint {
     pub lsa: Option<f64>,
 }
 
-/// Where the figures' marks lie, from V2 (or V1) along the light.
+/// Where the figures' marks lie: what `lens info` prints (at the d line),
+/// and the paraxial image and real marginal focus of this object.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Cardinal {
-    pub sag1: f64,
-    pub sag2: f64,
-    pub efl: Option<f64>,
-    /// F′, from V2.
-    pub bfd: Option<f64>,
-    /// F, before V1.
-    pub ffd: Option<f64>,
-    /// H from V1 and H′ from V2, + along the light.
-    pub principal_front_from_v1: Option<f64>,
-    pub principal_rear_from_v2: Option<f64>,
+    #[serde(flatten)]
+    pub info: LensInfo,
     /// The paraxial image of the object, from V2 (the paraxial focus).
     pub paraxial_image_from_v2: Option<f64>,
-    /// The real marginal ray's axis crossing (pupil edge), from V2.
-    pub marginal_focus_from_v2: Option<f64>,
+    /// Where the real ray from the axial object point through the pupil
+    /// edge crosses the axis, from V2 (from infinity: `marginal_focus_from_v2`).
+    pub object_marginal_focus_from_v2: Option<f64>,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -77,27 +72,22 @@ fn fan_ray(setup: &Setup, px: f64, n: f64, plane_z: f64) -> FanRay {
     }
 }
 
-/// The cardinal points at index `n`, and the real marginal focus.
-pub fn cardinal(setup: &Setup, n: f64) -> Cardinal {
-    let px = setup.paraxial(n);
-    let power = px.has_power();
-    let some = |x: f64| Some(x).filter(|_| power);
+/// The cardinal points at the d line, and the object's real marginal focus.
+pub fn cardinal(setup: &Setup) -> Result<Cardinal, SetupError> {
+    let l = &setup.lens;
+    let info = lens_info(l.d, l.r1, l.r2, setup.index, WAVELENGTH_D_UM).map_err(|e| bad("n", e.to_string()))?;
+    let n = info.n;
     let axial = Setup {
         field_deg: 0.0,
         ..setup.clone()
     };
+    let power = info.efl.is_some();
     let marginal = axis_crossing(&axial, &axial.trace(1.0, 0.0, n).2).filter(|_| power);
-    Cardinal {
-        sag1: setup.sag1(),
-        sag2: setup.sag2(),
-        efl: some(px.efl),
-        bfd: some(px.bfd),
-        ffd: some(px.ffd),
-        principal_front_from_v1: some(px.h1),
-        principal_rear_from_v2: some(px.h2),
+    Ok(Cardinal {
+        info,
         paraxial_image_from_v2: setup.paraxial_image(n).map(|p| p.0),
-        marginal_focus_from_v2: marginal,
-    }
+        object_marginal_focus_from_v2: marginal,
+    })
 }
 
 /// The LSA curve at index `n`: heights PUPIL_FILL·(d/2)·k/steps.
@@ -150,7 +140,7 @@ pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, Se
         object_distance: setup.object_distance,
         field_deg: setup.field_deg,
         image_plane_from_v2: from_v2,
-        cardinal: cardinal(setup, n),
+        cardinal: cardinal(setup)?,
         rays: (0..rays).map(|k| fan_ray(setup, px(k), n, plane_z)).collect(),
         lsa: lsa_curve(setup, n, LSA_STEPS),
     })
@@ -178,7 +168,7 @@ impl Fan {
     /// The fan drawn to scale over the lens's cross-section: axis, rays,
     /// image plane, and F, F′, H, H′, V1, V2 and the real marginal focus M.
     pub fn sketch(&self, setup: &Setup) -> Sketch {
-        let c = &self.cardinal;
+        let (c, m) = (&self.cardinal.info, self.cardinal.object_marginal_focus_from_v2);
         let mut sk = Sketch::default();
         let end = c.sag2 + self.image_plane_from_v2;
         let far = self.object_distance.unwrap_or(self.d).min(1.5 * end.max(self.d));
@@ -205,7 +195,7 @@ impl Fan {
             ("V2", Some(c.sag2)),
             ("F", c.ffd.map(|f| -c.sag1 - f)),
             ("F′", s2(c.bfd)),
-            ("M", s2(c.marginal_focus_from_v2)),
+            ("M", s2(m)),
         ];
         for (label, s) in marks {
             if let Some(s) = s {

@@ -124,14 +124,14 @@ fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) {
     let width = ui.available_width().max(300.0);
     match fan(s, 7, None) {
         Ok(f) => {
-            let c = &f.cardinal;
+            let c = &f.cardinal.info;
             let opt = |x: Option<f64>| x.map_or("—".into(), |x| format!("{x:.5}"));
             ui.label(format!(
                 "EFL {}   BFD {}   FFD {}   marginal focus M {} from V2",
                 opt(c.efl),
                 opt(c.bfd),
                 opt(c.ffd),
-                opt(c.marginal_focus_from_v2)
+                opt(f.cardinal.object_marginal_focus_from_v2)
             ));
             sketch(ui, &f.sketch(s), width, 240.0);
             ui.horizontal(|ui| {
