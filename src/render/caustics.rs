@@ -21,7 +21,7 @@ pub const MIN_PASSES: u32 = 8;
 /// The starting radius holds about this many photons of the first pass.
 pub const FIRST_PASS_NEIGHBOURS: usize = 24;
 /// The most photons kept: past it no pass is added (the estimate stays).
-pub const MAX_PHOTONS: usize = 1 << 22;
+pub const MAX_PHOTONS: usize = 1 << 21;
 
 /// How a scene's photon passes are shot.
 #[derive(Clone, Copy, Debug, PartialEq)]
