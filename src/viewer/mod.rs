@@ -94,6 +94,9 @@ struct Viewer {
     /// A redraw was asked for by the viewer itself (else the system asked:
     /// the window must be drawn again).
     asked: bool,
+    /// The system asked for a redraw (exposed, mapped): present even if
+    /// nothing changed.
+    exposed: bool,
     /// Set when the window should close (after any question was answered).
     quit: bool,
     error: Option<anyhow::Error>,
@@ -149,6 +152,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         pacer: Pacer::new(false, Pacer::refresh_period(None), 1),
         present_at: None,
         asked: false,
+        exposed: false,
         quit: false,
         error: None,
     };
@@ -304,9 +308,9 @@ impl Viewer {
 
     /// Runs the UI pass: the panel (also when hidden, the questions and
     /// file dialogs still show), the overlay `lines` and the key help; then
-    /// carries out what it asked.
-    fn run_ui(&mut self, lines: &[String]) {
-        let Some(screen) = &mut self.screen else { return };
+    /// carries out what it asked. Returns whether the UI looks different.
+    fn run_ui(&mut self, lines: &[String]) -> bool {
+        let Some(screen) = &mut self.screen else { return false };
         let picture = screen.picture_rect(&self.display);
         let mut cx = panel::Ctx {
             session: &mut self.session,
@@ -318,7 +322,7 @@ impl Viewer {
                 frame: self.refine.frame(),
             },
         };
-        let delay = screen.gui.run(&screen.window, |ui| {
+        let (delay, changed) = screen.gui.run(&screen.window, |ui| {
             overlay::show(ui.ctx(), picture, lines);
             panel::show(ui, &mut cx);
             overlay::help_window(ui.ctx(), &mut cx.display.help);
@@ -329,6 +333,7 @@ impl Viewer {
         }
         self.session.ui.write_rects(self.opts.ui_log.as_deref());
         self.settle();
+        changed
     }
 
     fn draw(&mut self) {
@@ -344,7 +349,11 @@ impl Viewer {
             Decision::Now => self.present_at = None,
         }
         let lines = self.overlay_lines();
-        self.run_ui(&lines);
+        let changed = self.run_ui(&lines);
+        if !changed && !self.pacer.has_new_frame() && !std::mem::take(&mut self.exposed) {
+            self.pacer.unchanged();
+            return;
+        }
         let Some(screen) = &mut self.screen else { return };
         let t0 = Instant::now();
         let Some((x0, result)) = screen.present(&self.display, self.refine.frame()) else {
@@ -472,6 +481,7 @@ impl ApplicationHandler<UserEvent> for Viewer {
                 // drawn again (exposed, mapped).
                 if !std::mem::take(&mut self.asked) {
                     self.pacer.ui_changed();
+                    self.exposed = true;
                 }
                 self.draw();
             }
