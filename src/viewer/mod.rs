@@ -398,21 +398,11 @@ impl Viewer {
             // Keep stepping while a key is held: about one 60 Hz frame.
             wake = Some(Instant::now() + Duration::from_millis(16));
         }
-        if let Some(t) = self.repaint_at {
-            if t <= Instant::now() {
-                self.repaint_at = None;
-                self.request_redraw();
-            } else {
-                wake = Some(wake.map_or(t, |w| w.min(t)));
-            }
+        if due(&mut self.repaint_at, &mut wake) {
+            self.request_redraw();
         }
-        if let Some(t) = self.present_at {
-            if t <= Instant::now() {
-                self.present_at = None;
-                self.ask_redraw();
-            } else {
-                wake = Some(wake.map_or(t, |w| w.min(t)));
-            }
+        if due(&mut self.present_at, &mut wake) {
+            self.ask_redraw();
         }
         if let Some(limit) = self.opts.exit_after {
             let left = (limit - self.stats.started.elapsed().as_secs_f64()).max(0.0);
@@ -421,6 +411,18 @@ impl Viewer {
         }
         wake
     }
+}
+
+/// Whether the instant in `slot` has come (then it is taken); if not, the
+/// loop's next `wake` is brought forward to it.
+fn due(slot: &mut Option<Instant>, wake: &mut Option<Instant>) -> bool {
+    let Some(t) = *slot else { return false };
+    if t <= Instant::now() {
+        *slot = None;
+        return true;
+    }
+    *wake = Some(wake.map_or(t, |w| w.min(t)));
+    false
 }
 
 impl ApplicationHandler<UserEvent> for Viewer {
