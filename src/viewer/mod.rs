@@ -2,7 +2,8 @@
 //! egui side panel for editing the scene. The render thread
 //! (`lensview::render::worker`) refines the picture and wakes the loop for
 //! every frame; the window drops frames of an older generation, draws the
-//! newest with the overlay and the panel, and never waits for the renderer.
+//! newest with the overlay and the panel when `pacing` says so, and never
+//! waits for the renderer.
 //!
 //! This file is the shell: the [`ApplicationHandler`] that hands events to
 //! the parts and carries out what they ask.
@@ -15,7 +16,11 @@
 //! - `session`: the document, the panel's state and the message line,
 //!   with the commands keys and panel share (undo, save, open, quit…).
 //! - `panel`: the egui panel, one file per section.
-//! - `gui`, `overlay`: egui on `pixels`; text drawn into the picture.
+//! - `gui`, `overlay`: egui on `pixels`; the overlay box and key help.
+//! - `pacing`: when to present (nothing twice, one per refresh, refining
+//!   frames paced on a CPU rasterizer).
+//! - `platform`: the environment set before any thread (X11 without
+//!   `XDG_RUNTIME_DIR`).
 //!
 //! The scene lives in a `Document` (library, `lensview::edit`): every change
 //! is one of its methods, which validates with `Scene::build`, keeps the
