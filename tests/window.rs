@@ -110,6 +110,26 @@ fn dir() -> PathBuf {
     d
 }
 
+/// A fresh folder NAME for a test and the path of its `--ui-log` file.
+fn test_dir(name: &str) -> (PathBuf, PathBuf) {
+    let dir = dir().join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let ui_log = dir.join("ui.json");
+    let _ = std::fs::remove_file(&ui_log);
+    (dir, ui_log)
+}
+
+/// `--width W --height H --max-spp 1 --exit-after SECONDS --ui-log LOG`.
+fn ui_args(w: u32, h: u32, exit_after: u32, ui_log: &Path) -> Vec<String> {
+    let mut v: Vec<String> = ["--width", &w.to_string(), "--height", &h.to_string(), "--max-spp", "1"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    v.extend(["--exit-after".into(), exit_after.to_string()]);
+    v.extend(["--ui-log".into(), ui_log.display().to_string()]);
+    v
+}
+
 struct Session<'a> {
     x: &'a Xvfb,
     app: Child,
@@ -519,10 +539,7 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     let (ew, eh) = (1100u32, 760u32);
     let _one = one_at_a_time();
     let x = Xvfb::start();
-    let dir = dir().join("editor");
-    std::fs::create_dir_all(&dir).unwrap();
-    let ui_log = dir.join("ui.json");
-    let _ = std::fs::remove_file(&ui_log);
+    let (dir, ui_log) = test_dir("editor");
     let scene = dir.join("cubes.toml");
     std::fs::copy(
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml"),
@@ -530,19 +547,8 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     )
     .unwrap();
     let original = std::fs::read_to_string(&scene).unwrap();
-    let (w, h) = (ew.to_string(), eh.to_string());
-    let args = [
-        "--width",
-        &w,
-        "--height",
-        &h,
-        "--max-spp",
-        "1",
-        "--exit-after",
-        "600",
-        "--ui-log",
-        ui_log.to_str().unwrap(),
-    ];
+    let args = ui_args(ew, eh, 600, &ui_log);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
 
     // The panel is shown by default; the picture is rendered right of it.
@@ -705,24 +711,10 @@ impl Session<'_> {
 fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
     let _one = one_at_a_time();
     let x = Xvfb::start();
-    let dir = dir().join("small");
-    std::fs::create_dir_all(&dir).unwrap();
-    let ui_log = dir.join("ui.json");
-    let _ = std::fs::remove_file(&ui_log);
+    let (dir, ui_log) = test_dir("small");
     let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
-    let (w, h) = (W.to_string(), H.to_string());
-    let args = [
-        "--width",
-        &w,
-        "--height",
-        &h,
-        "--max-spp",
-        "1",
-        "--exit-after",
-        "600",
-        "--ui-log",
-        ui_log.to_str().unwrap(),
-    ];
+    let args = ui_args(W, H, 600, &ui_log);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_lensview"));
     cmd.env_remove("XDG_RUNTIME_DIR");
     let mut s = Session::launch_with(cmd, &x, &dir, &scene, &args, dir.join("frames.jsonl"));
@@ -777,23 +769,10 @@ fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
 fn exit_after_closes_the_window_with_a_question_open() {
     let _one = one_at_a_time();
     let x = Xvfb::start();
-    let dir = dir().join("exit-after");
-    std::fs::create_dir_all(&dir).unwrap();
-    let ui_log = dir.join("ui.json");
-    let _ = std::fs::remove_file(&ui_log);
+    let (dir, ui_log) = test_dir("exit-after");
     let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
-    let args = [
-        "--width",
-        "640",
-        "--height",
-        "480",
-        "--max-spp",
-        "1",
-        "--exit-after",
-        "45",
-        "--ui-log",
-        ui_log.to_str().unwrap(),
-    ];
+    let args = ui_args(W, H, 45, &ui_log);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
     let g1 = s.wait_frame(0, 1, "start");
     s.key("2");

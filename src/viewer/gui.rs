@@ -15,6 +15,9 @@ pub struct Gui {
     state: egui_winit::State,
     renderer: egui_wgpu::Renderer,
     paint: Option<Paint>,
+    /// The shapes and window size of the last pass, to tell whether a new
+    /// pass looks any different.
+    shown: (Vec<egui::epaint::ClippedShape>, [u32; 2]),
 }
 
 struct Paint {
@@ -45,6 +48,7 @@ impl Gui {
             state,
             renderer,
             paint: None,
+            shown: (Vec::new(), [0, 0]),
         }
     }
 
@@ -60,13 +64,17 @@ impl Gui {
     }
 
     /// Runs one UI pass and tessellates it for [`Self::paint`]. Returns how
-    /// soon egui wants to run again (animations, tooltips), if at all.
-    pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> Option<Duration> {
+    /// soon egui wants to run again (animations, tooltips), if at all, and
+    /// whether the pass looks different from the one before.
+    pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> (Option<Duration>, bool) {
         let raw = self.state.take_egui_input(window);
         let out = self.ctx.run_ui(raw, ui);
         self.state.handle_platform_output(window, out.platform_output);
-        let jobs = self.ctx.tessellate(out.shapes, out.pixels_per_point);
         let size = window.inner_size();
+        let looks = (out.shapes, [size.width, size.height]);
+        let changed = looks != self.shown || !out.textures_delta.is_empty();
+        self.shown = looks;
+        let jobs = self.ctx.tessellate(self.shown.0.clone(), out.pixels_per_point);
         let mut textures = out.textures_delta;
         // Textures not yet uploaded (a frame that was never painted) are kept.
         if let Some(old) = self.paint.take() {
@@ -85,10 +93,12 @@ impl Gui {
                 pixels_per_point: out.pixels_per_point,
             },
         });
-        out.viewport_output
+        let delay = out
+            .viewport_output
             .get(&egui::ViewportId::ROOT)
             .map(|v| v.repaint_delay)
-            .filter(|d| *d < Duration::from_secs(3600))
+            .filter(|d| *d < Duration::from_secs(3600));
+        (delay, changed)
     }
 
     /// Draws the last UI pass over `target` (after the picture).

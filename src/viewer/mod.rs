@@ -2,7 +2,8 @@
 //! egui side panel for editing the scene. The render thread
 //! (`lensview::render::worker`) refines the picture and wakes the loop for
 //! every frame; the window drops frames of an older generation, draws the
-//! newest with the overlay and the panel, and never waits for the renderer.
+//! newest with the overlay and the panel when `pacing` says so, and never
+//! waits for the renderer.
 //!
 //! This file is the shell: the [`ApplicationHandler`] that hands events to
 //! the parts and carries out what they ask.
@@ -15,7 +16,11 @@
 //! - `session`: the document, the panel's state and the message line,
 //!   with the commands keys and panel share (undo, save, open, quit…).
 //! - `panel`: the egui panel, one file per section.
-//! - `gui`, `overlay`: egui on `pixels`; text drawn into the picture.
+//! - `gui`, `overlay`: egui on `pixels`; the overlay box and key help.
+//! - `pacing`: when to present (nothing twice, one per refresh, refining
+//!   frames paced on a CPU rasterizer).
+//! - `platform`: the environment set before any thread (X11 without
+//!   `XDG_RUNTIME_DIR`).
 //!
 //! The scene lives in a `Document` (library, `lensview::edit`): every change
 //! is one of its methods, which validates with `Scene::build`, keeps the
@@ -95,6 +100,9 @@ struct Viewer {
     /// A redraw was asked for by the viewer itself (else the system asked:
     /// the window must be drawn again).
     asked: bool,
+    /// The system asked for a redraw (exposed, mapped): present even if
+    /// nothing changed.
+    exposed: bool,
     /// Set when the window should close (after any question was answered).
     quit: bool,
     error: Option<anyhow::Error>,
@@ -150,6 +158,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         pacer: Pacer::new(false, Pacer::refresh_period(None), 1),
         present_at: None,
         asked: false,
+        exposed: false,
         quit: false,
         error: None,
     };
@@ -305,9 +314,9 @@ impl Viewer {
 
     /// Runs the UI pass: the panel (also when hidden, the questions and
     /// file dialogs still show), the overlay `lines` and the key help; then
-    /// carries out what it asked.
-    fn run_ui(&mut self, lines: &[String]) {
-        let Some(screen) = &mut self.screen else { return };
+    /// carries out what it asked. Returns whether the UI looks different.
+    fn run_ui(&mut self, lines: &[String]) -> bool {
+        let Some(screen) = &mut self.screen else { return false };
         let picture = screen.picture_rect(&self.display);
         let pic = optics::picture(screen, &self.display);
         let mut cx = panel::Ctx {
@@ -320,7 +329,7 @@ impl Viewer {
                 frame: self.refine.frame(),
             },
         };
-        let delay = screen.gui.run(&screen.window, |ui| {
+        let (delay, changed) = screen.gui.run(&screen.window, |ui| {
             overlay::show(ui.ctx(), picture, lines);
             panel::show(ui, &mut cx);
             optics::overlay(ui.ctx(), cx.session, pic);
@@ -332,6 +341,7 @@ impl Viewer {
         }
         self.session.ui.write_rects(self.opts.ui_log.as_deref());
         self.settle();
+        changed
     }
 
     fn draw(&mut self) {
@@ -347,7 +357,11 @@ impl Viewer {
             Decision::Now => self.present_at = None,
         }
         let lines = self.overlay_lines();
-        self.run_ui(&lines);
+        let changed = self.run_ui(&lines);
+        if !changed && !self.pacer.has_new_frame() && !std::mem::take(&mut self.exposed) {
+            self.pacer.unchanged();
+            return;
+        }
         let Some(screen) = &mut self.screen else { return };
         let t0 = Instant::now();
         let Some((x0, result)) = screen.present(&self.display, self.refine.frame()) else {
@@ -392,21 +406,11 @@ impl Viewer {
             // Keep stepping while a key is held: about one 60 Hz frame.
             wake = Some(Instant::now() + Duration::from_millis(16));
         }
-        if let Some(t) = self.repaint_at {
-            if t <= Instant::now() {
-                self.repaint_at = None;
-                self.request_redraw();
-            } else {
-                wake = Some(wake.map_or(t, |w| w.min(t)));
-            }
+        if due(&mut self.repaint_at, &mut wake) {
+            self.request_redraw();
         }
-        if let Some(t) = self.present_at {
-            if t <= Instant::now() {
-                self.present_at = None;
-                self.ask_redraw();
-            } else {
-                wake = Some(wake.map_or(t, |w| w.min(t)));
-            }
+        if due(&mut self.present_at, &mut wake) {
+            self.ask_redraw();
         }
         if let Some(limit) = self.opts.exit_after {
             let left = (limit - self.stats.started.elapsed().as_secs_f64()).max(0.0);
@@ -415,6 +419,18 @@ impl Viewer {
         }
         wake
     }
+}
+
+/// Whether the instant in `slot` has come (then it is taken); if not, the
+/// loop's next `wake` is brought forward to it.
+fn due(slot: &mut Option<Instant>, wake: &mut Option<Instant>) -> bool {
+    let Some(t) = *slot else { return false };
+    if t <= Instant::now() {
+        *slot = None;
+        return true;
+    }
+    *wake = Some(wake.map_or(t, |w| w.min(t)));
+    false
 }
 
 impl ApplicationHandler<UserEvent> for Viewer {
@@ -475,6 +491,7 @@ impl ApplicationHandler<UserEvent> for Viewer {
                 // drawn again (exposed, mapped).
                 if !std::mem::take(&mut self.asked) {
                     self.pacer.ui_changed();
+                    self.exposed = true;
                 }
                 self.draw();
             }

@@ -127,6 +127,17 @@ impl Pacer {
         CPU_PACE.max(Duration::from_secs_f64(share.min(1.0)))
     }
 
+    /// Whether a frame arrived that is not on screen yet.
+    pub fn has_new_frame(&self) -> bool {
+        self.new_frame.is_some()
+    }
+
+    /// The UI pass asked for looked the same as the one on screen: no
+    /// present (the same picture is never presented twice).
+    pub fn unchanged(&mut self) {
+        self.ui = false;
+    }
+
     /// A present that took `cost` ended at `now`: everything pending is on
     /// screen.
     pub fn presented(&mut self, now: Instant, cost: Duration) {
