@@ -14,9 +14,8 @@ use crate::optics;
 use crate::scene::Scene;
 use glam::DVec3;
 
-/// Below this path weight (of the camera sample's 1) a branch is not traced
-/// further: a reflected or refracted ray, and each branch of the Whitted tree
-/// inside a lens (adaptive tree depth, Hall & Greenberg 1983).
+/// Below this path weight (of the camera sample's 1) a reflected or
+/// refracted ray is not traced further (inside a lens, [`LENS_MIN_WEIGHT`]).
 pub const MIN_WEIGHT: f64 = 1e-4;
 
 /// Below this weight (of the camera sample's 1) a ray out of a lens, or the
