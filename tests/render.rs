@@ -301,6 +301,11 @@ fn srgb8(v: f64) -> i32 {
     (s * 255.0).round() as i32
 }
 
+/// `tests/golden/cubes-80x60.png`.
+fn stored_golden() -> Image {
+    Image::read_png(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/cubes-80x60.png")).unwrap()
+}
+
 /// The stored golden image (2 samples a pixel: the centre and the first
 /// point of `Pattern::R2`) re-derived pixel by pixel by the independent
 /// tracer above, edges included: wherever both samples' rays pass clear of
@@ -310,10 +315,8 @@ fn srgb8(v: f64) -> i32 {
 #[test]
 fn the_stored_reference_is_two_independent_samples_a_pixel() {
     use lensview::sampling::{Pattern, pixel_offset};
-    let golden =
-        Image::read_png(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/cubes-80x60.png")).unwrap();
+    let (golden, r) = (stored_golden(), Reference::new());
     let (w, h) = (golden.width, golden.height);
-    let r = Reference::new();
     let stored = golden.to_srgb8();
     let (mut compared, mut edges, mut off) = (0, 0, Vec::new());
     for py in 0..h {
@@ -349,10 +352,8 @@ fn the_stored_reference_is_two_independent_samples_a_pixel() {
 /// past output.
 #[test]
 fn the_stored_reference_agrees_with_an_independent_tracer() {
-    let golden =
-        Image::read_png(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/cubes-80x60.png")).unwrap();
+    let (golden, r) = (stored_golden(), Reference::new());
     let (w, h) = (golden.width, golden.height);
-    let r = Reference::new();
     let srgb = |c: DVec3| [srgb8(c.x), srgb8(c.y), srgb8(c.z)];
     let stored = golden.to_srgb8();
     let mut checked = std::collections::BTreeMap::new();
