@@ -132,7 +132,10 @@ fn runs(a: &ConvergeArgs, (before, scene): (&Scene, &Scene), reference: &Image) 
     }
     let mut step_runs = Vec::new();
     if a.camera_step.is_some() {
-        let name = format!("camera step: reprojected (holes at {0}×{0}), adaptive", a.step_block);
+        let name = format!(
+            "camera step: reprojected (holes at {0}×{0}) + adaptive waves",
+            a.step_block
+        );
         eprintln!("{name}…");
         let rows = converge_step((before, scene), reference, a.max_spp, Sampling::default(), a.step_block);
         step_runs.push((name, rows));
@@ -141,7 +144,7 @@ fn runs(a: &ConvergeArgs, (before, scene): (&Scene, &Scene), reference: &Image) 
         .into_iter()
         .chain(runs.into_iter().map(|(pattern, adaptive)| {
             let name = format!(
-                "{} points, {} waves",
+                "{} points + {} waves",
                 if pattern == Pattern::R2 { "R2" } else { "uniform" },
                 if adaptive.is_some() { "adaptive" } else { "uniform" }
             );
