@@ -35,8 +35,11 @@ pub const MAX_RUNS: u32 = 1000;
 /// 8-bit sRGB copy that is encoded.
 pub const IMAGE_BYTES_PER_PIXEL: u64 = 24 + 3;
 /// Bytes a pixel of the progressive renderer takes: three `f64` RGB planes
-/// (sum, next, preview) and the image taken from them.
-pub const PROGRESSIVE_BYTES_PER_PIXEL: u64 = 4 * 24;
+/// (sum, next, preview), two `f32` planes of sums of squares, one of
+/// clamped means and two
+/// sample counts (adaptive waves), the first hit (16) and the image taken
+/// from them.
+pub const PROGRESSIVE_BYTES_PER_PIXEL: u64 = 4 * 24 + 3 * 12 + 2 * 4 + 16;
 
 /// A size, sample count or amount of work beyond the limits.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

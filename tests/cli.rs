@@ -368,14 +368,51 @@ fn converge_writes_its_table_and_plot() {
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("stage,spp,stage_ms,elapsed_ms,rmse,psnr_db"));
+    assert_eq!(
+        lines.next(),
+        Some("sampling,stage,spp,samples_per_pixel,stage_ms,elapsed_ms,rmse,psnr_db")
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // 8×8, 4×4 and 2×2 blocks, then 1, 2 and 4 samples a pixel.
-    let spp: Vec<&str> = rows.iter().map(|r| r[1]).collect();
+    let spp: Vec<&str> = rows.iter().map(|r| r[2]).collect();
     assert_eq!(spp, ["0", "0", "0", "1", "2", "4"], "{text}");
-    let rmse = |r: &Vec<&str>| r[4].parse::<f64>().unwrap();
+    assert!(rows.iter().all(|r| r[0] == "R2 points + adaptive waves"), "{text}");
+    let rmse = |r: &Vec<&str>| r[6].parse::<f64>().unwrap();
     assert!(rmse(&rows[5]) < rmse(&rows[0]), "{text}");
-    assert!(String::from_utf8_lossy(&o.stdout).contains("PSNR dB"));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("PSNR dB") && stdout.contains("PSNR at multiples of the 1-spp samples"));
+    // After a camera step the first row is the reprojected picture; a
+    // malformed step is refused with a message naming the option.
+    let step = |s: &str| {
+        bin()
+            .args([
+                "converge",
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--max-spp",
+                "2",
+                "--reference-spp",
+                "4",
+            ])
+            .args([
+                "--camera-step",
+                s,
+                "--csv",
+                csv.to_str().unwrap(),
+                "--plot",
+                png.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap()
+    };
+    let o = step("0,0,0.1");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.lines().nth(1).unwrap().contains(",reprojected,0,"), "{text}");
+    let o = step("0,0");
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--camera-step"));
 }
 
 // ---- Atomic, safe writes (lensview::output) and the shared limits ----

@@ -4,7 +4,7 @@
 
 use crate::color::Rgb;
 use crate::render::Image;
-use crate::render::progressive::{Progressive, Stage, schedule};
+use crate::render::progressive::{Progressive, Sampling, Stage, schedule};
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -14,6 +14,9 @@ use rayon::prelude::*;
 pub struct ConvergeRow {
     pub stage: String,
     pub spp: u32,
+    /// Camera samples cast so far per pixel (block levels included): the
+    /// machine-independent measure of work.
+    pub samples_per_pixel: f64,
     /// Time this stage took.
     pub stage_ms: f64,
     /// Rendering time since refinement started (stages only).
@@ -41,19 +44,29 @@ pub fn rmse(a: &Image, b: &Image) -> f64 {
     (sum / n).sqrt()
 }
 
-/// A converged reference: `spp` samples per pixel with a sample pattern
-/// (seed) other than the one being measured, so its own noise is
+/// A converged reference: `spp` samples in every pixel with a sample
+/// pattern (seed) other than the one being measured, so its own noise is
 /// independent of the stages' noise.
 pub fn reference(scene: &Scene, width: u32, height: u32, spp: u32, seed: u64) -> Image {
-    let mut p = Progressive::new(width, height, seed);
+    let mut p = Progressive::new(width, height, seed).with_sampling(Sampling::UNIFORM);
     p.run(scene, Stage::Samples(spp.max(1)), &|| false);
     p.image()
 }
 
-/// Runs the progressive schedule headless and measures each stage's time
-/// and its error against `reference`.
-pub fn converge(scene: &Scene, reference: &Image, max_spp: u32) -> Vec<ConvergeRow> {
-    let mut p = Progressive::new(reference.width, reference.height, 0);
+/// PSNR in dB of an RMSE.
+pub fn psnr(rmse: f64) -> f64 {
+    if rmse > 0.0 {
+        -20.0 * rmse.log10()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Runs the progressive schedule headless with `sampling` and measures
+/// each stage's time and its error against `reference`.
+pub fn converge(scene: &Scene, reference: &Image, max_spp: u32, sampling: Sampling) -> Vec<ConvergeRow> {
+    let mut p = Progressive::new(reference.width, reference.height, 0).with_sampling(sampling);
+    let pixels = (reference.width as f64 * reference.height as f64).max(1.0);
     // Elapsed time counts rendering only, not the error measurement.
     let mut elapsed_ms = 0.0;
     let mut rows = Vec::new();
@@ -66,13 +79,96 @@ pub fn converge(scene: &Scene, reference: &Image, max_spp: u32) -> Vec<ConvergeR
         rows.push(ConvergeRow {
             stage: stage.label(),
             spp: p.spp,
+            samples_per_pixel: p.samples_cast as f64 / pixels,
             stage_ms,
             elapsed_ms,
             rmse: e,
-            psnr_db: if e > 0.0 { -20.0 * e.log10() } else { f64::INFINITY },
+            psnr_db: psnr(e),
         });
     }
     rows
+}
+
+/// `after`'s camera pose: `before`'s moved by `dx` along its right axis,
+/// `dy` along world up and `dz` along its forward axis, then turned by
+/// `yaw` and `pitch` degrees (the viewer's flight keys: W for 1/30 s at the
+/// default speed is `dz` = 0.1).
+pub fn step_camera(before: &Scene, [dx, dy, dz, yaw, pitch]: [f64; 5]) -> Scene {
+    let c = &before.camera;
+    let pos = c.position + c.right() * dx + glam::DVec3::Y * dy + c.forward() * dz;
+    let rot = c.rotation_deg + glam::DVec3::new(pitch, yaw, 0.0);
+    Scene {
+        camera: crate::camera::Camera::new(pos, rot, c.fov_y_deg),
+        ..before.clone()
+    }
+}
+
+/// A camera step: `before`'s view refined through the schedule to
+/// `max_spp` (not timed), then the camera moves to `after`'s and, as the
+/// render thread does, the picture is reprojected (pixels it cannot move
+/// traced at block size `block`) and refined from one sample per pixel on.
+/// Each row is measured against `reference` (of `after`'s view).
+pub fn converge_step(
+    (before, after): (&Scene, &Scene),
+    reference: &Image,
+    max_spp: u32,
+    sampling: Sampling,
+    block: u32,
+) -> Vec<ConvergeRow> {
+    let (w, h) = (reference.width, reference.height);
+    let mut p = Progressive::new(w, h, 0).with_sampling(sampling);
+    for stage in schedule(max_spp) {
+        p.run(before, stage, &|| false);
+    }
+    let pixels = (w as f64 * h as f64).max(1.0);
+    let mut rows = Vec::new();
+    let t0 = std::time::Instant::now();
+    p.reproject(after, &before.camera, |_| block);
+    let mut elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let mut push = |p: &Progressive, stage: Stage, stage_ms: f64, elapsed_ms: f64| {
+        let e = rmse(&p.image(), reference);
+        rows.push(ConvergeRow {
+            stage: stage.label(),
+            spp: p.spp,
+            samples_per_pixel: p.samples_cast as f64 / pixels,
+            stage_ms,
+            elapsed_ms,
+            rmse: e,
+            psnr_db: psnr(e),
+        });
+    };
+    push(&p, Stage::Reprojected, elapsed_ms, elapsed_ms);
+    for stage in schedule(max_spp).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
+        let t0 = std::time::Instant::now();
+        p.run(after, stage, &|| false);
+        let stage_ms = t0.elapsed().as_secs_f64() * 1e3;
+        elapsed_ms += stage_ms;
+        push(&p, stage, stage_ms, elapsed_ms);
+    }
+    rows
+}
+
+/// What [`at_multiple`] counts work in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    /// Rendering time (noisy on a shared machine).
+    Time,
+    /// Camera samples cast (the same on any machine).
+    Samples,
+}
+
+/// The PSNR of the picture on screen once `k` times the work of the first
+/// full-resolution sample (the `1 spp` row, block levels included) has
+/// been done: the last stage finished by then. `None` without a 1-spp row.
+pub fn at_multiple(rows: &[ConvergeRow], k: f64, work: Work) -> Option<f64> {
+    let of = |r: &ConvergeRow| match work {
+        Work::Time => r.elapsed_ms,
+        Work::Samples => r.samples_per_pixel,
+    };
+    let one = of(rows.iter().find(|r| r.spp == 1)?);
+    // A hair of slack so that "1×" includes the 1-spp row itself.
+    let limit = k * one * (1.0 + 1e-12);
+    rows.iter().take_while(|r| of(r) <= limit).last().map(|r| r.psnr_db)
 }
 
 #[cfg(test)]
@@ -83,13 +179,13 @@ mod tests {
     fn error_falls_as_refinement_proceeds() {
         let s = Scene::default_scene().1;
         let r = reference(&s, 48, 36, 64, 1);
-        let rows = converge(&s, &r, 16);
+        let rows = converge(&s, &r, 16, Sampling::UNIFORM);
         assert_eq!(rows.len(), schedule(16).len());
         // Each row is its stage of the schedule, with the samples it leaves.
         for (row, stage) in rows.iter().zip(schedule(16)) {
             assert_eq!(row.stage, stage.label());
             let spp = match stage {
-                Stage::Blocks(_) => 0,
+                Stage::Blocks(_) | Stage::Reprojected => 0,
                 Stage::Samples(s) => s,
             };
             assert_eq!(row.spp, spp);
@@ -102,7 +198,7 @@ mod tests {
             assert_eq!(row.elapsed_ms, sum, "{row:?}");
         }
         // The error is the RMSE of that stage's picture, and PSNR follows it.
-        let mut p = Progressive::new(48, 36, 0);
+        let mut p = Progressive::new(48, 36, 0).with_sampling(Sampling::UNIFORM);
         for (row, stage) in rows.iter().zip(schedule(16)) {
             p.run(&s, stage, &|| false);
             assert_eq!(row.rmse, rmse(&p.image(), &r));

@@ -4,18 +4,23 @@
 //! Each pixel depends only on (scene, camera, pixel, sample index, seed), so
 //! the image is bit-identical on any number of threads.
 
-pub mod exr;
+mod adaptive;
 pub mod caustics;
+pub mod exr;
 mod image;
 pub mod progressive;
+pub mod reproject;
+mod sparse;
 pub mod worker;
 
+pub use adaptive::Adaptive;
 pub use image::{Image, ImageFormat};
+pub use sparse::{FirstHit, Seen};
 
 use crate::color::Rgb;
 use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};
 use crate::optics::WAVELENGTH_D_UM;
-use crate::sampling::Sampler;
+use crate::sampling::{Pattern, pixel_offset};
 use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
@@ -100,18 +105,18 @@ fn shade_camera_packet(
 /// to [`TILE`] whole rows of the image, one after another) to them; sample
 /// 0 is the first of a sum, so it is written over whatever `rows` held
 /// (no clearing pass, and no read of the old value). Sample
-/// 0 of a one-sample render is the pixel centre, others are stratified
-/// jitter keyed by (seed, pixel, sample). The camera rays are cast in tiles
+/// `i` lies at [`pixel_offset`] of `pattern` (sample 0: the pixel centre).
+/// The camera rays are cast in tiles
 /// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
 /// a tile a packet; every pixel gets exactly what [`sample`] gives it.
 pub fn add_band_samples(
     scene: &Scene,
     y0: u32,
-    i: u32,
-    centre: bool,
+    (i, pattern): (u32, Pattern),
     s: &RenderSettings,
     memory: &mut BandMemory,
     rows: &mut [Rgb],
+    mut first: Option<&mut [FirstHit]>,
 ) {
     let BandMemory { tile, scratch } = memory;
     let w = s.width as usize;
@@ -128,11 +133,7 @@ pub fn add_band_samples(
             let y = y0 + r as u32;
             for l in 0..n {
                 let px = (x0 + l) as u32;
-                let (jx, jy) = if centre {
-                    (0.5, 0.5)
-                } else {
-                    Sampler::new(s.seed, y as u64 * s.width as u64 + px as u64, i as u64).next_2d()
-                };
+                let (jx, jy) = pixel_offset(pattern, s.seed, y as u64 * s.width as u64 + px as u64, i);
                 xs[r][l] = px as f64 + jx;
                 ys[r][l] = y as f64 + jy;
             }
@@ -147,6 +148,11 @@ pub fn add_band_samples(
             tile,
         );
         for r in 0..count {
+            if let Some(first) = first.as_deref_mut() {
+                for (l, f) in first[r * w + x0..r * w + x0 + n].iter_mut().enumerate() {
+                    *f = FirstHit::of(scene, &tile.packets[r], &tile.hits[r], l);
+                }
+            }
             let row = &mut rows[r * w + x0..r * w + x0 + n];
             // A whole packet's first sample is written in place.
             if i == 0
@@ -176,18 +182,17 @@ pub struct BandMemory {
     scratch: PacketScratch,
 }
 
-/// The mean of `spp` samples of pixel `(px, py)`: the pixel centre for one
-/// sample, otherwise stratified jitter keyed by (seed, pixel, sample).
+/// The mean of `spp` samples of pixel `(px, py)` at the points of
+/// [`Pattern::R2`] (sample 0: the pixel centre), traced one by one.
 pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb {
-    if s.spp <= 1 {
-        return sample(scene, px as f64 + 0.5, py as f64 + 0.5, s.width, s.height);
-    }
     let pixel = py as u64 * s.width as u64 + px as u64;
     let mut sum = Rgb::ZERO;
-    for i in 0..s.spp {
-        let mut rng = Sampler::new(s.seed, pixel, i as u64);
-        let (jx, jy) = rng.next_2d();
+    for i in 0..s.spp.max(1) {
+        let (jx, jy) = pixel_offset(Pattern::R2, s.seed, pixel, i);
         sum += sample(scene, px as f64 + jx, py as f64 + jy, s.width, s.height);
+    }
+    if s.spp <= 1 {
+        return sum;
     }
     sum / s.spp as f64
 }
@@ -220,7 +225,15 @@ pub fn render_into(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(
             // pixel adds its samples in the order `render_pixel` does.
             let mut memory = BandMemory::default();
             for i in 0..s.spp.max(1) {
-                add_band_samples(scene, (band * TILE) as u32, i, s.spp <= 1, s, &mut memory, rows);
+                add_band_samples(
+                    scene,
+                    (band * TILE) as u32,
+                    (i, Pattern::R2),
+                    s,
+                    &mut memory,
+                    rows,
+                    None,
+                );
             }
             if s.spp > 1 {
                 for px in rows.iter_mut() {

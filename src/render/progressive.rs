@@ -3,17 +3,48 @@
 //! with cancellation checked between bands.
 //!
 //! Sample `i` of a pixel is fixed: sample 0 is the pixel centre, sample
-//! `i ≥ 1` is jittered by `Sampler(seed, pixel, i)`. An image refined to `N`
-//! samples is therefore the same whatever the thread count, and the same
-//! whether it got there in one wave or many.
+//! `i ≥ 1` lies at [`crate::sampling::pixel_offset`] of the pattern, keyed by (seed, pixel,
+//! `i`). With [`Sampling::adaptive`] a wave refines only the pixels that
+//! need it ([`Adaptive`]); a pixel's mean is over its own samples. An
+//! image refined to `N` samples is the same whatever the thread count, and
+//! (uniform waves) the same whether it got there in one wave or many.
 
-use super::{BandMemory, RenderSettings, add_band_samples, sample_packet};
+use super::adaptive::{Sums, SumsMut};
+use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, sample_packet};
+use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::integrator::PacketScratch;
+use crate::sampling::Pattern;
 use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
+
+/// How a [`Progressive`] places its samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampling {
+    pub pattern: Pattern,
+    /// `None`: every wave samples every pixel.
+    pub adaptive: Option<Adaptive>,
+}
+
+impl Default for Sampling {
+    /// R2 points, adaptive waves: what the viewer and `converge` use.
+    fn default() -> Sampling {
+        Sampling {
+            pattern: Pattern::R2,
+            adaptive: Some(Adaptive::default()),
+        }
+    }
+}
+
+impl Sampling {
+    /// Every pixel gets every sample (a direct `render`'s points).
+    pub const UNIFORM: Sampling = Sampling {
+        pattern: Pattern::R2,
+        adaptive: None,
+    };
+}
 
 /// One step of the schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,6 +53,9 @@ pub enum Stage {
     Blocks(u32),
     /// Full resolution, accumulated until every pixel has this many samples.
     Samples(u32),
+    /// The previous picture moved into a new view, the rest traced
+    /// ([`Progressive::reproject`]).
+    Reprojected,
 }
 
 impl Stage {
@@ -32,6 +66,7 @@ impl Stage {
         match *self {
             Stage::Blocks(n) => w.div_ceil(n as u64) * h.div_ceil(n as u64),
             Stage::Samples(s) => w * h * s.saturating_sub(have) as u64,
+            Stage::Reprojected => 0,
         }
     }
 
@@ -39,6 +74,7 @@ impl Stage {
         match *self {
             Stage::Blocks(n) => format!("{n}×{n} blocks"),
             Stage::Samples(s) => format!("{s} spp"),
+            Stage::Reprojected => "reprojected".into(),
         }
     }
 }
@@ -77,19 +113,39 @@ pub fn first_stage(stages: &[Stage], width: u32, height: u32, seconds_per_sample
     pick
 }
 
-/// The image being refined: a preview for block levels, and the running sum
-/// of full-resolution samples.
-#[derive(Clone, Debug)]
+/// The image being refined: a preview for block levels, and the running
+/// sums of full-resolution samples.
+#[derive(Debug)]
 pub struct Progressive {
     pub width: u32,
     pub height: u32,
     pub seed: u64,
-    /// Samples per pixel in `sum` (0 while only block levels were drawn).
+    /// The most samples any pixel has (0 while only block levels were
+    /// drawn); every pixel has this many unless waves are adaptive.
     pub spp: u32,
+    pub sampling: Sampling,
+    /// Camera samples cast since the last reset, block levels included.
+    pub samples_cast: u64,
     sum: Vec<Rgb>,
-    /// The buffer a sample stage writes before it replaces `sum` (the
-    /// previous sums, kept so that no frame allocates or clears one).
+    /// Per pixel: the sum of its samples' squares, and their count.
+    sq: Vec<[f32; 3]>,
+    count: Vec<u32>,
+    /// The buffers a sample stage writes before they replace `sum`, `sq`
+    /// and `count` (the previous ones, kept so that no frame allocates).
     next: Vec<Rgb>,
+    next_sq: Vec<[f32; 3]>,
+    next_count: Vec<u32>,
+    /// Working memory of adaptive waves (clamped means) and of
+    /// reprojection (the nearest splat per pixel).
+    means: Vec<[f32; 3]>,
+    splat: Vec<std::sync::atomic::AtomicU64>,
+    /// What each pixel's centre ray met (written with sample 0, or by a
+    /// reprojection), and the buffer a first sample stage writes.
+    first: Vec<FirstHit>,
+    next_first: Vec<FirstHit>,
+    /// The preview holds a reprojected picture (with `first`), which may
+    /// itself be reprojected.
+    reprojected: bool,
     preview: Vec<Rgb>,
     /// Block size of the last block stage drawn into `preview`.
     block: usize,
@@ -107,23 +163,95 @@ impl Progressive {
             height,
             seed,
             spp: 0,
+            sampling: Sampling::default(),
+            samples_cast: 0,
             sum: vec![Rgb::ZERO; n],
+            sq: vec![[0.0; 3]; n],
+            count: vec![0; n],
             next: vec![Rgb::ZERO; n],
+            next_sq: vec![[0.0; 3]; n],
+            next_count: vec![0; n],
+            first: vec![FirstHit::default(); n],
+            next_first: vec![FirstHit::default(); n],
+            reprojected: false,
+            means: Vec::new(),
+            splat: Vec::new(),
             preview: vec![Rgb::ZERO; n],
             block: 1,
         }
+    }
+
+    /// [`Progressive::new`] with another way of placing samples.
+    pub fn with_sampling(mut self, sampling: Sampling) -> Self {
+        self.sampling = sampling;
+        self
     }
 
     /// Starts over for a new picture, keeping the buffers when the size is
     /// unchanged (the sums are cleared when the first sample stage runs).
     pub fn reset(&mut self, width: u32, height: u32, seed: u64) {
         if (width, height) != (self.width, self.height) {
-            *self = Progressive::new(width, height, seed);
+            *self = Progressive::new(width, height, seed).with_sampling(self.sampling);
         } else {
             self.seed = seed;
             self.spp = 0;
             self.block = 1;
+            self.samples_cast = 0;
+            self.reprojected = false;
         }
+    }
+
+    /// Moves the current picture, seen from `from`, into `scene`'s view
+    /// (the same size; the scene the same but for its camera:
+    /// [`super::reproject::same_but_camera`]) and starts a new picture
+    /// with it: the frame of [`Stage::Reprojected`]. What cannot be moved
+    /// is traced at the block size `level(pixels left)` picks (1: each
+    /// pixel's centre). Returns `false`, changing nothing, when there is no
+    /// picture to move (nothing refined yet, or only block levels).
+    pub fn reproject(&mut self, scene: &Scene, from: &Camera, level: impl Fn(usize) -> u32) -> bool {
+        use super::reproject::{Source, fill, warp};
+        let n = self.width as usize * self.height as usize;
+        if !(self.spp > 0 || self.reprojected) || n == 0 {
+            return false;
+        }
+        let size = (self.width, self.height);
+        if self.spp > 0 {
+            // The source colours: the means, in the spare preview plane.
+            self.preview
+                .par_iter_mut()
+                .zip(&self.sum)
+                .zip(&self.count)
+                .for_each(|((o, s), c)| *o = mean(*s, *c));
+        }
+        let src = Source {
+            camera: from,
+            size,
+            colour: &self.preview,
+            first: &self.first,
+        };
+        let holes = warp(
+            &src,
+            &scene.camera,
+            size,
+            &mut self.splat,
+            &mut self.next,
+            &mut self.next_first,
+        );
+        let cast = fill(scene, size, level(holes), &mut self.next, &mut self.next_first);
+        std::mem::swap(&mut self.preview, &mut self.next);
+        std::mem::swap(&mut self.first, &mut self.next_first);
+        (self.spp, self.block, self.reprojected, self.samples_cast) = (0, 1, true, cast);
+        true
+    }
+
+    /// What each pixel's centre ray met (row-major; see [`FirstHit`]).
+    pub fn first_hits(&self) -> &[FirstHit] {
+        &self.first
+    }
+
+    /// Samples each pixel holds (row-major).
+    pub fn counts(&self) -> &[u32] {
+        &self.count
     }
 
     /// Renders one stage. Returns `false` (leaving the image as it was
@@ -137,6 +265,8 @@ impl Progressive {
             Stage::Blocks(n) => {
                 let n = n.max(1) as usize;
                 self.block = n;
+                self.reprojected = false;
+                self.samples_cast += stage.cost(self.width, self.height, 0);
                 self.preview.par_chunks_mut(w * n).enumerate().all(|(by, rows)| {
                     if cancelled() {
                         return false;
@@ -163,55 +293,125 @@ impl Progressive {
                     true
                 })
             }
-            Stage::Samples(target) => {
-                let from = self.spp;
-                if target <= from {
-                    return true;
-                }
-                let (width, height, seed) = (self.width, self.height, self.seed);
-                // The sums are written in place only when the whole stage
-                // completes; a cancelled stage must leave them untouched.
-                // Sample 0 overwrites what the spare buffer held; a later
-                // wave starts each band from a copy of its sums.
-                let mut next = std::mem::take(&mut self.next);
-                let sum = &self.sum;
-                let ok = next.par_chunks_mut(w * BAND).enumerate().all(|(band, rows)| {
-                    if cancelled() {
-                        return false;
-                    }
-                    if from > 0 {
-                        let start = band * BAND * w;
-                        rows.copy_from_slice(&sum[start..start + rows.len()]);
-                    }
-                    let settings = RenderSettings {
-                        width,
-                        height,
-                        spp: target,
-                        seed,
-                    };
-                    let mut memory = BandMemory::default();
-                    for s in from..target {
-                        add_band_samples(scene, (band * BAND) as u32, s, s == 0, &settings, &mut memory, rows);
-                    }
-                    true
-                });
-                if ok {
-                    self.next = std::mem::replace(&mut self.sum, next);
-                    self.spp = target;
-                } else {
-                    self.next = next;
-                }
-                ok
-            }
+            Stage::Samples(target) => self.run_samples(scene, target, cancelled),
+            Stage::Reprojected => true,
         }
+    }
+
+    /// A sample stage to `target` samples: the whole picture, or (adaptive,
+    /// after the first sample) a wave over the pixels that need it. The
+    /// sums are replaced only when the whole stage completes; a cancelled
+    /// stage leaves them untouched.
+    fn run_samples(&mut self, scene: &Scene, target: u32, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+        let from = self.spp;
+        if target <= from {
+            return true;
+        }
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut next = std::mem::take(&mut self.next);
+        let mut next_sq = std::mem::take(&mut self.next_sq);
+        let mut next_count = std::mem::take(&mut self.next_count);
+        let cast = match self.sampling.adaptive {
+            Some(a) if from > 0 => {
+                let old = Sums {
+                    sum: &self.sum,
+                    sq: &self.sq,
+                    count: &self.count,
+                };
+                let new = SumsMut {
+                    sum: &mut next,
+                    sq: &mut next_sq,
+                    count: &mut next_count,
+                };
+                let key = (w, h, self.seed, self.sampling.pattern);
+                a.wave(scene, key, target, (&old, new), &mut self.means, cancelled)
+            }
+            _ => self.every_pixel(
+                scene,
+                from,
+                target,
+                (&mut next, &mut next_sq, &mut next_count),
+                cancelled,
+            ),
+        };
+        let ok = cast.is_some();
+        if ok {
+            std::mem::swap(&mut self.sum, &mut next);
+            std::mem::swap(&mut self.sq, &mut next_sq);
+            std::mem::swap(&mut self.count, &mut next_count);
+            if from == 0 {
+                std::mem::swap(&mut self.first, &mut self.next_first);
+            }
+            self.spp = target;
+            self.reprojected = false;
+            self.samples_cast += cast.unwrap_or(0);
+        }
+        (self.next, self.next_sq, self.next_count) = (next, next_sq, next_count);
+        ok
+    }
+
+    /// Samples `from .. target` of every pixel into `next` (sample 0
+    /// overwrites what it held; a later wave starts each band from a copy
+    /// of the sums). Sample 0 also records each pixel's first hit and
+    /// starts the sums of squares; later samples of this path leave those
+    /// as they were (only adaptive waves read them). Returns the samples
+    /// cast, or `None` if cancelled.
+    fn every_pixel(
+        &mut self,
+        scene: &Scene,
+        from: u32,
+        target: u32,
+        (next, next_sq, next_count): (&mut [Rgb], &mut [[f32; 3]], &mut [u32]),
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> Option<u64> {
+        let w = self.width as usize;
+        let settings = RenderSettings {
+            width: self.width,
+            height: self.height,
+            spp: target,
+            seed: self.seed,
+        };
+        let (sum, sq, pattern) = (&self.sum, &self.sq, self.sampling.pattern);
+        let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
+        let ok = bands
+            .zip(next_count.par_chunks_mut(w * BAND))
+            .zip(self.next_first.par_chunks_mut(w * BAND))
+            .enumerate()
+            .all(|(band, (((rows, sq_rows), counts), first))| {
+                if cancelled() {
+                    return false;
+                }
+                let start = band * BAND * w;
+                if from > 0 {
+                    rows.copy_from_slice(&sum[start..start + rows.len()]);
+                    sq_rows.copy_from_slice(&sq[start..start + rows.len()]);
+                }
+                let mut memory = BandMemory::default();
+                let y0 = (band * BAND) as u32;
+                for s in from..target {
+                    let first = (s == 0).then_some(&mut *first);
+                    add_band_samples(scene, y0, (s, pattern), &settings, &mut memory, rows, first);
+                    if s == 0 {
+                        for (q, c) in sq_rows.iter_mut().zip(rows.iter()) {
+                            *q = (*c * *c).as_vec3().to_array();
+                        }
+                    }
+                }
+                counts.fill(target);
+                true
+            });
+        ok.then(|| (target - from) as u64 * (w * self.height as usize) as u64)
     }
 
     /// The current picture: the mean of the samples when there are any,
     /// else the block preview.
     pub fn image(&self) -> super::Image {
         let pixels = if self.spp > 0 {
-            let inv = 1.0 / self.spp as f64;
-            self.sum.par_iter().map(|c| *c * inv).collect()
+            self.sum
+                .par_iter()
+                .zip(&self.count)
+                .map(|(c, &n)| mean(*c, n))
+                .collect()
         } else {
             self.preview.clone()
         };
@@ -230,23 +430,39 @@ impl Progressive {
         if self.spp == 0 && self.block > 1 {
             return self.write_blocks_rgba8(out);
         }
-        let inv = if self.spp > 0 { 1.0 / self.spp as f64 } else { 1.0 };
-        let src = if self.spp > 0 { &self.sum } else { &self.preview };
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
+        let write = |o: &mut [u8], c: Rgb| {
+            o[0] = crate::color::to_srgb8_fast(c.x);
+            o[1] = crate::color::to_srgb8_fast(c.y);
+            o[2] = crate::color::to_srgb8_fast(c.z);
+            o[3] = 255;
+        };
+        if self.spp == 0 {
+            return out
+                .par_chunks_mut(4 * CHUNK)
+                .zip(self.preview.par_chunks(CHUNK))
+                .for_each(|(o, cs)| {
+                    o.chunks_exact_mut(4).zip(cs).for_each(|(o, c)| write(o, *c));
+                });
+        }
         out.par_chunks_mut(4 * CHUNK)
-            .zip(src.par_chunks(CHUNK))
-            .for_each(|(o, cs)| {
-                for (o, c) in o.chunks_exact_mut(4).zip(cs) {
-                    let c = *c * inv;
-                    o[0] = crate::color::to_srgb8_fast(c.x);
-                    o[1] = crate::color::to_srgb8_fast(c.y);
-                    o[2] = crate::color::to_srgb8_fast(c.z);
-                    o[3] = 255;
+            .zip(self.sum.par_chunks(CHUNK))
+            .zip(self.count.par_chunks(CHUNK))
+            .for_each(|((o, cs), ns)| {
+                for ((o, c), &n) in o.chunks_exact_mut(4).zip(cs).zip(ns) {
+                    write(o, mean(*c, n));
                 }
             });
     }
+}
+
+/// The mean of `n` samples summing to `sum` (the product with `1/n`, as
+/// every frame has always been computed).
+#[inline]
+fn mean(sum: Rgb, n: u32) -> Rgb {
+    sum * (1.0 / n.max(1) as f64)
 }
 
 impl Progressive {
@@ -280,163 +496,4 @@ impl Progressive {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::render::{RenderSettings, render};
-
-    fn scene() -> Scene {
-        Scene::default_scene().1
-    }
-
-    #[test]
-    fn schedule_goes_coarse_to_fine_and_stops_at_the_cap() {
-        assert_eq!(
-            schedule(16),
-            vec![
-                Stage::Blocks(8),
-                Stage::Blocks(4),
-                Stage::Blocks(2),
-                Stage::Samples(1),
-                Stage::Samples(2),
-                Stage::Samples(4),
-                Stage::Samples(8),
-                Stage::Samples(16)
-            ]
-        );
-        assert_eq!(*schedule(1).last().unwrap(), Stage::Samples(1));
-        assert_eq!(*schedule(48).last().unwrap(), Stage::Samples(48));
-    }
-
-    #[test]
-    fn first_stage_fits_the_budget() {
-        let st = schedule(64);
-        assert_eq!(first_stage(&st, 1280, 720, None, 0.016), 0);
-        // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
-        assert_eq!(first_stage(&st, 1280, 720, Some(1e-5), 0.016), 0);
-        // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
-        assert_eq!(first_stage(&st, 1280, 720, Some(5e-8), 0.016), 2);
-        assert_eq!(first_stage(&st, 1280, 720, Some(1e-9), 0.016), 3);
-    }
-
-    #[test]
-    fn refinement_converges_to_the_same_image_as_a_direct_render() {
-        let s = scene();
-        let mut p = Progressive::new(40, 30, 3);
-        for st in schedule(4) {
-            assert!(p.run(&s, st, &|| false));
-        }
-        assert_eq!(p.spp, 4);
-        let direct = render(
-            &s,
-            &RenderSettings {
-                width: 40,
-                height: 30,
-                spp: 1,
-                seed: 3,
-            },
-            None,
-        );
-        let mut one = Progressive::new(40, 30, 3);
-        one.run(&s, Stage::Samples(1), &|| false);
-        // Sample 0 is the pixel centre, as in a 1-spp render.
-        assert_eq!(one.image(), direct);
-        // After a reset the kept buffers hold old sums; they never leak in.
-        one.run(&s, Stage::Samples(3), &|| false);
-        one.reset(40, 30, 3);
-        one.run(&s, Stage::Samples(1), &|| false);
-        assert_eq!(one.image(), direct);
-        // Four samples in waves equal four samples at once.
-        let mut once = Progressive::new(40, 30, 3);
-        once.run(&s, Stage::Samples(4), &|| false);
-        assert_eq!(once.image(), p.image());
-    }
-
-    #[test]
-    fn cancellation_stops_a_stage_and_keeps_the_previous_image() {
-        let s = scene();
-        let mut p = Progressive::new(64, 16 * BAND as u32, 0);
-        p.run(&s, Stage::Samples(1), &|| false);
-        let before = p.image();
-        let calls = std::sync::atomic::AtomicUsize::new(0);
-        let ok = p.run(&s, Stage::Samples(8), &|| {
-            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 2
-        });
-        assert!(!ok);
-        assert_eq!(p.spp, 1);
-        assert_eq!(p.image(), before);
-        // Bands after the cancellation were skipped, not rendered: of the
-        // 16 bands, the two that saw no cancellation and the few already
-        // started beside the third asked.
-        assert!(calls.load(std::sync::atomic::Ordering::Relaxed) <= 8);
-    }
-
-    #[test]
-    fn the_schedule_gives_the_same_bits_on_one_two_and_three_threads() {
-        let s = Scene::load(&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/primitives.toml"))
-            .unwrap()
-            .1;
-        // Taller than one band per thread, and not a whole number of bands.
-        let run = |threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| {
-                    let mut p = Progressive::new(45, 7 * BAND as u32 + 3, 11);
-                    let mut frames = Vec::new();
-                    for st in schedule(6) {
-                        assert!(p.run(&s, st, &|| false));
-                        let mut rgba = Vec::new();
-                        p.write_rgba8(&mut rgba);
-                        frames.push((p.image(), rgba));
-                    }
-                    frames
-                })
-        };
-        let bits = |frames: &[(crate::render::Image, Vec<u8>)]| -> Vec<(Vec<u64>, Vec<u8>)> {
-            frames
-                .iter()
-                .map(|(img, rgba)| {
-                    (
-                        img.pixels.iter().flat_map(|c| c.to_array().map(f64::to_bits)).collect(),
-                        rgba.clone(),
-                    )
-                })
-                .collect()
-        };
-        let one = bits(&run(1));
-        assert_eq!(one.len(), schedule(6).len());
-        // Every stage changed the picture (the comparison is not of blanks).
-        assert!(one.windows(2).all(|w| w[0].0 != w[1].0));
-        assert_eq!(one, bits(&run(2)));
-        assert_eq!(one, bits(&run(3)));
-    }
-
-    #[test]
-    fn block_preview_fills_every_pixel() {
-        let s = scene();
-        let mut p = Progressive::new(37, 23, 0);
-        assert!(p.run(&s, Stage::Blocks(8), &|| false));
-        let img = p.image();
-        // Blocks are flat, and the last partial block is filled too.
-        assert_eq!(img.get(0, 0), img.get(7, 7));
-        assert_ne!(img.get(36, 22), Rgb::ZERO);
-        let mut rgba = Vec::new();
-        p.write_rgba8(&mut rgba);
-        assert_eq!(rgba.len(), 37 * 23 * 4);
-        // The per-block conversion gives the same bytes as per pixel.
-        let per_pixel: Vec<u8> = img
-            .pixels
-            .iter()
-            .flat_map(|c| {
-                [
-                    crate::color::to_srgb8_fast(c.x),
-                    crate::color::to_srgb8_fast(c.y),
-                    crate::color::to_srgb8_fast(c.z),
-                    255,
-                ]
-            })
-            .collect();
-        assert_eq!(rgba, per_pixel);
-    }
-}
+mod tests;

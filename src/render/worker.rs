@@ -8,6 +8,7 @@
 
 use super::caustics::Interleaved;
 use super::progressive::{Progressive, Stage, first_stage, schedule};
+use super::reproject::same_but_camera;
 use crate::scene::Scene;
 use crossbeam_channel::{Receiver, Sender, unbounded};
 use std::sync::Arc;
@@ -128,6 +129,58 @@ impl Drop for Worker {
     }
 }
 
+/// The block size at which a reprojection traces the `holes` pixels it
+/// could not move: the finest whose predicted time fits the first frame's
+/// budget (each pixel's centre when nothing is measured yet).
+pub fn hole_level(holes: usize, seconds_per_sample: Option<f64>) -> u32 {
+    let Some(sps) = seconds_per_sample else { return 1 };
+    [1, 2, 4, 8]
+        .into_iter()
+        .find(|&n| holes as f64 / (n * n) as f64 * sps <= FIRST_FRAME_BUDGET_S)
+        .unwrap_or(8)
+}
+
+/// How a job starts: with the reprojected picture (after this many
+/// seconds), or afresh at this stage of the schedule.
+enum Start {
+    Moved(f64),
+    At(usize),
+}
+
+/// A camera move with a picture to move: the previous picture reprojected
+/// into the new view (refinement then goes on from the first
+/// full-resolution sample); otherwise a fresh start at the first stage
+/// that fits the budget. `shown` is the scene whose picture `prog` holds.
+fn start(
+    prog: &mut Progressive,
+    shown: &mut Option<Arc<Scene>>,
+    job: &Job,
+    stages: &[Stage],
+    seconds_per_sample: Option<f64>,
+) -> Start {
+    let t0 = Instant::now();
+    let moved = shown.as_ref().filter(|s| {
+        (prog.width, prog.height) == (job.width, job.height)
+            && s.camera != job.scene.camera
+            && same_but_camera(s, &job.scene)
+    });
+    if let Some(old) = moved
+        && prog.reproject(&job.scene, &old.camera, |holes| hole_level(holes, seconds_per_sample))
+    {
+        prog.seed = job.seed;
+        *shown = Some(job.scene.clone());
+        return Start::Moved(t0.elapsed().as_secs_f64());
+    }
+    prog.reset(job.width, job.height, job.seed);
+    Start::At(first_stage(
+        stages,
+        job.width,
+        job.height,
+        seconds_per_sample,
+        FIRST_FRAME_BUDGET_S,
+    ))
+}
+
 fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake: impl Fn()) {
     let mut seconds_per_sample: Option<f64> = None;
     // Reused across jobs of the same size: allocating and zeroing two
@@ -135,6 +188,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
     let mut prog = Progressive::new(0, 0, 0);
     // The photon map, kept across jobs that change only the camera.
     let mut caustics = Interleaved::default();
+    // The scene whose picture `prog` holds (for reprojection).
+    let mut shown: Option<Arc<Scene>> = None;
     while let Ok(mut job) = jobs.recv() {
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
@@ -143,31 +198,11 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
             continue;
         }
         let stages = schedule(job.max_spp.max(1));
-        let first = first_stage(&stages, job.width, job.height, seconds_per_sample, FIRST_FRAME_BUDGET_S);
-        prog.reset(job.width, job.height, job.seed);
         let queued_ms = job.input_time.elapsed().as_secs_f64() * 1e3;
         let generation = job.generation;
         let cancelled = || wanted.load(Ordering::Relaxed) != generation;
         caustics.follow(&job.scene);
-        for (i, &stage) in stages.iter().enumerate().skip(first) {
-            let cost = stage.cost(job.width, job.height, prog.spp);
-            let t0 = Instant::now();
-            if let Stage::Samples(n) = stage {
-                caustics.refine(n.saturating_sub(prog.spp), &cancelled);
-            }
-            let with_map = caustics.scene_with_map();
-            if !prog.run(with_map.as_ref().unwrap_or(&job.scene), stage, &cancelled) {
-                break;
-            }
-            drop(with_map);
-            let dt = t0.elapsed().as_secs_f64();
-            if cost >= 1000 {
-                let sps = dt / cost as f64;
-                seconds_per_sample = Some(match seconds_per_sample {
-                    Some(old) => 0.5 * old + 0.5 * sps,
-                    None => sps,
-                });
-            }
+        let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
             let mut rgba = Vec::new();
             prog.write_rgba8(&mut rgba);
             let frame = Frame {
@@ -180,17 +215,50 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
                 render_ms: dt * 1e3,
                 queued_ms,
                 since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
-                samples_per_s: if dt > 0.0 { cost as f64 / dt } else { 0.0 },
-                last: i + 1 == stages.len(),
-                photons: caustics.counts().1,
-                photon_passes: caustics.counts().0,
+                samples_per_s: if dt > 0.0 { cast as f64 / dt } else { 0.0 },
+                last,
+                photons: photons.1,
+                photon_passes: photons.0,
             };
-            if frames.send(frame).is_err() {
-                return;
-            }
+            let ok = frames.send(frame).is_ok();
             wake();
+            ok
+        };
+        let first = match start(&mut prog, &mut shown, &job, &stages, seconds_per_sample) {
+            Start::Moved(dt) => {
+                if !send(&prog, Stage::Reprojected, dt, prog.samples_cast, false, caustics.counts()) {
+                    return;
+                }
+                stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0)
+            }
+            Start::At(first) => first,
+        };
+        for (i, &stage) in stages.iter().enumerate().skip(first) {
             if cancelled() {
                 break;
+            }
+            let before = prog.samples_cast;
+            let t0 = Instant::now();
+            if let Stage::Samples(n) = stage {
+                caustics.refine(n.saturating_sub(prog.spp), &cancelled);
+            }
+            let with_map = caustics.scene_with_map();
+            if !prog.run(with_map.as_ref().unwrap_or(&job.scene), stage, &cancelled) {
+                break;
+            }
+            drop(with_map);
+            shown = Some(job.scene.clone());
+            let dt = t0.elapsed().as_secs_f64();
+            let cost = prog.samples_cast - before;
+            if cost >= 1000 {
+                let sps = dt / cost as f64;
+                seconds_per_sample = Some(match seconds_per_sample {
+                    Some(old) => 0.5 * old + 0.5 * sps,
+                    None => sps,
+                });
+            }
+            if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
+                return;
             }
         }
     }
@@ -323,6 +391,38 @@ mod tests {
             "{:?}",
             f.map(|f| f.generation)
         );
+    }
+
+    /// After a camera move the first frame is the reprojected picture,
+    /// then refinement goes on from one sample per pixel; an edit (not only
+    /// the camera) starts as before, from the level that fits the budget.
+    #[test]
+    fn a_camera_move_shows_the_reprojected_picture_first() {
+        let w = Worker::spawn(|| {});
+        let a = job(1, 48, 32, 2);
+        w.submit(a.clone());
+        frames_until_last_of(&w, 1);
+        let mut moved = (*a.scene).clone();
+        let c = &moved.camera;
+        moved.camera = crate::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+        w.submit(Job {
+            generation: 2,
+            scene: Arc::new(moved.clone()),
+            ..a.clone()
+        });
+        let stages: Vec<Stage> = frames_until_last_of(&w, 2).iter().map(|f| f.stage).collect();
+        assert_eq!(stages, [Stage::Reprojected, Stage::Samples(1), Stage::Samples(2)]);
+        let mut edited = moved;
+        edited.background *= 0.5;
+        w.submit(Job {
+            generation: 3,
+            scene: Arc::new(edited),
+            ..a
+        });
+        let first = frames_until_last_of(&w, 3)[0].stage;
+        assert!(matches!(first, Stage::Blocks(_) | Stage::Samples(1)), "{first:?}");
+        assert_eq!(hole_level(1000, None), 1);
+        assert_eq!(hole_level(100_000, Some(1e-6)), 4);
     }
 
     #[test]

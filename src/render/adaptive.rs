@@ -1,0 +1,171 @@
+//! Adaptive sample waves: after every pixel has its centre sample, a wave
+//! refines only the pixels that still need it — those that differ from a
+//! neighbour by more than a contrast threshold (Whitted 1980: an edge, a
+//! silhouette, the lens rim, a colour fringe) or whose mean still has a
+//! large estimated error (the standard error from the samples' variance).
+//! A pixel left out keeps its samples; later waves look at it again.
+//!
+//! The decision reads only the picture before the wave, and a pixel's
+//! samples are its fixed samples `count ..` in order, so an adaptive image
+//! is the same on any number of threads.
+
+use super::sparse::{Batch, FirstHit};
+use crate::color::Rgb;
+use crate::sampling::{Pattern, pixel_offset};
+use crate::scene::Scene;
+use crate::simd::LANES;
+use crate::trace::TILE;
+use rayon::prelude::*;
+
+/// When a pixel is refined further (values in linear light, channels
+/// clamped to [0, 1], the units of the error `converge` measures).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptive {
+    /// A pixel whose mean differs from one of its eight neighbours' by more
+    /// than this in some channel is refined.
+    pub contrast: f64,
+    /// A pixel with two samples or more whose mean's standard error exceeds
+    /// this in some channel is refined.
+    pub error: f64,
+}
+
+impl Default for Adaptive {
+    /// Measured on `scenes/cubes.toml` (docs/performance.md, issue #21).
+    fn default() -> Adaptive {
+        Adaptive {
+            contrast: 0.004,
+            error: 0.002,
+        }
+    }
+}
+
+/// The running sums of a picture: per pixel the sum of its samples, the sum
+/// of their squares and their count.
+pub(super) struct Sums<'a> {
+    pub sum: &'a [Rgb],
+    pub sq: &'a [[f32; 3]],
+    pub count: &'a [u32],
+}
+
+/// The means a wave compares, clamped to [0, 1], as `f32` (computed once
+/// per wave, not once per neighbour).
+type Means = [[f32; 3]];
+
+/// The same, writable: the rows of one band.
+pub(super) struct SumsMut<'a> {
+    pub sum: &'a mut [Rgb],
+    pub sq: &'a mut [[f32; 3]],
+    pub count: &'a mut [u32],
+}
+
+impl Sums<'_> {
+    /// Every pixel's mean, clamped, into `out`.
+    fn means(&self, out: &mut Vec<[f32; 3]>) {
+        out.resize(self.sum.len(), [0.0; 3]);
+        const CHUNK: usize = 4096;
+        out.par_chunks_mut(CHUNK)
+            .zip(self.sum.par_chunks(CHUNK).zip(self.count.par_chunks(CHUNK)))
+            .for_each(|(o, (s, n))| {
+                for ((o, s), n) in o.iter_mut().zip(s).zip(n) {
+                    *o = (*s / (*n).max(1) as f64)
+                        .clamp(Rgb::ZERO, Rgb::ONE)
+                        .as_vec3()
+                        .to_array();
+                }
+            });
+    }
+}
+
+impl Adaptive {
+    /// Whether pixel `(x, y)` of a `w × h` picture is refined by a wave to
+    /// `target` samples (`means`: [`Sums::means`]).
+    fn wants(&self, s: &Sums, means: &Means, (w, h): (usize, usize), (x, y): (usize, usize), target: u32) -> bool {
+        let i = y * w + x;
+        let n = s.count[i];
+        if n >= target {
+            return false;
+        }
+        if n >= 2 {
+            let nf = n as f64;
+            let sq = Rgb::new(s.sq[i][0] as f64, s.sq[i][1] as f64, s.sq[i][2] as f64);
+            let mean = s.sum[i] / nf;
+            let var = ((sq / nf - mean * mean) * (nf / (nf - 1.0))).max(Rgb::ZERO);
+            if (var / nf).max_element() > self.error * self.error {
+                return true;
+            }
+        }
+        let m = means[i];
+        let t = self.contrast as f32;
+        for y2 in y.saturating_sub(1)..(y + 2).min(h) {
+            for q in &means[y2 * w + x.saturating_sub(1)..y2 * w + (x + 2).min(w)] {
+                if (q[0] - m[0]).abs() > t || (q[1] - m[1]).abs() > t || (q[2] - m[2]).abs() > t {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// One wave: every pixel [`Self::wants`] gets its samples `count ..
+    /// target`, cast in tiles of the pixels of each 8 × [`TILE`] block.
+    /// `old` is the picture before the wave; `new` (same size) receives
+    /// the picture after it. Returns the samples cast, or `None` when
+    /// `cancelled()` turned true (then `new` is partly written).
+    pub(super) fn wave(
+        &self,
+        scene: &Scene,
+        (w, h, seed, pattern): (usize, usize, u64, Pattern),
+        target: u32,
+        (old, new): (&Sums, SumsMut),
+        means: &mut Vec<[f32; 3]>,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> Option<u64> {
+        old.means(means);
+        let means = &means[..];
+        let band = w * TILE;
+        let size = (w as u32, h as u32);
+        let bands = new.sum.par_chunks_mut(band).zip(new.sq.par_chunks_mut(band));
+        bands
+            .zip(new.count.par_chunks_mut(band))
+            .enumerate()
+            .map(|(b, ((sum, sq), count))| {
+                if cancelled() {
+                    return None;
+                }
+                let start = b * band;
+                sum.copy_from_slice(&old.sum[start..start + sum.len()]);
+                sq.copy_from_slice(&old.sq[start..start + sq.len()]);
+                count.copy_from_slice(&old.count[start..start + count.len()]);
+                let mut sink = |dst: u32, c: Rgb, _: &dyn Fn() -> FirstHit| {
+                    let d = dst as usize;
+                    sum[d] += c;
+                    let c2 = (c * c).as_vec3();
+                    sq[d] = [sq[d][0] + c2.x, sq[d][1] + c2.y, sq[d][2] + c2.z];
+                    count[d] += 1;
+                };
+                let mut batch = Batch::default();
+                let mut cast = 0u64;
+                let y0 = b * TILE;
+                let rows = (h - y0).min(TILE);
+                for x0 in (0..w).step_by(LANES) {
+                    for y in y0..y0 + rows {
+                        for x in x0..(x0 + LANES).min(w) {
+                            if !self.wants(old, means, (w, h), (x, y), target) {
+                                continue;
+                            }
+                            let pixel = (y * w + x) as u64;
+                            for i in old.count[pixel as usize]..target {
+                                let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
+                                let dst = ((y - y0) * w + x) as u32;
+                                batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
+                                cast += 1;
+                            }
+                        }
+                    }
+                }
+                batch.flush(scene, size, &mut sink);
+                Some(cast)
+            })
+            .try_reduce(|| 0, |a, b| Some(a + b))
+    }
+}

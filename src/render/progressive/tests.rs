@@ -1,0 +1,235 @@
+//! Tests of the progressive schedule, adaptive waves and cancellation.
+
+use super::*;
+use crate::render::{RenderSettings, render};
+
+fn scene() -> Scene {
+    Scene::default_scene().1
+}
+
+fn direct_settings() -> RenderSettings {
+    RenderSettings {
+        width: 40,
+        height: 30,
+        spp: 1,
+        seed: 3,
+    }
+}
+
+/// Adaptive waves refine the pixels at edges to the cap and leave flat
+/// ones early; a pixel that got every sample is bit for bit the
+/// uniform picture's, and the rest stay close to it.
+#[test]
+fn adaptive_waves_refine_edges_and_stop_on_flat_pixels() {
+    let s = scene();
+    let (w, h) = (64, 48);
+    let run = |sampling| {
+        let mut p = Progressive::new(w, h, 2).with_sampling(sampling);
+        for st in schedule(16) {
+            assert!(p.run(&s, st, &|| false));
+        }
+        p
+    };
+    let (adaptive, uniform) = (run(Sampling::default()), run(Sampling::UNIFORM));
+    assert_eq!((adaptive.spp, uniform.spp), (16, 16));
+    let (a, u) = (adaptive.image(), uniform.image());
+    let counts = adaptive.counts();
+    let full = counts.iter().filter(|&&n| n == 16).count();
+    let stopped = counts.iter().filter(|&&n| n < 16).count();
+    assert!(
+        full > 50 && stopped > counts.len() / 3,
+        "{full} at the cap, {stopped} stopped"
+    );
+    let mut worst: f64 = 0.0;
+    for (i, &n) in counts.iter().enumerate() {
+        assert!(n >= 1);
+        if n == 16 {
+            assert_eq!(a.pixels[i], u.pixels[i], "pixel {i}");
+        }
+        worst = worst.max((a.pixels[i] - u.pixels[i]).abs().max_element());
+    }
+    assert!(worst < 0.05, "{worst}");
+    // Samples cast: far fewer than the uniform picture's.
+    assert!(adaptive.samples_cast * 4 < uniform.samples_cast * 3);
+    // Pixels that differ from a neighbour by more than four times the
+    // threshold in the uniform picture (edges) reached the cap, but for
+    // a few whose edge no centre sample around them met (a feature
+    // thinner than a pixel: contrast cannot see it).
+    let t = Adaptive::default().contrast;
+    let (mut edges, mut at_cap) = (0, 0);
+    for y in 1..h as usize - 1 {
+        for x in 1..w as usize - 1 {
+            let c = |x: usize, y: usize| u.pixels[y * w as usize + x].clamp(Rgb::ZERO, Rgb::ONE);
+            let edge = (-1..=1i64).any(|dy| {
+                (-1..=1i64).any(|dx| {
+                    let q = c((x as i64 + dx) as usize, (y as i64 + dy) as usize);
+                    (q - c(x, y)).abs().max_element() > 4.0 * t
+                })
+            });
+            if edge {
+                edges += 1;
+                at_cap += usize::from(counts[y * w as usize + x] == 16);
+            }
+        }
+    }
+    assert!(
+        edges > 100 && at_cap * 100 >= edges * 95,
+        "{at_cap} of {edges} edge pixels at the cap"
+    );
+}
+
+#[test]
+fn schedule_goes_coarse_to_fine_and_stops_at_the_cap() {
+    assert_eq!(
+        schedule(16),
+        vec![
+            Stage::Blocks(8),
+            Stage::Blocks(4),
+            Stage::Blocks(2),
+            Stage::Samples(1),
+            Stage::Samples(2),
+            Stage::Samples(4),
+            Stage::Samples(8),
+            Stage::Samples(16)
+        ]
+    );
+    assert_eq!(*schedule(1).last().unwrap(), Stage::Samples(1));
+    assert_eq!(*schedule(48).last().unwrap(), Stage::Samples(48));
+}
+
+#[test]
+fn first_stage_fits_the_budget() {
+    let st = schedule(64);
+    assert_eq!(first_stage(&st, 1280, 720, None, 0.016), 0);
+    // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
+    assert_eq!(first_stage(&st, 1280, 720, Some(1e-5), 0.016), 0);
+    // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
+    assert_eq!(first_stage(&st, 1280, 720, Some(5e-8), 0.016), 2);
+    assert_eq!(first_stage(&st, 1280, 720, Some(1e-9), 0.016), 3);
+}
+
+#[test]
+fn refinement_converges_to_the_same_image_as_a_direct_render() {
+    let s = scene();
+    let mut p = Progressive::new(40, 30, 3);
+    for st in schedule(4) {
+        assert!(p.run(&s, st, &|| false));
+    }
+    assert_eq!(p.spp, 4);
+    let direct = render(&s, &direct_settings(), None);
+    let mut one = Progressive::new(40, 30, 3);
+    one.run(&s, Stage::Samples(1), &|| false);
+    // Sample 0 is the pixel centre, as in a 1-spp render.
+    assert_eq!(one.image(), direct);
+    // After a reset the kept buffers hold old sums; they never leak in.
+    one.run(&s, Stage::Samples(3), &|| false);
+    one.reset(40, 30, 3);
+    one.run(&s, Stage::Samples(1), &|| false);
+    assert_eq!(one.image(), direct);
+    // Four samples in uniform waves equal four samples at once.
+    let mut waves = Progressive::new(40, 30, 3).with_sampling(Sampling::UNIFORM);
+    for st in schedule(4) {
+        assert!(waves.run(&s, st, &|| false));
+    }
+    let mut once = Progressive::new(40, 30, 3);
+    once.run(&s, Stage::Samples(4), &|| false);
+    assert_eq!(once.image(), waves.image());
+    // And equal a direct render at four samples.
+    let four = RenderSettings {
+        spp: 4,
+        ..direct_settings()
+    };
+    let direct4 = render(&s, &four, None);
+    for (a, b) in once.image().pixels.iter().zip(&direct4.pixels) {
+        assert!((*a - *b).abs().max_element() < 1e-12);
+    }
+}
+
+#[test]
+fn cancellation_stops_a_stage_and_keeps_the_previous_image() {
+    let s = scene();
+    let mut p = Progressive::new(64, 16 * BAND as u32, 0);
+    p.run(&s, Stage::Samples(1), &|| false);
+    let before = p.image();
+    let calls = std::sync::atomic::AtomicUsize::new(0);
+    let ok = p.run(&s, Stage::Samples(8), &|| {
+        calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 2
+    });
+    assert!(!ok);
+    assert_eq!(p.spp, 1);
+    assert_eq!(p.image(), before);
+    // Bands after the cancellation were skipped, not rendered: of the
+    // 16 bands, the two that saw no cancellation and the few already
+    // started beside the third asked.
+    assert!(calls.load(std::sync::atomic::Ordering::Relaxed) <= 8);
+}
+
+#[test]
+fn the_schedule_gives_the_same_bits_on_one_two_and_three_threads() {
+    let s = Scene::load(&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/primitives.toml"))
+        .unwrap()
+        .1;
+    // Taller than one band per thread, and not a whole number of bands.
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut p = Progressive::new(45, 7 * BAND as u32 + 3, 11);
+                let mut frames = Vec::new();
+                for st in schedule(6) {
+                    assert!(p.run(&s, st, &|| false));
+                    let mut rgba = Vec::new();
+                    p.write_rgba8(&mut rgba);
+                    frames.push((p.image(), rgba));
+                }
+                frames
+            })
+    };
+    let bits = |frames: &[(crate::render::Image, Vec<u8>)]| -> Vec<(Vec<u64>, Vec<u8>)> {
+        frames
+            .iter()
+            .map(|(img, rgba)| {
+                (
+                    img.pixels.iter().flat_map(|c| c.to_array().map(f64::to_bits)).collect(),
+                    rgba.clone(),
+                )
+            })
+            .collect()
+    };
+    let one = bits(&run(1));
+    assert_eq!(one.len(), schedule(6).len());
+    // Every stage changed the picture (the comparison is not of blanks).
+    assert!(one.windows(2).all(|w| w[0].0 != w[1].0));
+    assert_eq!(one, bits(&run(2)));
+    assert_eq!(one, bits(&run(3)));
+}
+
+#[test]
+fn block_preview_fills_every_pixel() {
+    let s = scene();
+    let mut p = Progressive::new(37, 23, 0);
+    assert!(p.run(&s, Stage::Blocks(8), &|| false));
+    let img = p.image();
+    // Blocks are flat, and the last partial block is filled too.
+    assert_eq!(img.get(0, 0), img.get(7, 7));
+    assert_ne!(img.get(36, 22), Rgb::ZERO);
+    let mut rgba = Vec::new();
+    p.write_rgba8(&mut rgba);
+    assert_eq!(rgba.len(), 37 * 23 * 4);
+    // The per-block conversion gives the same bytes as per pixel.
+    let per_pixel: Vec<u8> = img
+        .pixels
+        .iter()
+        .flat_map(|c| {
+            [
+                crate::color::to_srgb8_fast(c.x),
+                crate::color::to_srgb8_fast(c.y),
+                crate::color::to_srgb8_fast(c.z),
+                255,
+            ]
+        })
+        .collect();
+    assert_eq!(rgba, per_pixel);
+}
