@@ -231,34 +231,42 @@ fn lens_info_prints_paraxial_data_as_text_and_json() {
         text.contains("effective focal length") && text.contains("axial colour"),
         "{text}"
     );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "0.9", "--r2", "5", "--n", "1.5"],
-        "impossible lens: --r1: radius r1 = 0.9 is smaller than d/2 = 1",
-    );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "0.5", "--n", "1.5"],
-        "impossible lens: --r2: radius r2 = 0.5",
-    );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "0.5"],
-        "impossible lens: --n: index 0.5 must be ≥ 1",
-    );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "1.5,1e9"],
-        "impossible lens: --n: index",
-    );
-    fails_with(
-        &["lens", "info", "--d", "1e300", "--r1", "5", "--r2", "5", "--n", "1.5"],
-        "impossible lens: --d: diameter 1e300 is outside the supported lengths",
-    );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "1e309", "--r2", "5", "--n", "1.5"],
-        "impossible lens: --r1 must be a finite number, got inf",
-    );
-    fails_with(
-        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5e300", "--n", "1.5"],
-        "impossible lens: --r2: radius r2 = 5e300 is above the supported",
-    );
+    // Each refusal names the flag typed (d, r1, r2, n).
+    for (d, r1, r2, n, want) in [
+        (
+            "2",
+            "0.9",
+            "5",
+            "1.5",
+            "impossible lens: --r1: radius r1 = 0.9 is smaller than d/2 = 1",
+        ),
+        ("2", "5", "0.5", "1.5", "impossible lens: --r2: radius r2 = 0.5"),
+        ("2", "5", "5", "0.5", "impossible lens: --n: index 0.5 must be ≥ 1"),
+        ("2", "5", "5", "1.5,1e9", "impossible lens: --n: index"),
+        (
+            "1e300",
+            "5",
+            "5",
+            "1.5",
+            "impossible lens: --d: diameter 1e300 is outside the supported lengths",
+        ),
+        (
+            "2",
+            "1e309",
+            "5",
+            "1.5",
+            "impossible lens: --r1 must be a finite number, got inf",
+        ),
+        (
+            "2",
+            "5",
+            "5e300",
+            "1.5",
+            "impossible lens: --r2: radius r2 = 5e300 is above the supported",
+        ),
+    ] {
+        fails_with(&["lens", "info", "--d", d, "--r1", r1, "--r2", r2, "--n", n], want);
+    }
 }
 
 /// `bench --quick` writes every table and plot with numbers in them, and its

@@ -226,7 +226,14 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
         };
         let first = match start(&mut prog, &mut shown, &job, &stages, seconds_per_sample) {
             Start::Moved(dt) => {
-                if !send(&prog, Stage::Reprojected, dt, prog.samples_cast, false, caustics.counts()) {
+                if !send(
+                    &prog,
+                    Stage::Reprojected,
+                    dt,
+                    prog.samples_cast,
+                    false,
+                    caustics.counts(),
+                ) {
                     return;
                 }
                 stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0)

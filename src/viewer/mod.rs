@@ -40,6 +40,7 @@ mod refine;
 mod screen;
 mod session;
 mod stats;
+mod watchdog;
 
 use anyhow::{Context, Result, anyhow};
 use lensview::edit::{Document, Source};
@@ -117,6 +118,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
                 .map_or(String::new(), |p| p.display().to_string())
         )
     })?;
+    watchdog::arm(opts.exit_after);
     let proxy = event_loop.create_proxy();
     let worker = Worker::spawn(move || {
         let _ = proxy.send_event(UserEvent::FrameReady);
