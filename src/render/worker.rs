@@ -181,6 +181,48 @@ fn start(
     ))
 }
 
+/// A stage's time, the camera samples it cast, and its job's wait.
+struct Timing {
+    dt: f64,
+    cast: u64,
+    queued_ms: f64,
+}
+
+impl Frame {
+    /// The frame showing `prog` after `stage` of `job`.
+    fn of(prog: &Progressive, job: &Job, stage: Stage, t: Timing, last: bool, photons: (u32, usize)) -> Frame {
+        let mut rgba = Vec::new();
+        prog.write_rgba8(&mut rgba);
+        Frame {
+            generation: job.generation,
+            stage,
+            spp: prog.spp,
+            width: job.width,
+            height: job.height,
+            rgba,
+            render_ms: t.dt * 1e3,
+            queued_ms: t.queued_ms,
+            since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
+            samples_per_s: if t.dt > 0.0 { t.cast as f64 / t.dt } else { 0.0 },
+            last,
+            photons: photons.1,
+            photon_passes: photons.0,
+        }
+    }
+}
+
+/// The running estimate of seconds per camera sample, from a stage of
+/// `cost` samples that took `dt` s (stages under 1000 samples say little).
+fn update_rate(seconds_per_sample: &mut Option<f64>, dt: f64, cost: u64) {
+    if cost >= 1000 {
+        let sps = dt / cost as f64;
+        *seconds_per_sample = Some(match *seconds_per_sample {
+            Some(old) => 0.5 * old + 0.5 * sps,
+            None => sps,
+        });
+    }
+}
+
 fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake: impl Fn()) {
     let mut seconds_per_sample: Option<f64> = None;
     // Reused across jobs of the same size: allocating and zeroing two
@@ -203,23 +245,7 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
         let cancelled = || wanted.load(Ordering::Relaxed) != generation;
         caustics.follow(&job.scene);
         let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
-            let mut rgba = Vec::new();
-            prog.write_rgba8(&mut rgba);
-            let frame = Frame {
-                generation,
-                stage,
-                spp: prog.spp,
-                width: job.width,
-                height: job.height,
-                rgba,
-                render_ms: dt * 1e3,
-                queued_ms,
-                since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
-                samples_per_s: if dt > 0.0 { cast as f64 / dt } else { 0.0 },
-                last,
-                photons: photons.1,
-                photon_passes: photons.0,
-            };
+            let frame = Frame::of(prog, &job, stage, Timing { dt, cast, queued_ms }, last, photons);
             let ok = frames.send(frame).is_ok();
             wake();
             ok
@@ -257,13 +283,7 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
             shown = Some(job.scene.clone());
             let dt = t0.elapsed().as_secs_f64();
             let cost = prog.samples_cast - before;
-            if cost >= 1000 {
-                let sps = dt / cost as f64;
-                seconds_per_sample = Some(match seconds_per_sample {
-                    Some(old) => 0.5 * old + 0.5 * sps,
-                    None => sps,
-                });
-            }
+            update_rate(&mut seconds_per_sample, dt, cost);
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
                 return;
             }
