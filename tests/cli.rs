@@ -350,6 +350,18 @@ fn bench_writes_its_tables_and_plots() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("unknown feature \"fog\""));
 }
 
+/// `lensview converge` of the default scene at 32×24.
+fn converge_32x24(max_spp: &str, reference_spp: &str) -> Command {
+    let mut c = bin();
+    c.args(["converge", "--width", "32", "--height", "24"]).args([
+        "--max-spp",
+        max_spp,
+        "--reference-spp",
+        reference_spp,
+    ]);
+    c
+}
+
 /// `converge` writes its table and plot, one row a stage of the schedule,
 /// the error falling as the samples add up.
 #[test]
@@ -357,18 +369,7 @@ fn converge_writes_its_table_and_plot() {
     let (csv, png) = (tmp("converge.csv"), tmp("converge.png"));
     let _ = std::fs::remove_file(&csv);
     let _ = std::fs::remove_file(&png);
-    let o = bin()
-        .args([
-            "converge",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "--max-spp",
-            "4",
-            "--reference-spp",
-            "32",
-        ])
+    let o = converge_32x24("4", "32")
         .args(["--csv", csv.to_str().unwrap(), "--plot", png.to_str().unwrap()])
         .output()
         .unwrap();
@@ -392,18 +393,7 @@ fn converge_writes_its_table_and_plot() {
     // After a camera step the first row is the reprojected picture; a
     // malformed step is refused with a message naming the option.
     let step = |s: &str| {
-        bin()
-            .args([
-                "converge",
-                "--width",
-                "32",
-                "--height",
-                "24",
-                "--max-spp",
-                "2",
-                "--reference-spp",
-                "4",
-            ])
+        converge_32x24("2", "4")
             .args([
                 "--camera-step",
                 s,
