@@ -19,7 +19,9 @@ whose 8-bit sRGB values agree within 6/255 in every channel.
 Usage:
   benches/mitsuba_compare.py LENSVIEW_BINARY[,BINARY2...] SCENE.toml [SCENE.toml ...]
       [--width 240 --height 180 --spp 512 --lv-spp 64 --rings 400 --segments 1600]
-      [--out DIR]   (writes the lensview and Mitsuba images and the misses there)
+      [--mi-max-depth scene|N]  (Mitsuba's max_depth: the scene's + 1 by default)
+      [--out DIR]   (writes the lensview and Mitsuba images, the misses and
+                     the signed difference there)
       [--cache DIR] (keeps each Mitsuba render, keyed by scene and settings)
   Mitsuba renders each scene once; each lensview binary is compared with it.
 """
@@ -179,13 +181,24 @@ def write_ply(path, verts, norms, faces):
         f.write(fd.tobytes())
 
 
-def mitsuba_image(mi, scene, w, h, spp, rings, segments, tmp):
+def mitsuba_depth(scene, arg):
+    """Mitsuba's `max_depth` for a scene: lensview's `max_depth` counts the
+    bounces of a path (a lens pass is 2 + its reflections inside) and then
+    takes the radiance of the surface reached; Mitsuba's counts path
+    vertices after the camera, the emitter's included, so the same paths
+    need one more. `arg`: "scene" (that), or a number (-1: no limit)."""
+    if arg == "scene":
+        return int(scene.get("render", {}).get("max_depth", 8)) + 1
+    return int(arg)
+
+
+def mitsuba_image(mi, scene, w, h, spp, rings, segments, tmp, max_depth):
     T = mi.ScalarTransform4f
     pos, fwd, up = camera_basis(scene["camera"])
     bg = scene.get("render", {}).get("background", [0.0, 0.0, 0.0])
     d = {
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": int(scene.get("render", {}).get("max_depth", 8)) + 4},
+        "integrator": {"type": "path", "max_depth": max_depth},
         "sensor": {
             "type": "perspective",
             "fov": float(scene["camera"].get("fov", 45.0)),
@@ -262,6 +275,11 @@ def main():
     ap.add_argument("--lv-spp", type=int, default=64)
     ap.add_argument("--rings", type=int, default=400)
     ap.add_argument("--segments", type=int, default=1600)
+    ap.add_argument(
+        "--mi-max-depth",
+        default="scene",
+        help='Mitsuba\'s max_depth: "scene" (the scene\'s max_depth + 1, the same paths) or a number (-1: none)',
+    )
     ap.add_argument("--out")
     ap.add_argument("--cache", help="keep each Mitsuba image here and reuse it")
     a = ap.parse_args()
@@ -275,13 +293,16 @@ def main():
         with open(path, "rb") as f:
             scene = tomllib.load(f)
         with tempfile.TemporaryDirectory() as tmp:
-            key = f"{os.path.basename(path)}-{a.width}x{a.height}-{a.spp}-{a.rings}x{a.segments}.npz"
+            depth = mitsuba_depth(scene, a.mi_max_depth)
+            key = f"{os.path.basename(path)}-{a.width}x{a.height}-{a.spp}-{a.rings}x{a.segments}-d{depth}.npz"
             cached = os.path.join(a.cache, key) if a.cache else None
             if cached and os.path.exists(cached):
                 z = np.load(cached)
                 mimg, tris = z["img"], int(z["tris"])
             else:
-                mimg, tris = mitsuba_image(mi, flat(scene), a.width, a.height, a.spp, a.rings, a.segments, tmp)
+                mimg, tris = mitsuba_image(
+                    mi, flat(scene), a.width, a.height, a.spp, a.rings, a.segments, tmp, depth
+                )
                 if cached:
                     os.makedirs(a.cache, exist_ok=True)
                     np.savez(cached, img=mimg, tris=tris)
@@ -316,6 +337,11 @@ def compare(a, path, binary, lv, bare, ms, tris):
         bad[mask] = 60
         bad[mask & ~ok] = [255, 0, 0]
         Image.fromarray(bad).save(stem + "-misses.png")
+        # Signed difference, lensview − Mitsuba: grey 128 = equal, 4 grey
+        # levels a level; black outside the pixels compared.
+        signed = np.zeros_like(lv, dtype=np.uint8)
+        signed[mask] = np.clip(128 + 4 * (lv - ms)[mask], 0, 255).astype(np.uint8)
+        Image.fromarray(signed).save(stem + "-signed.png")
 
 
 if __name__ == "__main__":
