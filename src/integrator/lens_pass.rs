@@ -50,6 +50,23 @@ pub fn transmitted_rays(
     prune: &Pruning,
     emit: &mut dyn FnMut(Transmitted),
 ) {
+    transmitted_rays_to(obj, p, nf, entering, dir, ior, prune, emit);
+}
+
+/// [`transmitted_rays`] with the sink's type known, so that the kernels'
+/// sinks are compiled in rather than called through a pointer.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // one hit's data, the bound and the sink
+pub(super) fn transmitted_rays_to(
+    obj: &Object,
+    p: DVec3,
+    nf: DVec3,
+    entering: bool,
+    dir: DVec3,
+    ior: f64,
+    prune: &Pruning,
+    mut emit: impl FnMut(Transmitted),
+) {
     let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
     let Some(t) = optics::refract(dir, nf, n1, n2) else {
         return;
@@ -102,6 +119,7 @@ impl LensPasses {
             reflected: [false; LANES],
             entry_fresnel: [0.0; LANES],
             inside: [[0.0; LANES]; 3],
+            on: [[0.0; LANES]; 3],
             exits: [LaneExit::EMPTY; 2],
         },
     };
@@ -119,7 +137,7 @@ impl LensPasses {
         p: DVec3,
         ior: f64,
         prune: &Pruning,
-        emit: &mut dyn FnMut(Transmitted),
+        mut emit: impl FnMut(Transmitted),
     ) {
         let pass = &self.pass;
         if pass.reflected[l] {
@@ -131,7 +149,7 @@ impl LensPasses {
             weight: 1.0,
             reflections: 0,
         };
-        for ex in &pass.exits {
+        for (k, ex) in pass.exits.iter().enumerate() {
             if !ex.ok[l] {
                 break;
             }
@@ -146,11 +164,13 @@ impl LensPasses {
                     factor: out,
                 });
             }
-            let (y, normal) = (lane(&ex.local, l), lane(&ex.normal, l));
-            if lens
-                .reflect_inside(&mut on, y, normal, ex.reflectance[l], prune)
-                .is_err()
-            {
+            // After the first exit, the direction on is the lanes' own.
+            let (y, u) = (lane(&ex.local, l), on.u);
+            let dir = || match k {
+                0 => lane(&pass.on, l),
+                _ => Lens::reflected_inside(u, lane(&ex.normal, l)),
+            };
+            if Lens::reflect_on(&mut on, y, ex.reflectance[l], prune, dir).is_err() {
                 return;
             }
         }
@@ -205,7 +225,7 @@ pub(super) fn lens_passes(
             }
         }
     }
-    out.pass = lens_lanes(lens, ior, &x, &dir, &nf);
+    lens_lanes(lens, ior, &x, &dir, &nf, &mut out.pass);
     out.lanes = lanes;
     true
 }
@@ -218,6 +238,8 @@ pub(super) struct LensLanes {
     pub(super) entry_fresnel: Lanes<f64>,
     /// The direction inside after the entry refraction.
     inside: [Lanes<f64>; 3],
+    /// The direction on inside after a reflection at the first exit.
+    on: [Lanes<f64>; 3],
     /// The first exit, and the second after a reflection at the first.
     exits: [LaneExit; 2],
 }
@@ -246,24 +268,18 @@ impl LaneExit {
         reflectance: [0.0; LANES],
     };
 
-    /// The rays out of the exits `e` of `lens`.
+    /// Writes the rays out of the exits `e` of `lens`.
     #[inline(always)]
-    fn new(lens: &Lens, e: &LaneExits<LANES>) -> LaneExit {
-        let mut origin = [[0.0; LANES]; 3];
-        let mut dir = [[0.0; LANES]; 3];
+    fn write(&mut self, lens: &Lens, e: &LaneExits<LANES>) {
         for l in 0..LANES {
             let ray = leaving(lens, lane(&e.y, l), lane(&e.out, l), lane(&e.normal, l));
-            set_lane(&mut origin, l, ray.origin);
-            set_lane(&mut dir, l, ray.dir);
+            set_lane(&mut self.origin, l, ray.origin);
+            set_lane(&mut self.dir, l, ray.dir);
         }
-        LaneExit {
-            ok: e.ok,
-            origin,
-            dir,
-            local: e.local,
-            normal: e.normal,
-            reflectance: e.reflectance,
-        }
+        self.ok = e.ok;
+        self.local = e.local;
+        self.normal = e.normal;
+        self.reflectance = e.reflectance;
     }
 }
 
@@ -274,7 +290,7 @@ impl LaneExit {
 /// to the exit ([`Lens::exit_lanes`]), the ray out ([`leaving`]), the
 /// reflection on inside and the second exit, each lane with exactly the
 /// scalar arithmetic of [`Lens::branches_inside`], so that it gets the
-/// scalar rays bit for bit.
+/// scalar rays bit for bit. Written into `out` in place (it is large).
 #[inline(always)]
 fn lens_lanes_impl(
     lens: &Lens,
@@ -282,40 +298,31 @@ fn lens_lanes_impl(
     x: &[Lanes<f64>; 3],
     dir: &[Lanes<f64>; 3],
     nf: &[Lanes<f64>; 3],
-) -> LensLanes {
-    let mut reflected = [false; LANES];
-    let mut inside = [[0.0; LANES]; 3];
-    let mut entry_fresnel = [0.0; LANES];
+    out: &mut LensLanes,
+) {
     // `optics::refract(dir, nf, 1.0, ior)`, and `shade_onward`'s Fresnel
     // reflectance (`optics::fresnel_at`), from one crossing.
     for l in 0..LANES {
         let c = optics::crossing(lane(dir, l), lane(nf, l), 1.0, ior);
-        reflected[l] = c.total;
-        entry_fresnel[l] = c.reflectance;
-        set_lane(&mut inside, l, c.dir);
+        out.reflected[l] = c.total;
+        out.entry_fresnel[l] = c.reflectance;
+        set_lane(&mut out.inside, l, c.dir);
     }
-    let e = lens.exit_lanes(x, &inside, ior);
-    let first = LaneExit::new(lens, &e);
+    let e = lens.exit_lanes(x, &out.inside, ior);
+    out.exits[0].write(lens, &e);
     // `Lens::reflect_inside`'s new direction.
-    let mut on = [[0.0; LANES]; 3];
     for l in 0..LANES {
         set_lane(
-            &mut on,
+            &mut out.on,
             l,
-            optics::reflect(lane(&inside, l), lane(&e.normal, l)).normalize(),
+            Lens::reflected_inside(lane(&out.inside, l), lane(&e.normal, l)),
         );
     }
-    let second = LaneExit::new(lens, &lens.exit_lanes_local(&e.local, &on, ior));
-    let mut exits = [first, second];
+    out.exits[1].write(lens, &lens.exit_lanes_local(&e.local, &out.on, ior));
+    let [first, second] = &mut out.exits;
     for l in 0..LANES {
-        exits[0].ok[l] &= !reflected[l];
-        exits[1].ok[l] &= exits[0].ok[l];
-    }
-    LensLanes {
-        reflected,
-        entry_fresnel,
-        inside,
-        exits,
+        first.ok[l] &= !out.reflected[l];
+        second.ok[l] &= first.ok[l];
     }
 }
 
@@ -326,8 +333,9 @@ with_avx2! {
         ior: f64,
         x: &[Lanes<f64>; 3],
         dir: &[Lanes<f64>; 3],
-        nf: &[Lanes<f64>; 3]
-    ) -> LensLanes
+        nf: &[Lanes<f64>; 3],
+        out: &mut LensLanes
+    ) -> ()
 }
 
 /// The ray out of `lens` from the exit point `y` along `out`, spawned off
@@ -409,11 +417,16 @@ mod tests {
         let key = |t: &Transmitted| (t.ray.origin, t.ray.dir, t.bounces, t.factor.to_bits());
         for (i, (x, nf, dir)) in entries(&scene, 3).into_iter().enumerate() {
             let prune = &prunes[i % 2];
-            for pass in [
-                lens_lanes(lens, ior, &x, &dir, &nf),
-                lens_lanes_impl(lens, ior, &x, &dir, &nf),
-            ] {
-                let passes = LensPasses { lanes: 0xff, pass };
+            for avx2 in [true, false] {
+                let mut passes = LensPasses {
+                    lanes: 0xff,
+                    ..LensPasses::EMPTY
+                };
+                if avx2 {
+                    lens_lanes(lens, ior, &x, &dir, &nf, &mut passes.pass);
+                } else {
+                    lens_lanes_impl(lens, ior, &x, &dir, &nf, &mut passes.pass);
+                }
                 for l in 0..LANES {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
                     let mut want = Vec::new();

@@ -11,16 +11,20 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, lens_passes, transmitted_rays};
+use super::lens_pass::{LensPasses, Transmitted, lens_passes, transmitted_rays_to};
 use super::scalar::kernel;
-use super::shade::{Secondary, add_light, ambient, join, light_at, shade_onward, visibility_matters};
+use super::shade::{
+    Refraction, Secondary, Tracer, add_light, ambient, join, light_at, shade_onward, visibility_matters,
+};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
+use crate::geometry::Pruning;
 use crate::light::{Light, LightSample};
 use crate::optics::fresnel_at;
 use crate::scene::Scene;
 use crate::simd::{LANES, Lanes, live_lanes};
 use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
+use glam::DVec3;
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
@@ -226,17 +230,15 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
         }
     }
     // In the order `shade` adds them: refracted (the first two rays out of a
-    // lens, then the others), then reflected.
-    let mut extras = extra.iter().peekable();
-    for l in 0..LANES {
-        for (k, (o, back)) in onward.iter().zip(back.iter()).enumerate() {
-            if o.live >> l & 1 != 0 {
-                o.join(l, &mut out[l], back[l]);
-            }
-            while k == 1
-                && let Some(e) = extras.next_if(|e| e.lane == l)
-            {
-                join(&mut out[l], e.tint, e.factor, e.back);
+    // lens, then the others), then reflected. Each lane's sum is its own, so
+    // the lanes can go slot by slot.
+    for (k, (o, back)) in onward.iter().zip(back.iter()).enumerate() {
+        for l in live_lanes(o.live) {
+            o.join(l, &mut out[l], back[l]);
+        }
+        if k == 1 {
+            for e in extra.iter() {
+                join(&mut out[e.lane], e.tint, e.factor, e.back);
             }
         }
     }
@@ -354,36 +356,100 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             paths.depth[l],
             lambda_um,
             paths.weight[l],
-            &mut |dir, nf, n1, n2| match traced(l) {
-                Some(ps) => ps.pass.entry_fresnel[l],
-                None => fresnel_at(dir, nf, n1, n2),
+            &InPacket {
+                lens: traced(l),
+                l,
+                dir,
             },
-            &mut |s, ior, prune, emit| match (traced(l), s.object.lens()) {
-                (Some(ps), Some(lens)) => ps.transmitted(l, lens, s.p, ior, prune, emit),
-                _ => transmitted_rays(s.object, s.p, s.nf, s.entering, dir, ior, prune, emit),
-            },
-            &mut |sec, _| {
-                let free = |o: &Onward| o.live >> l & 1 == 0;
-                let slot = match sec.tint {
-                    None => Some(2),
-                    Some(_) => (0..2).find(|&k| free(&onward[k])),
-                };
-                if let Some(k) = slot {
-                    onward[k].push(l, &sec);
-                } else {
-                    let back = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
-                    );
-                    extra.push(Extra {
-                        lane: l,
-                        tint: sec.tint,
-                        factor: sec.factor,
-                        back,
-                    });
-                }
+            &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+                scene,
+                lambda_um,
+                l,
+                onward,
+                extra,
             },
             &mut out[l],
         );
     }
     onward.iter().any(|o| o.live != 0)
+}
+
+/// A lane's further ray out of a lens, traced at once by the scalar
+/// kernel (rare: out of line, so that the common path stays small).
+#[inline(never)]
+fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    lane: usize,
+    sec: &Secondary,
+    lambda_um: f64,
+) -> Extra {
+    Extra {
+        lane,
+        tint: sec.tint,
+        factor: sec.factor,
+        back: kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
+    }
+}
+
+/// Lane `l`'s [`Refraction`] (its ray along `dir`): where the lane enters
+/// the lens the packet traced (`lens`), the entry's reflectance and the
+/// first exits from there; elsewhere each crossing computed at its surface.
+struct InPacket<'a> {
+    lens: Option<&'a LensPasses>,
+    l: usize,
+    dir: DVec3,
+}
+
+impl Refraction for InPacket<'_> {
+    #[inline(always)]
+    fn fresnel(&self, dir: DVec3, nf: DVec3, n1: f64, n2: f64) -> f64 {
+        match self.lens {
+            Some(ps) => ps.pass.entry_fresnel[self.l],
+            None => fresnel_at(dir, nf, n1, n2),
+        }
+    }
+
+    #[inline(always)]
+    fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
+        match (self.lens, s.object.lens()) {
+            (Some(ps), Some(lens)) => ps.transmitted(self.l, lens, s.p, ior, prune, emit),
+            _ => transmitted_rays_to(s.object, s.p, s.nf, s.entering, self.dir, ior, prune, emit),
+        }
+    }
+}
+
+/// Lane `l`'s [`Tracer`]: a refracted ray goes in the first of the
+/// refracted packets (`onward` 0 and 1) where the lane is free, a reflected
+/// one in the reflected packet (2), to be traced after the local shading of
+/// every lane; a third refracted ray (out of a lens) is traced at once by
+/// the scalar kernel (into `extra`).
+struct Gather<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
+    scene: &'a Scene,
+    lambda_um: f64,
+    l: usize,
+    onward: &'a mut [Onward; 3],
+    extra: &'a mut Vec<Extra>,
+}
+
+impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> Tracer
+    for Gather<'_, SHADOWS, GLASS, MIRROR, SPECULAR>
+{
+    #[inline(always)]
+    fn trace(&mut self, sec: Secondary, _: &mut Rgb) {
+        let l = self.l;
+        let free = |o: &Onward| o.live >> l & 1 == 0;
+        let slot = match sec.tint {
+            None => Some(2),
+            Some(_) => (0..2).find(|&k| free(&self.onward[k])),
+        };
+        match slot {
+            Some(k) => self.onward[k].push(l, &sec),
+            None => self.extra.push(further::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                self.scene,
+                l,
+                &sec,
+                self.lambda_um,
+            )),
+        }
+    }
 }
