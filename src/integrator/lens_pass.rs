@@ -126,10 +126,11 @@ impl LensPasses {
 
     /// [`transmitted_rays`] for traced lane `l` (into `lens` at `p`, index
     /// `ior`): [`Lens::branches_inside`]'s loop, its first two exits taken
-    /// from the lanes where they leave by refraction, the rest (and a lane
-    /// that reflects totally) from the scalar chain.
+    /// from the lanes where they leave by refraction ([`LensPasses::walk`]),
+    /// the rest (and a lane that reflects totally) from the scalar chain.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // the lane, its entry, the bound and the sink
+    #[cfg(test)]
     pub(super) fn transmitted(
         &self,
         l: usize,
@@ -139,9 +140,27 @@ impl LensPasses {
         prune: &Pruning,
         mut emit: impl FnMut(Transmitted),
     ) {
+        if let Some(on) = self.walk(l, lens, p, prune, &mut emit) {
+            chain(lens, on, ior, prune, emit);
+        }
+    }
+
+    /// The rays out of traced lane `l` (into `lens` at `p`) at its first
+    /// two exits, taken from the lanes, handed to `emit` in order; where the
+    /// tree goes on past them (or the lane reflects totally at one), the
+    /// light inside there, for [`chain`].
+    #[inline(always)]
+    pub(super) fn walk(
+        &self,
+        l: usize,
+        lens: &Lens,
+        p: DVec3,
+        prune: &Pruning,
+        mut emit: impl FnMut(Transmitted),
+    ) -> Option<Inside> {
         let pass = &self.pass;
         if pass.reflected[l] {
-            return;
+            return None;
         }
         let mut on = Inside {
             x: p - lens.center,
@@ -150,10 +169,10 @@ impl LensPasses {
             reflections: 0,
         };
         for (k, ex) in pass.exits.iter().enumerate() {
-            if !ex.ok[l] {
-                break;
+            if !ex.exit.ok[l] {
+                return Some(on);
             }
-            let out = on.weight * (1.0 - ex.reflectance[l]);
+            let out = on.weight * (1.0 - ex.exit.reflectance[l]);
             if prune.keeps(out) {
                 emit(Transmitted {
                     ray: Ray {
@@ -165,17 +184,21 @@ impl LensPasses {
                 });
             }
             // After the first exit, the direction on is the lanes' own.
-            let (y, u) = (lane(&ex.local, l), on.u);
+            let (y, u) = (lane(&ex.exit.local, l), on.u);
             let dir = || match k {
                 0 => lane(&pass.on, l),
-                _ => Lens::reflected_inside(u, lane(&ex.normal, l)),
+                _ => Lens::reflected_inside(u, lane(&ex.exit.normal, l)),
             };
-            if Lens::reflect_on(&mut on, y, ex.reflectance[l], prune, dir).is_err() {
-                return;
-            }
+            Lens::reflect_on(&mut on, y, ex.exit.reflectance[l], prune, dir).ok()?;
         }
-        lens.branch_chain(on, ior, prune, &mut |b| emit(out_of(lens, &b)));
+        Some(on)
     }
+}
+
+/// The rays out of `lens` (index `ior`) from the light inside `on` on, by
+/// the scalar chain ([`Lens::branch_chain`]), handed to `emit` in order.
+pub(super) fn chain(lens: &Lens, on: Inside, ior: f64, prune: &Pruning, mut emit: impl FnMut(Transmitted)) {
+    lens.branch_chain(on, ior, prune, &mut |b| emit(out_of(lens, &b)));
 }
 
 /// The first exits from a lens of the lanes whose surface is the entry into
@@ -244,42 +267,33 @@ pub(super) struct LensLanes {
     exits: [LaneExit; 2],
 }
 
-/// One exit of a packet's lanes from inside a lens: where `ok`, the lane
-/// meets a face and leaves by refraction, along the ray `origin`, `dir`;
-/// the rest reflects on from `local` (lens coordinates) off the face of
-/// outward normal `normal` with reflectance `reflectance`.
+/// One exit of a packet's lanes from inside a lens ([`Lens::exit_lanes`]:
+/// where `ok`, the lane meets a face and leaves by refraction; the rest
+/// reflects on from `local` off the face of outward normal `normal` with
+/// reflectance `reflectance`), and the rays out along `origin`, `dir`.
 #[derive(Clone, Copy)]
 struct LaneExit {
-    ok: Lanes<bool>,
+    exit: LaneExits<LANES>,
     origin: [Lanes<f64>; 3],
     dir: [Lanes<f64>; 3],
-    local: [Lanes<f64>; 3],
-    normal: [Lanes<f64>; 3],
-    reflectance: Lanes<f64>,
 }
 
 impl LaneExit {
     const EMPTY: LaneExit = LaneExit {
-        ok: [false; LANES],
+        exit: LaneExits::EMPTY,
         origin: [[0.0; LANES]; 3],
         dir: [[0.0; LANES]; 3],
-        local: [[0.0; LANES]; 3],
-        normal: [[0.0; LANES]; 3],
-        reflectance: [0.0; LANES],
     };
 
-    /// Writes the rays out of the exits `e` of `lens`.
+    /// Writes the rays out of the exits of `lens` held.
     #[inline(always)]
-    fn write(&mut self, lens: &Lens, e: &LaneExits<LANES>) {
+    fn rays(&mut self, lens: &Lens) {
+        let e = &self.exit;
         for l in 0..LANES {
             let ray = leaving(lens, lane(&e.y, l), lane(&e.out, l), lane(&e.normal, l));
             set_lane(&mut self.origin, l, ray.origin);
             set_lane(&mut self.dir, l, ray.dir);
         }
-        self.ok = e.ok;
-        self.local = e.local;
-        self.normal = e.normal;
-        self.reflectance = e.reflectance;
     }
 }
 
@@ -308,21 +322,28 @@ fn lens_lanes_impl(
         out.entry_fresnel[l] = c.reflectance;
         set_lane(&mut out.inside, l, c.dir);
     }
-    let e = lens.exit_lanes(x, &out.inside, ior);
-    out.exits[0].write(lens, &e);
+    let LensLanes {
+        reflected,
+        inside,
+        on,
+        exits: [first, second],
+        ..
+    } = out;
+    lens.exit_lanes_into(x, inside, ior, &mut first.exit);
+    first.rays(lens);
     // `Lens::reflect_inside`'s new direction.
     for l in 0..LANES {
         set_lane(
-            &mut out.on,
+            on,
             l,
-            Lens::reflected_inside(lane(&out.inside, l), lane(&e.normal, l)),
+            Lens::reflected_inside(lane(inside, l), lane(&first.exit.normal, l)),
         );
     }
-    out.exits[1].write(lens, &lens.exit_lanes_local(&e.local, &out.on, ior));
-    let [first, second] = &mut out.exits;
+    lens.exit_lanes_local_into(&first.exit.local, on, ior, &mut second.exit);
+    second.rays(lens);
     for l in 0..LANES {
-        first.ok[l] &= !out.reflected[l];
-        second.ok[l] &= first.ok[l];
+        first.exit.ok[l] &= !reflected[l];
+        second.exit.ok[l] &= first.exit.ok[l];
     }
 }
 
@@ -439,7 +460,7 @@ mod tests {
                     assert!(!passes.pass.reflected[l], "air to glass never reflects totally");
                     let f = fresnel_at(at(&dir), at(&nf), 1.0, ior);
                     assert_eq!(passes.pass.entry_fresnel[l], f, "shade_onward's reflectance");
-                    if passes.pass.exits[1].ok[l] {
+                    if passes.pass.exits[1].exit.ok[l] {
                         exact += 1
                     } else {
                         scalar += 1

@@ -11,20 +11,18 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, Transmitted, lens_passes, transmitted_rays_to};
-use super::scalar::kernel;
+use super::lens_pass::{LensPasses, chain, lens_passes};
+use super::scalar::{Alone, kernel};
 use super::shade::{
-    Refraction, Secondary, Tracer, add_light, ambient, join, light_at, shade_onward, visibility_matters,
+    Secondary, Tracer, add_light, ambient, followed, glass_shares, join, lens_pruning, light_at, reflected, refracted,
+    shade_onward, visibility_matters,
 };
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
-use crate::geometry::Pruning;
 use crate::light::{Light, LightSample};
-use crate::optics::fresnel_at;
 use crate::scene::Scene;
 use crate::simd::{LANES, Lanes, live_lanes};
 use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
-use glam::DVec3;
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
@@ -339,15 +337,20 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
 ) -> bool {
     let Sent { lens, onward, extra } = sent;
     let p = paths.rays;
-    let passes = GLASS && lens_passes(p, surfaces, lambda_um, lens);
-    let lens = &*lens;
-    let traced = |l: usize| (passes && lens.lanes >> l & 1 != 0).then_some(lens);
     for o in onward.iter_mut() {
         o.live = 0;
     }
     extra.clear();
+    let mut traced = 0;
+    if GLASS && lens_passes(p, surfaces, lambda_um, lens) {
+        traced = lens.lanes;
+        send_through_lens::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, surfaces, lens, lambda_um, onward, extra);
+    }
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
+        if traced >> l & 1 != 0 {
+            continue;
+        }
         let dir = p.dir(l);
         shade_onward::<GLASS, MIRROR>(
             scene,
@@ -356,11 +359,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             paths.depth[l],
             lambda_um,
             paths.weight[l],
-            &InPacket {
-                lens: traced(l),
-                l,
-                dir,
-            },
+            &Alone(dir),
             &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
                 scene,
                 lambda_um,
@@ -372,6 +371,69 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
         );
     }
     onward.iter().any(|o| o.live != 0)
+}
+
+/// [`send_onward`] for the lanes whose passes through a lens `passes`
+/// traced together: [`shade_onward`]'s steps for a lane entering a lens
+/// ([`glass_shares`], [`lens_pruning`], [`refracted`], [`reflected`]), the
+/// rays out at its first two exits taken from the lanes
+/// ([`LensPasses::walk`]) and gathered with no call per ray, the rest of
+/// the tree from the scalar [`chain`]. Out of line, so that the common path
+/// stays small. The lanes' colours take nothing until the rays come back.
+#[inline(never)]
+fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    surfaces: &[Option<Surface>; LANES],
+    passes: &LensPasses,
+    lambda_um: f64,
+    onward: &mut [Onward; 3],
+    extra: &mut Vec<Extra>,
+) {
+    let mut unused = Rgb::ZERO;
+    for l in live_lanes(passes.lanes) {
+        let (depth, weight) = (paths.depth[l], paths.weight[l]);
+        let Some(s) = &surfaces[l] else { continue };
+        let Some(lens) = s.object.lens() else { continue };
+        if depth >= scene.max_depth {
+            continue;
+        }
+        let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+            scene,
+            lambda_um,
+            l,
+            onward,
+            extra,
+        };
+        let m = &s.object.material;
+        let (kr, kt) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
+        if followed(kt, weight) {
+            let prune = lens_pruning(scene, depth, weight, kt);
+            let mut first = [None; 2];
+            let mut n = 0;
+            let rest = passes.walk(l, lens, s.p, &prune, |tr| {
+                if let Some(slot) = first.get_mut(n) {
+                    *slot = Some(tr);
+                }
+                n += 1;
+            });
+            for tr in first.iter().flatten() {
+                if let Some(sec) = refracted(scene, s, depth, weight, kt, *tr) {
+                    gather.trace(sec, &mut unused);
+                }
+            }
+            if let Some(on) = rest {
+                chain(lens, on, m.ior.at(lambda_um), &prune, |tr| {
+                    if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
+                        gather.trace(sec, &mut unused);
+                    }
+                });
+            }
+        }
+        if followed(kr, weight) {
+            gather.trace(reflected(s, paths.rays.dir(l), depth, weight, kr), &mut unused);
+        }
+    }
 }
 
 /// A lane's further ray out of a lens, traced at once by the scalar
@@ -388,33 +450,6 @@ fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPE
         tint: sec.tint,
         factor: sec.factor,
         back: kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
-    }
-}
-
-/// Lane `l`'s [`Refraction`] (its ray along `dir`): where the lane enters
-/// the lens the packet traced (`lens`), the entry's reflectance and the
-/// first exits from there; elsewhere each crossing computed at its surface.
-struct InPacket<'a> {
-    lens: Option<&'a LensPasses>,
-    l: usize,
-    dir: DVec3,
-}
-
-impl Refraction for InPacket<'_> {
-    #[inline(always)]
-    fn fresnel(&self, dir: DVec3, nf: DVec3, n1: f64, n2: f64) -> f64 {
-        match self.lens {
-            Some(ps) => ps.pass.entry_fresnel[self.l],
-            None => fresnel_at(dir, nf, n1, n2),
-        }
-    }
-
-    #[inline(always)]
-    fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
-        match (self.lens, s.object.lens()) {
-            (Some(ps), Some(lens)) => ps.transmitted(self.l, lens, s.p, ior, prune, emit),
-            _ => transmitted_rays_to(s.object, s.p, s.nf, s.entering, self.dir, ior, prune, emit),
-        }
     }
 }
 

@@ -80,7 +80,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
 
 /// One ray's [`Refraction`]: each crossing computed at its surface, for a
 /// ray along the direction held.
-struct Alone(DVec3);
+pub(super) struct Alone(pub(super) DVec3);
 
 impl Refraction for Alone {
     #[inline(always)]

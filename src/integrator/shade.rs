@@ -9,6 +9,7 @@ use super::surface::{Surface, spawn_ray};
 use crate::color::Rgb;
 use crate::geometry::Pruning;
 use crate::light::{Light, LightSample};
+use crate::material::Material;
 use crate::math::Ray;
 use crate::optics;
 use crate::scene::Scene;
@@ -191,59 +192,97 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     if depth >= scene.max_depth {
         return;
     }
-    let (obj, p, nf, entering) = (s.object, s.p, s.nf, s.entering);
-    let m = &obj.material;
+    let m = &s.object.material;
     let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
     if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
-        let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
-        let f = refraction.fresnel(dir, nf, n1, n2);
-        kr += m.transparency * f;
-        let kt = m.transparency * (1.0 - f);
-        if kt * weight > MIN_WEIGHT {
-            // A ray out of a lens uses 2 + its reflections inside.
-            let prune = Pruning {
-                scale: weight * kt,
-                min: LENS_MIN_WEIGHT,
-                max_reflections: scene.max_depth.saturating_sub(depth + 2),
-            };
+        let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
+        let (r, kt) = glass_shares::<MIRROR>(m, refraction.fresnel(dir, s.nf, n1, n2));
+        kr = r;
+        if followed(kt, weight) {
+            let prune = lens_pruning(scene, depth, weight, kt);
             refraction.transmit(s, ior, &prune, |tr| {
-                if depth + tr.bounces > scene.max_depth {
-                    return;
+                if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
+                    tracer.trace(sec, color);
                 }
-                let w = kt * tr.factor;
-                // Out of a lens, or out of a solid: the ray has left the object.
-                let skip = if obj.lens().is_some() || s.outward(tr.ray.dir) {
-                    s.index
-                } else {
-                    usize::MAX
-                };
-                tracer.trace(
-                    Secondary {
-                        ray: tr.ray,
-                        skip,
-                        depth: depth + tr.bounces,
-                        weight: weight * w,
-                        tint: Some(m.color),
-                        factor: w,
-                    },
-                    color,
-                );
             });
         }
     }
-    if kr * weight > MIN_WEIGHT {
-        let r = optics::reflect(dir, nf);
-        tracer.trace(
-            Secondary {
-                ray: spawn_ray(p, nf, r, obj.scale),
-                skip: s.leaving(r),
-                depth: depth + 1,
-                weight: weight * kr,
-                tint: None,
-                factor: kr,
-            },
-            color,
-        );
+    if followed(kr, weight) {
+        tracer.trace(reflected(s, dir, depth, weight, kr), color);
+    }
+}
+
+/// The shares of the light that glass of material `m` reflects (`kr`,
+/// with a mirror's reflectivity) and transmits (`kt`) where the Fresnel
+/// reflectance is `f`.
+#[inline(always)]
+pub(super) fn glass_shares<const MIRROR: bool>(m: &Material, f: f64) -> (f64, f64) {
+    let kr = if MIRROR { m.reflectivity } else { 0.0 };
+    (kr + m.transparency * f, m.transparency * (1.0 - f))
+}
+
+/// Whether a ray that carries the share `k` of a path of weight `weight`
+/// is followed ([`MIN_WEIGHT`]).
+#[inline(always)]
+pub(super) fn followed(k: f64, weight: f64) -> bool {
+    k * weight > MIN_WEIGHT
+}
+
+/// When a branch out of a lens is dropped, for light entering it `depth`
+/// bounces deep with path weight `weight` of which the share `kt` goes in:
+/// a ray out of a lens uses 2 + its reflections inside.
+#[inline(always)]
+pub(super) fn lens_pruning(scene: &Scene, depth: u32, weight: f64, kt: f64) -> Pruning {
+    Pruning {
+        scale: weight * kt,
+        min: LENS_MIN_WEIGHT,
+        max_reflections: scene.max_depth.saturating_sub(depth + 2),
+    }
+}
+
+/// The ray `tr` that carries on through the surface `s` (transmitted share
+/// `kt`) as shading sends it on; `None` past the scene's `max_depth`.
+#[inline(always)]
+pub(super) fn refracted(
+    scene: &Scene,
+    s: &Surface,
+    depth: u32,
+    weight: f64,
+    kt: f64,
+    tr: Transmitted,
+) -> Option<Secondary> {
+    if depth + tr.bounces > scene.max_depth {
+        return None;
+    }
+    let w = kt * tr.factor;
+    // Out of a lens, or out of a solid: the ray has left the object.
+    let skip = if s.object.lens().is_some() || s.outward(tr.ray.dir) {
+        s.index
+    } else {
+        usize::MAX
+    };
+    Some(Secondary {
+        ray: tr.ray,
+        skip,
+        depth: depth + tr.bounces,
+        weight: weight * w,
+        tint: Some(s.object.material.color),
+        factor: w,
+    })
+}
+
+/// The mirror ray at the surface `s` for a ray along `dir` (reflected share
+/// `kr`) as shading sends it on.
+#[inline(always)]
+pub(super) fn reflected(s: &Surface, dir: DVec3, depth: u32, weight: f64, kr: f64) -> Secondary {
+    let r = optics::reflect(dir, s.nf);
+    Secondary {
+        ray: spawn_ray(s.p, s.nf, r, s.object.scale),
+        skip: s.leaving(r),
+        depth: depth + 1,
+        weight: weight * kr,
+        tint: None,
+        factor: kr,
     }
 }
