@@ -156,7 +156,7 @@ impl LensPasses {
         lens: &Lens,
         p: DVec3,
         prune: &Pruning,
-        mut emit: impl FnMut(Transmitted),
+        emit: &mut impl Sink,
     ) -> Option<Inside> {
         let pass = &self.pass;
         if pass.reflected[l] {
@@ -174,7 +174,7 @@ impl LensPasses {
             }
             let out = on.weight * (1.0 - ex.exit.reflectance[l]);
             if prune.keeps(out) {
-                emit(Transmitted {
+                emit.send(Transmitted {
                     ray: Ray {
                         origin: lane(&ex.origin, l),
                         dir: lane(&ex.dir, l),
@@ -192,6 +192,19 @@ impl LensPasses {
             Lens::reflect_on(&mut on, y, ex.exit.reflectance[l], prune, dir).ok()?;
         }
         Some(on)
+    }
+}
+
+/// Where a pass hands its rays out ([`LensPasses::walk`]): any closure, or
+/// a kernel's own sink whose `send` is compiled into the walk.
+pub(super) trait Sink {
+    fn send(&mut self, tr: Transmitted);
+}
+
+impl<F: FnMut(Transmitted)> Sink for F {
+    #[inline(always)]
+    fn send(&mut self, tr: Transmitted) {
+        self(tr)
     }
 }
 

@@ -11,7 +11,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, chain, lens_passes};
+use super::lens_pass::{LensPasses, Sink, Transmitted, chain, lens_passes};
 use super::scalar::{Alone, kernel};
 use super::shade::{
     Secondary, Tracer, add_light, ambient, followed, glass_shares, join, lens_pruning, light_at, reflected, refracted,
@@ -377,8 +377,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
 /// traced together: [`shade_onward`]'s steps for a lane entering a lens
 /// ([`glass_shares`], [`lens_pruning`], [`refracted`], [`reflected`]), the
 /// rays out at its first two exits taken from the lanes
-/// ([`LensPasses::walk`]) and gathered with no call per ray, the rest of
-/// the tree from the scalar [`chain`]. Out of line, so that the common path
+/// ([`LensPasses::walk`]), the rest of the tree from the scalar [`chain`]. Out of line, so that the common path
 /// stays small. The lanes' colours take nothing until the rays come back.
 #[inline(never)]
 fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
@@ -390,7 +389,6 @@ fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool,
     onward: &mut [Onward; 3],
     extra: &mut Vec<Extra>,
 ) {
-    let mut unused = Rgb::ZERO;
     for l in live_lanes(passes.lanes) {
         let (depth, weight) = (paths.depth[l], paths.weight[l]);
         let Some(s) = &surfaces[l] else { continue };
@@ -409,29 +407,23 @@ fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool,
         let (kr, kt) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
         if followed(kt, weight) {
             let prune = lens_pruning(scene, depth, weight, kt);
-            let mut first = [None; 2];
-            let mut n = 0;
-            let rest = passes.walk(l, lens, s.p, &prune, |tr| {
-                if let Some(slot) = first.get_mut(n) {
-                    *slot = Some(tr);
-                }
-                n += 1;
-            });
-            for tr in first.iter().flatten() {
-                if let Some(sec) = refracted(scene, s, depth, weight, kt, *tr) {
-                    gather.trace(sec, &mut unused);
-                }
-            }
-            if let Some(on) = rest {
-                chain(lens, on, m.ior.at(lambda_um), &prune, |tr| {
-                    if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
-                        gather.trace(sec, &mut unused);
-                    }
-                });
+            let mut send = Refracted {
+                scene,
+                s,
+                depth,
+                weight,
+                kt,
+                gather: &mut gather,
+            };
+            if let Some(on) = passes.walk(l, lens, s.p, &prune, &mut send) {
+                // Rare: through a pointer, so that the chain's code is not
+                // repeated here.
+                let rest: &mut dyn FnMut(Transmitted) = &mut |tr| send.send(tr);
+                chain(lens, on, m.ior.at(lambda_um), &prune, rest);
             }
         }
         if followed(kr, weight) {
-            gather.trace(reflected(s, paths.rays.dir(l), depth, weight, kr), &mut unused);
+            gather.trace(reflected(s, paths.rays.dir(l), depth, weight, kr), &mut Rgb::default());
         }
     }
 }
@@ -485,6 +477,27 @@ impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR:
                 &sec,
                 self.lambda_um,
             )),
+        }
+    }
+}
+
+/// The rays out of a lens that lane `gather` sends on, as [`refracted`]
+/// makes them from the surface `s` of entry (transmitted share `kt`).
+struct Refracted<'a, 's, T: Tracer> {
+    scene: &'a Scene,
+    s: &'a Surface<'s>,
+    depth: u32,
+    weight: f64,
+    kt: f64,
+    gather: &'a mut T,
+}
+
+impl<T: Tracer> Sink for Refracted<'_, '_, T> {
+    #[inline(always)]
+    fn send(&mut self, tr: Transmitted) {
+        if let Some(sec) = refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr) {
+            // A packet's lanes take their colours when the rays come back.
+            self.gather.trace(sec, &mut Rgb::default());
         }
     }
 }
