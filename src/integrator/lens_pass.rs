@@ -39,25 +39,13 @@ pub struct Transmitted {
 /// `emit`. A ray entering a lens gives every ray out of the lens's Whitted
 /// tree ([`Lens::branches_inside`], pruned by `prune`); other solids give
 /// the ray inside. Nothing under total internal reflection.
-#[allow(clippy::too_many_arguments)] // one hit's data, the bound and the sink
-pub fn transmitted_rays(
-    obj: &Object,
-    p: DVec3,
-    nf: DVec3,
-    entering: bool,
-    dir: DVec3,
-    ior: f64,
-    prune: &Pruning,
-    emit: &mut dyn FnMut(Transmitted),
-) {
-    transmitted_rays_to(obj, p, nf, entering, dir, ior, prune, emit);
-}
-
-/// [`transmitted_rays`] with the sink's type known, so that the kernels'
-/// sinks are compiled in rather than called through a pointer.
+///
+/// The sink's type is known to the compiler, so that the kernels' sinks
+/// are compiled in rather than called through a pointer (any closure, or
+/// `&mut dyn FnMut`, fits).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)] // one hit's data, the bound and the sink
-pub(super) fn transmitted_rays_to(
+pub fn transmitted_rays(
     obj: &Object,
     p: DVec3,
     nf: DVec3,

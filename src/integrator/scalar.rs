@@ -3,7 +3,7 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
-use super::lens_pass::{Transmitted, transmitted_rays_to};
+use super::lens_pass::{Transmitted, transmitted_rays};
 use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
@@ -90,7 +90,7 @@ impl Refraction for Alone {
 
     #[inline(always)]
     fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
-        transmitted_rays_to(s.object, s.p, s.nf, s.entering, self.0, ior, prune, emit);
+        transmitted_rays(s.object, s.p, s.nf, s.entering, self.0, ior, prune, emit);
     }
 }
 
