@@ -39,6 +39,11 @@ pub struct Transmitted {
 /// `emit`. A ray entering a lens gives every ray out of the lens's Whitted
 /// tree ([`Lens::branches_inside`], pruned by `prune`); other solids give
 /// the ray inside. Nothing under total internal reflection.
+///
+/// The sink's type is known to the compiler, so that the kernels' sinks
+/// are compiled in rather than called through a pointer (any closure, or
+/// `&mut dyn FnMut`, fits).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)] // one hit's data, the bound and the sink
 pub fn transmitted_rays(
     obj: &Object,
@@ -48,7 +53,7 @@ pub fn transmitted_rays(
     dir: DVec3,
     ior: f64,
     prune: &Pruning,
-    emit: &mut dyn FnMut(Transmitted),
+    mut emit: impl FnMut(Transmitted),
 ) {
     let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
     let Some(t) = optics::refract(dir, nf, n1, n2) else {
@@ -102,16 +107,18 @@ impl LensPasses {
             reflected: [false; LANES],
             entry_fresnel: [0.0; LANES],
             inside: [[0.0; LANES]; 3],
+            on: [[0.0; LANES]; 3],
             exits: [LaneExit::EMPTY; 2],
         },
     };
 
     /// [`transmitted_rays`] for traced lane `l` (into `lens` at `p`, index
     /// `ior`): [`Lens::branches_inside`]'s loop, its first two exits taken
-    /// from the lanes where they leave by refraction, the rest (and a lane
-    /// that reflects totally) from the scalar chain.
+    /// from the lanes where they leave by refraction ([`LensPasses::walk`]),
+    /// the rest (and a lane that reflects totally) from the scalar chain.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)] // the lane, its entry, the bound and the sink
+    #[cfg(test)]
     pub(super) fn transmitted(
         &self,
         l: usize,
@@ -119,11 +126,29 @@ impl LensPasses {
         p: DVec3,
         ior: f64,
         prune: &Pruning,
-        emit: &mut dyn FnMut(Transmitted),
+        mut emit: impl FnMut(Transmitted),
     ) {
+        if let Some(on) = self.walk(l, lens, p, prune, &mut emit) {
+            chain(lens, on, ior, prune, emit);
+        }
+    }
+
+    /// The rays out of traced lane `l` (into `lens` at `p`) at its first
+    /// two exits, taken from the lanes, handed to `emit` in order; where the
+    /// tree goes on past them (or the lane reflects totally at one), the
+    /// light inside there, for [`chain`].
+    #[inline(always)]
+    pub(super) fn walk(
+        &self,
+        l: usize,
+        lens: &Lens,
+        p: DVec3,
+        prune: &Pruning,
+        emit: &mut impl Sink,
+    ) -> Option<Inside> {
         let pass = &self.pass;
         if pass.reflected[l] {
-            return;
+            return None;
         }
         let mut on = Inside {
             x: p - lens.center,
@@ -131,13 +156,13 @@ impl LensPasses {
             weight: 1.0,
             reflections: 0,
         };
-        for ex in &pass.exits {
-            if !ex.ok[l] {
-                break;
+        for (k, ex) in pass.exits.iter().enumerate() {
+            if !ex.exit.ok[l] {
+                return Some(on);
             }
-            let out = on.weight * (1.0 - ex.reflectance[l]);
+            let out = on.weight * (1.0 - ex.exit.reflectance[l]);
             if prune.keeps(out) {
-                emit(Transmitted {
+                emit.send(Transmitted {
                     ray: Ray {
                         origin: lane(&ex.origin, l),
                         dir: lane(&ex.dir, l),
@@ -146,16 +171,35 @@ impl LensPasses {
                     factor: out,
                 });
             }
-            let (y, normal) = (lane(&ex.local, l), lane(&ex.normal, l));
-            if lens
-                .reflect_inside(&mut on, y, normal, ex.reflectance[l], prune)
-                .is_err()
-            {
-                return;
-            }
+            // After the first exit, the direction on is the lanes' own.
+            let (y, u) = (lane(&ex.exit.local, l), on.u);
+            let dir = || match k {
+                0 => lane(&pass.on, l),
+                _ => Lens::reflected_inside(u, lane(&ex.exit.normal, l)),
+            };
+            Lens::reflect_on(&mut on, y, ex.exit.reflectance[l], prune, dir).ok()?;
         }
-        lens.branch_chain(on, ior, prune, &mut |b| emit(out_of(lens, &b)));
+        Some(on)
     }
+}
+
+/// Where a pass hands its rays out ([`LensPasses::walk`]): any closure, or
+/// a kernel's own sink whose `send` is compiled into the walk.
+pub(super) trait Sink {
+    fn send(&mut self, tr: Transmitted);
+}
+
+impl<F: FnMut(Transmitted)> Sink for F {
+    #[inline(always)]
+    fn send(&mut self, tr: Transmitted) {
+        self(tr)
+    }
+}
+
+/// The rays out of `lens` (index `ior`) from the light inside `on` on, by
+/// the scalar chain ([`Lens::branch_chain`]), handed to `emit` in order.
+pub(super) fn chain(lens: &Lens, on: Inside, ior: f64, prune: &Pruning, mut emit: impl FnMut(Transmitted)) {
+    lens.branch_chain(on, ior, prune, &mut |b| emit(out_of(lens, &b)));
 }
 
 /// The first exits from a lens of the lanes whose surface is the entry into
@@ -205,7 +249,7 @@ pub(super) fn lens_passes(
             }
         }
     }
-    out.pass = lens_lanes(lens, ior, &x, &dir, &nf);
+    lens_lanes(lens, ior, &x, &dir, &nf, &mut out.pass);
     out.lanes = lanes;
     true
 }
@@ -218,51 +262,38 @@ pub(super) struct LensLanes {
     pub(super) entry_fresnel: Lanes<f64>,
     /// The direction inside after the entry refraction.
     inside: [Lanes<f64>; 3],
+    /// The direction on inside after a reflection at the first exit.
+    on: [Lanes<f64>; 3],
     /// The first exit, and the second after a reflection at the first.
     exits: [LaneExit; 2],
 }
 
-/// One exit of a packet's lanes from inside a lens: where `ok`, the lane
-/// meets a face and leaves by refraction, along the ray `origin`, `dir`;
-/// the rest reflects on from `local` (lens coordinates) off the face of
-/// outward normal `normal` with reflectance `reflectance`.
+/// One exit of a packet's lanes from inside a lens ([`Lens::exit_lanes`]:
+/// where `ok`, the lane meets a face and leaves by refraction; the rest
+/// reflects on from `local` off the face of outward normal `normal` with
+/// reflectance `reflectance`), and the rays out along `origin`, `dir`.
 #[derive(Clone, Copy)]
 struct LaneExit {
-    ok: Lanes<bool>,
+    exit: LaneExits<LANES>,
     origin: [Lanes<f64>; 3],
     dir: [Lanes<f64>; 3],
-    local: [Lanes<f64>; 3],
-    normal: [Lanes<f64>; 3],
-    reflectance: Lanes<f64>,
 }
 
 impl LaneExit {
     const EMPTY: LaneExit = LaneExit {
-        ok: [false; LANES],
+        exit: LaneExits::EMPTY,
         origin: [[0.0; LANES]; 3],
         dir: [[0.0; LANES]; 3],
-        local: [[0.0; LANES]; 3],
-        normal: [[0.0; LANES]; 3],
-        reflectance: [0.0; LANES],
     };
 
-    /// The rays out of the exits `e` of `lens`.
+    /// Writes the rays out of the exits of `lens` held.
     #[inline(always)]
-    fn new(lens: &Lens, e: &LaneExits<LANES>) -> LaneExit {
-        let mut origin = [[0.0; LANES]; 3];
-        let mut dir = [[0.0; LANES]; 3];
+    fn rays(&mut self, lens: &Lens) {
+        let e = &self.exit;
         for l in 0..LANES {
             let ray = leaving(lens, lane(&e.y, l), lane(&e.out, l), lane(&e.normal, l));
-            set_lane(&mut origin, l, ray.origin);
-            set_lane(&mut dir, l, ray.dir);
-        }
-        LaneExit {
-            ok: e.ok,
-            origin,
-            dir,
-            local: e.local,
-            normal: e.normal,
-            reflectance: e.reflectance,
+            set_lane(&mut self.origin, l, ray.origin);
+            set_lane(&mut self.dir, l, ray.dir);
         }
     }
 }
@@ -274,7 +305,7 @@ impl LaneExit {
 /// to the exit ([`Lens::exit_lanes`]), the ray out ([`leaving`]), the
 /// reflection on inside and the second exit, each lane with exactly the
 /// scalar arithmetic of [`Lens::branches_inside`], so that it gets the
-/// scalar rays bit for bit.
+/// scalar rays bit for bit. Written into `out` in place (it is large).
 #[inline(always)]
 fn lens_lanes_impl(
     lens: &Lens,
@@ -282,40 +313,38 @@ fn lens_lanes_impl(
     x: &[Lanes<f64>; 3],
     dir: &[Lanes<f64>; 3],
     nf: &[Lanes<f64>; 3],
-) -> LensLanes {
-    let mut reflected = [false; LANES];
-    let mut inside = [[0.0; LANES]; 3];
-    let mut entry_fresnel = [0.0; LANES];
+    out: &mut LensLanes,
+) {
     // `optics::refract(dir, nf, 1.0, ior)`, and `shade_onward`'s Fresnel
     // reflectance (`optics::fresnel_at`), from one crossing.
     for l in 0..LANES {
         let c = optics::crossing(lane(dir, l), lane(nf, l), 1.0, ior);
-        reflected[l] = c.total;
-        entry_fresnel[l] = c.reflectance;
-        set_lane(&mut inside, l, c.dir);
+        out.reflected[l] = c.total;
+        out.entry_fresnel[l] = c.reflectance;
+        set_lane(&mut out.inside, l, c.dir);
     }
-    let e = lens.exit_lanes(x, &inside, ior);
-    let first = LaneExit::new(lens, &e);
+    let LensLanes {
+        reflected,
+        inside,
+        on,
+        exits: [first, second],
+        ..
+    } = out;
+    lens.exit_lanes_into(x, inside, ior, &mut first.exit);
+    first.rays(lens);
     // `Lens::reflect_inside`'s new direction.
-    let mut on = [[0.0; LANES]; 3];
     for l in 0..LANES {
         set_lane(
-            &mut on,
+            on,
             l,
-            optics::reflect(lane(&inside, l), lane(&e.normal, l)).normalize(),
+            Lens::reflected_inside(lane(inside, l), lane(&first.exit.normal, l)),
         );
     }
-    let second = LaneExit::new(lens, &lens.exit_lanes_local(&e.local, &on, ior));
-    let mut exits = [first, second];
+    lens.exit_lanes_local_into(&first.exit.local, on, ior, &mut second.exit);
+    second.rays(lens);
     for l in 0..LANES {
-        exits[0].ok[l] &= !reflected[l];
-        exits[1].ok[l] &= exits[0].ok[l];
-    }
-    LensLanes {
-        reflected,
-        entry_fresnel,
-        inside,
-        exits,
+        first.exit.ok[l] &= !reflected[l];
+        second.exit.ok[l] &= first.exit.ok[l];
     }
 }
 
@@ -326,8 +355,9 @@ with_avx2! {
         ior: f64,
         x: &[Lanes<f64>; 3],
         dir: &[Lanes<f64>; 3],
-        nf: &[Lanes<f64>; 3]
-    ) -> LensLanes
+        nf: &[Lanes<f64>; 3],
+        out: &mut LensLanes
+    ) -> ()
 }
 
 /// The ray out of `lens` from the exit point `y` along `out`, spawned off
@@ -409,11 +439,16 @@ mod tests {
         let key = |t: &Transmitted| (t.ray.origin, t.ray.dir, t.bounces, t.factor.to_bits());
         for (i, (x, nf, dir)) in entries(&scene, 3).into_iter().enumerate() {
             let prune = &prunes[i % 2];
-            for pass in [
-                lens_lanes(lens, ior, &x, &dir, &nf),
-                lens_lanes_impl(lens, ior, &x, &dir, &nf),
-            ] {
-                let passes = LensPasses { lanes: 0xff, pass };
+            for avx2 in [true, false] {
+                let mut passes = LensPasses {
+                    lanes: 0xff,
+                    ..LensPasses::EMPTY
+                };
+                if avx2 {
+                    lens_lanes(lens, ior, &x, &dir, &nf, &mut passes.pass);
+                } else {
+                    lens_lanes_impl(lens, ior, &x, &dir, &nf, &mut passes.pass);
+                }
                 for l in 0..LANES {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
                     let mut want = Vec::new();
@@ -426,7 +461,7 @@ mod tests {
                     assert!(!passes.pass.reflected[l], "air to glass never reflects totally");
                     let f = fresnel_at(at(&dir), at(&nf), 1.0, ior);
                     assert_eq!(passes.pass.entry_fresnel[l], f, "shade_onward's reflectance");
-                    if passes.pass.exits[1].ok[l] {
+                    if passes.pass.exits[1].exit.ok[l] {
                         exact += 1
                     } else {
                         scalar += 1

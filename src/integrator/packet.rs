@@ -11,13 +11,15 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, lens_passes, transmitted_rays};
-use super::scalar::kernel;
-use super::shade::{Secondary, add_light, ambient, join, light_at, shade_onward, visibility_matters};
+use super::lens_pass::{LensPasses, Sink, Transmitted, chain, lens_passes};
+use super::scalar::{Alone, kernel};
+use super::shade::{
+    Secondary, Tracer, add_light, ambient, followed, glass_shares, join, lens_pruning, light_at, reflected, refracted,
+    shade_onward, visibility_matters,
+};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
 use crate::light::{Light, LightSample};
-use crate::optics::fresnel_at;
 use crate::scene::Scene;
 use crate::simd::{LANES, Lanes, live_lanes};
 use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
@@ -226,17 +228,15 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
         }
     }
     // In the order `shade` adds them: refracted (the first two rays out of a
-    // lens, then the others), then reflected.
-    let mut extras = extra.iter().peekable();
-    for l in 0..LANES {
-        for (k, (o, back)) in onward.iter().zip(back.iter()).enumerate() {
-            if o.live >> l & 1 != 0 {
-                o.join(l, &mut out[l], back[l]);
-            }
-            while k == 1
-                && let Some(e) = extras.next_if(|e| e.lane == l)
-            {
-                join(&mut out[l], e.tint, e.factor, e.back);
+    // lens, then the others), then reflected. Each lane's sum is its own, so
+    // the lanes can go slot by slot.
+    for (k, (o, back)) in onward.iter().zip(back.iter()).enumerate() {
+        for l in live_lanes(o.live) {
+            o.join(l, &mut out[l], back[l]);
+        }
+        if k == 1 {
+            for e in extra.iter() {
+                join(&mut out[e.lane], e.tint, e.factor, e.back);
             }
         }
     }
@@ -337,15 +337,20 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
 ) -> bool {
     let Sent { lens, onward, extra } = sent;
     let p = paths.rays;
-    let passes = GLASS && lens_passes(p, surfaces, lambda_um, lens);
-    let lens = &*lens;
-    let traced = |l: usize| (passes && lens.lanes >> l & 1 != 0).then_some(lens);
     for o in onward.iter_mut() {
         o.live = 0;
     }
     extra.clear();
+    let mut traced = 0;
+    if GLASS && lens_passes(p, surfaces, lambda_um, lens) {
+        traced = lens.lanes;
+        send_through_lens::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, surfaces, lens, lambda_um, onward, extra);
+    }
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
+        if traced >> l & 1 != 0 {
+            continue;
+        }
         let dir = p.dir(l);
         shade_onward::<GLASS, MIRROR>(
             scene,
@@ -354,36 +359,145 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             paths.depth[l],
             lambda_um,
             paths.weight[l],
-            &mut |dir, nf, n1, n2| match traced(l) {
-                Some(ps) => ps.pass.entry_fresnel[l],
-                None => fresnel_at(dir, nf, n1, n2),
-            },
-            &mut |s, ior, prune, emit| match (traced(l), s.object.lens()) {
-                (Some(ps), Some(lens)) => ps.transmitted(l, lens, s.p, ior, prune, emit),
-                _ => transmitted_rays(s.object, s.p, s.nf, s.entering, dir, ior, prune, emit),
-            },
-            &mut |sec, _| {
-                let free = |o: &Onward| o.live >> l & 1 == 0;
-                let slot = match sec.tint {
-                    None => Some(2),
-                    Some(_) => (0..2).find(|&k| free(&onward[k])),
-                };
-                if let Some(k) = slot {
-                    onward[k].push(l, &sec);
-                } else {
-                    let back = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
-                    );
-                    extra.push(Extra {
-                        lane: l,
-                        tint: sec.tint,
-                        factor: sec.factor,
-                        back,
-                    });
-                }
+            &Alone(dir),
+            &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+                scene,
+                lambda_um,
+                l,
+                onward,
+                extra,
             },
             &mut out[l],
         );
     }
     onward.iter().any(|o| o.live != 0)
+}
+
+/// [`send_onward`] for the lanes whose passes through a lens `passes`
+/// traced together: [`shade_onward`]'s steps for a lane entering a lens
+/// ([`glass_shares`], [`lens_pruning`], [`refracted`], [`reflected`]), the
+/// rays out at its first two exits taken from the lanes
+/// ([`LensPasses::walk`]), the rest of the tree from the scalar [`chain`]. Out of line, so that the common path
+/// stays small. The lanes' colours take nothing until the rays come back.
+#[inline(never)]
+fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    surfaces: &[Option<Surface>; LANES],
+    passes: &LensPasses,
+    lambda_um: f64,
+    onward: &mut [Onward; 3],
+    extra: &mut Vec<Extra>,
+) {
+    for l in live_lanes(passes.lanes) {
+        let (depth, weight) = (paths.depth[l], paths.weight[l]);
+        let Some(s) = &surfaces[l] else { continue };
+        let Some(lens) = s.object.lens() else { continue };
+        if depth >= scene.max_depth {
+            continue;
+        }
+        let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+            scene,
+            lambda_um,
+            l,
+            onward,
+            extra,
+        };
+        let m = &s.object.material;
+        let (kr, kt) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
+        if followed(kt, weight) {
+            let prune = lens_pruning(scene, depth, weight, kt);
+            let mut send = Refracted {
+                scene,
+                s,
+                depth,
+                weight,
+                kt,
+                gather: &mut gather,
+            };
+            if let Some(on) = passes.walk(l, lens, s.p, &prune, &mut send) {
+                // Rare: through a pointer, so that the chain's code is not
+                // repeated here.
+                let rest: &mut dyn FnMut(Transmitted) = &mut |tr| send.send(tr);
+                chain(lens, on, m.ior.at(lambda_um), &prune, rest);
+            }
+        }
+        if followed(kr, weight) {
+            gather.trace(reflected(s, paths.rays.dir(l), depth, weight, kr), &mut Rgb::default());
+        }
+    }
+}
+
+/// A lane's further ray out of a lens, traced at once by the scalar
+/// kernel (rare: out of line, so that the common path stays small).
+#[inline(never)]
+fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    lane: usize,
+    sec: &Secondary,
+    lambda_um: f64,
+) -> Extra {
+    Extra {
+        lane,
+        tint: sec.tint,
+        factor: sec.factor,
+        back: kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
+    }
+}
+
+/// Lane `l`'s [`Tracer`]: a refracted ray goes in the first of the
+/// refracted packets (`onward` 0 and 1) where the lane is free, a reflected
+/// one in the reflected packet (2), to be traced after the local shading of
+/// every lane; a third refracted ray (out of a lens) is traced at once by
+/// the scalar kernel (into `extra`).
+struct Gather<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
+    scene: &'a Scene,
+    lambda_um: f64,
+    l: usize,
+    onward: &'a mut [Onward; 3],
+    extra: &'a mut Vec<Extra>,
+}
+
+impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> Tracer
+    for Gather<'_, SHADOWS, GLASS, MIRROR, SPECULAR>
+{
+    #[inline(always)]
+    fn trace(&mut self, sec: Secondary, _: &mut Rgb) {
+        let l = self.l;
+        let free = |o: &Onward| o.live >> l & 1 == 0;
+        let slot = match sec.tint {
+            None => Some(2),
+            Some(_) => (0..2).find(|&k| free(&self.onward[k])),
+        };
+        match slot {
+            Some(k) => self.onward[k].push(l, &sec),
+            None => self.extra.push(further::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+                self.scene,
+                l,
+                &sec,
+                self.lambda_um,
+            )),
+        }
+    }
+}
+
+/// The rays out of a lens that lane `gather` sends on, as [`refracted`]
+/// makes them from the surface `s` of entry (transmitted share `kt`).
+struct Refracted<'a, 's, T: Tracer> {
+    scene: &'a Scene,
+    s: &'a Surface<'s>,
+    depth: u32,
+    weight: f64,
+    kt: f64,
+    gather: &'a mut T,
+}
+
+impl<T: Tracer> Sink for Refracted<'_, '_, T> {
+    #[inline(always)]
+    fn send(&mut self, tr: Transmitted) {
+        if let Some(sec) = refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr) {
+            // A packet's lanes take their colours when the rays come back.
+            self.gather.trace(sec, &mut Rgb::default());
+        }
+    }
 }

@@ -3,15 +3,17 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
-use super::lens_pass::transmitted_rays;
-use super::shade::{add_light, ambient, light_at, shade_onward};
+use super::lens_pass::{Transmitted, transmitted_rays};
+use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
+use crate::geometry::Pruning;
 use crate::light::LightSample;
 use crate::math::Ray;
 use crate::optics::fresnel_at;
 use crate::scene::Scene;
 use crate::trace::{closest_hit_skip, transmittance_skip};
+use glam::DVec3;
 
 pub(super) fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
@@ -68,18 +70,49 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             depth,
             lambda_um,
             weight,
-            &mut fresnel_at,
-            &mut |s, ior, prune, emit| transmitted_rays(s.object, s.p, s.nf, s.entering, ray.dir, ior, prune, emit),
-            &mut |sec, color| {
-                sec.join(
-                    color,
-                    kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                        scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
-                    ),
-                )
-            },
+            &Alone(ray.dir),
+            &mut AtOnce::<SHADOWS, GLASS, MIRROR, SPECULAR> { scene, lambda_um },
             &mut color,
         );
     }
     color
+}
+
+/// One ray's [`Refraction`]: each crossing computed at its surface, for a
+/// ray along the direction held.
+pub(super) struct Alone(pub(super) DVec3);
+
+impl Refraction for Alone {
+    #[inline(always)]
+    fn fresnel(&self, dir: DVec3, nf: DVec3, n1: f64, n2: f64) -> f64 {
+        fresnel_at(dir, nf, n1, n2)
+    }
+
+    #[inline(always)]
+    fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
+        transmitted_rays(s.object, s.p, s.nf, s.entering, self.0, ior, prune, emit);
+    }
+}
+
+/// One ray's [`Tracer`]: each ray sent on traced at once by the kernel.
+struct AtOnce<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
+    scene: &'a Scene,
+    lambda_um: f64,
+}
+
+impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> Tracer
+    for AtOnce<'_, SHADOWS, GLASS, MIRROR, SPECULAR>
+{
+    #[inline(always)]
+    fn trace(&mut self, sec: Secondary, color: &mut Rgb) {
+        let back = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            self.scene,
+            &sec.ray,
+            sec.skip,
+            sec.depth,
+            self.lambda_um,
+            sec.weight,
+        );
+        sec.join(color, back);
+    }
 }

@@ -9,6 +9,7 @@ use super::surface::{Surface, spawn_ray};
 use crate::color::Rgb;
 use crate::geometry::Pruning;
 use crate::light::{Light, LightSample};
+use crate::material::Material;
 use crate::math::Ray;
 use crate::optics;
 use crate::scene::Scene;
@@ -148,18 +149,35 @@ pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: 
     }
 }
 
+/// How a kernel refracts at a surface for [`shade_onward`]: the scalar one
+/// computes each crossing; a packet traces the first exits from a lens of
+/// all its lanes together beforehand, the entry's reflectance with them.
+/// Traits rather than closures ([`Refraction`], [`Tracer`]), so that each
+/// kernel's steps are compiled into `shade_onward`.
+pub(super) trait Refraction {
+    /// [`optics::fresnel_at`]`(dir, nf, n1, n2)` at the surface for this ray.
+    fn fresnel(&self, dir: DVec3, nf: DVec3, n1: f64, n2: f64) -> f64;
+    /// [`super::transmitted_rays`] at the surface `s` for this ray (index
+    /// `ior`): each ray that carries on, out of a lens every branch of its
+    /// tree pruned by `prune`, handed to `emit` in order.
+    fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted));
+}
+
+/// How a kernel follows the rays [`shade_onward`] sends on: the scalar one
+/// traces each at once, a packet gathers them to trace as packets after
+/// the local shading of every lane (the additions come in the same order
+/// either way).
+pub(super) trait Tracer {
+    /// Follows `sec` and adds what it brings to `color`.
+    fn trace(&mut self, sec: Secondary, color: &mut Rgb);
+}
+
 /// The refracted and reflected rays at the surface for a ray along `dir`,
-/// `depth` bounces deep with path weight `weight`: `trace(secondary,
-/// colour)` follows each and adds what it brings (the scalar kernel at
-/// once, a packet after the local shading of all its lanes: the additions
-/// come in the same order either way). `fresnel(dir, nf, n1, n2)` is
-/// [`optics::fresnel_at`] and `transmit(s, ior, prune, emit)` is
-/// [`super::transmitted_rays`] at the surface for this ray (each ray that
-/// carries on, out of a lens every branch of its tree, handed to `emit` in
-/// order): a packet traces the first exits from a lens of all its lanes
-/// together beforehand, the entry's reflectance with them.
+/// `depth` bounces deep with path weight `weight`, handed to `tracer`;
+/// `refraction` gives the Fresnel reflectance and the rays that carry on
+/// through the glass.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // the three callbacks are what differ between the scalar and packet kernels
+#[allow(clippy::too_many_arguments)] // the ray's state at the surface, and the kernel's two steps
 pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     scene: &Scene,
     dir: DVec3,
@@ -167,67 +185,104 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     depth: u32,
     lambda_um: f64,
     weight: f64,
-    fresnel: &mut impl FnMut(DVec3, DVec3, f64, f64) -> f64,
-    transmit: &mut impl FnMut(&Surface, f64, &Pruning, &mut dyn FnMut(Transmitted)),
-    trace: &mut impl FnMut(Secondary, &mut Rgb),
+    refraction: &impl Refraction,
+    tracer: &mut impl Tracer,
     color: &mut Rgb,
 ) {
     if depth >= scene.max_depth {
         return;
     }
-    let (obj, p, nf, entering) = (s.object, s.p, s.nf, s.entering);
-    let m = &obj.material;
+    let m = &s.object.material;
     let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
     if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
-        let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
-        let f = fresnel(dir, nf, n1, n2);
-        kr += m.transparency * f;
-        let kt = m.transparency * (1.0 - f);
-        if kt * weight > MIN_WEIGHT {
-            // A ray out of a lens uses 2 + its reflections inside.
-            let prune = Pruning {
-                scale: weight * kt,
-                min: LENS_MIN_WEIGHT,
-                max_reflections: scene.max_depth.saturating_sub(depth + 2),
-            };
-            transmit(s, ior, &prune, &mut |tr| {
-                if depth + tr.bounces > scene.max_depth {
-                    return;
+        let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
+        let (r, kt) = glass_shares::<MIRROR>(m, refraction.fresnel(dir, s.nf, n1, n2));
+        kr = r;
+        if followed(kt, weight) {
+            let prune = lens_pruning(scene, depth, weight, kt);
+            refraction.transmit(s, ior, &prune, |tr| {
+                if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
+                    tracer.trace(sec, color);
                 }
-                let w = kt * tr.factor;
-                // Out of a lens, or out of a solid: the ray has left the object.
-                let skip = if s.outward(tr.ray.dir) || obj.lens().is_some() {
-                    s.index
-                } else {
-                    usize::MAX
-                };
-                trace(
-                    Secondary {
-                        ray: tr.ray,
-                        skip,
-                        depth: depth + tr.bounces,
-                        weight: weight * w,
-                        tint: Some(m.color),
-                        factor: w,
-                    },
-                    color,
-                );
             });
         }
     }
-    if kr * weight > MIN_WEIGHT {
-        let r = optics::reflect(dir, nf);
-        trace(
-            Secondary {
-                ray: spawn_ray(p, nf, r, obj.scale),
-                skip: s.leaving(r),
-                depth: depth + 1,
-                weight: weight * kr,
-                tint: None,
-                factor: kr,
-            },
-            color,
-        );
+    if followed(kr, weight) {
+        tracer.trace(reflected(s, dir, depth, weight, kr), color);
+    }
+}
+
+/// The shares of the light that glass of material `m` reflects (`kr`,
+/// with a mirror's reflectivity) and transmits (`kt`) where the Fresnel
+/// reflectance is `f`.
+#[inline(always)]
+pub(super) fn glass_shares<const MIRROR: bool>(m: &Material, f: f64) -> (f64, f64) {
+    let kr = if MIRROR { m.reflectivity } else { 0.0 };
+    (kr + m.transparency * f, m.transparency * (1.0 - f))
+}
+
+/// Whether a ray that carries the share `k` of a path of weight `weight`
+/// is followed ([`MIN_WEIGHT`]).
+#[inline(always)]
+pub(super) fn followed(k: f64, weight: f64) -> bool {
+    k * weight > MIN_WEIGHT
+}
+
+/// When a branch out of a lens is dropped, for light entering it `depth`
+/// bounces deep with path weight `weight` of which the share `kt` goes in:
+/// a ray out of a lens uses 2 + its reflections inside.
+#[inline(always)]
+pub(super) fn lens_pruning(scene: &Scene, depth: u32, weight: f64, kt: f64) -> Pruning {
+    Pruning {
+        scale: weight * kt,
+        min: LENS_MIN_WEIGHT,
+        max_reflections: scene.max_depth.saturating_sub(depth + 2),
+    }
+}
+
+/// The ray `tr` that carries on through the surface `s` (transmitted share
+/// `kt`) as shading sends it on; `None` past the scene's `max_depth`.
+#[inline(always)]
+pub(super) fn refracted(
+    scene: &Scene,
+    s: &Surface,
+    depth: u32,
+    weight: f64,
+    kt: f64,
+    tr: Transmitted,
+) -> Option<Secondary> {
+    if depth + tr.bounces > scene.max_depth {
+        return None;
+    }
+    let w = kt * tr.factor;
+    // Out of a lens, or out of a solid: the ray has left the object.
+    let skip = if s.object.lens().is_some() || s.outward(tr.ray.dir) {
+        s.index
+    } else {
+        usize::MAX
+    };
+    Some(Secondary {
+        ray: tr.ray,
+        skip,
+        depth: depth + tr.bounces,
+        weight: weight * w,
+        tint: Some(s.object.material.color),
+        factor: w,
+    })
+}
+
+/// The mirror ray at the surface `s` for a ray along `dir` (reflected share
+/// `kr`) as shading sends it on.
+#[inline(always)]
+pub(super) fn reflected(s: &Surface, dir: DVec3, depth: u32, weight: f64, kr: f64) -> Secondary {
+    let r = optics::reflect(dir, s.nf);
+    Secondary {
+        ray: spawn_ray(s.p, s.nf, r, s.object.scale),
+        skip: s.leaving(r),
+        depth: depth + 1,
+        weight: weight * kr,
+        tint: None,
+        factor: kr,
     }
 }

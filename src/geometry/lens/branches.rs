@@ -136,13 +136,35 @@ impl Lens {
     /// or, when it is dropped, `Err` with its weight.
     #[inline(always)]
     pub fn reflect_inside(&self, s: &mut Inside, y: DVec3, normal: DVec3, r: f64, prune: &Pruning) -> Result<(), f64> {
+        let u = s.u;
+        Self::reflect_on(s, y, r, prune, || Self::reflected_inside(u, normal))
+    }
+
+    /// The unit direction on from a reflection inside, of the unit `u` off a
+    /// face of outward unit normal `normal`: [`Lens::reflect_inside`]'s, for a
+    /// caller that has computed it beforehand (the packets' lanes).
+    #[inline(always)]
+    pub fn reflected_inside(u: DVec3, normal: DVec3) -> DVec3 {
+        optics::reflect(u, normal).normalize()
+    }
+
+    /// [`Lens::reflect_inside`] with the direction on given by `on` (asked
+    /// for only when the light is followed).
+    #[inline(always)]
+    pub fn reflect_on(
+        s: &mut Inside,
+        y: DVec3,
+        r: f64,
+        prune: &Pruning,
+        on: impl FnOnce() -> DVec3,
+    ) -> Result<(), f64> {
         let w = s.weight * r;
         if !prune.keeps(w) || s.reflections >= prune.max_reflections.min(MAX_INTERNAL_REFLECTIONS) {
             return Err(w);
         }
         s.weight = w;
         s.reflections += 1;
-        s.u = optics::reflect(s.u, normal).normalize();
+        s.u = on();
         s.x = y;
         Ok(())
     }

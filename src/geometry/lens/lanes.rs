@@ -92,33 +92,40 @@ impl Lens {
     /// at their first exit: lane `l` starts at the world point `x[l]` inside
     /// (or on) the glass along the unit `u[l]`. A lane flagged `ok` gets
     /// exactly the scalar exit; the others are left to the scalar code.
-    #[inline(always)]
+    #[cfg(test)]
     pub(crate) fn exit_lanes<const N: usize>(&self, x: &[[f64; N]; 3], u: &[[f64; N]; 3], n: f64) -> LaneExits<N> {
-        let mut local = [[0.0; N]; 3];
-        for l in 0..N {
-            set_lane(&mut local, l, lane(x, l) - self.center);
-        }
-        self.exit_lanes_local(&local, u, n)
+        let mut out = LaneExits::EMPTY;
+        self.exit_lanes_into(x, u, n, &mut out);
+        out
     }
 
-    /// [`Lens::exit_lanes`] from local points `x` (from the centre), as
-    /// [`Lens::branch_chain`] goes on from one exit to the next.
+    /// [`Lens::exit_lanes`] written into `out` (every field of every lane:
+    /// working memory kept by the caller, with nothing to clear first).
     #[inline(always)]
-    pub(crate) fn exit_lanes_local<const N: usize>(
+    pub(crate) fn exit_lanes_into<const N: usize>(
         &self,
         x: &[[f64; N]; 3],
         u: &[[f64; N]; 3],
         n: f64,
-    ) -> LaneExits<N> {
-        let mut out = LaneExits {
-            y: [[0.0; N]; 3],
-            local: [[0.0; N]; 3],
-            out: [[0.0; N]; 3],
-            part: [0; N],
-            normal: [[0.0; N]; 3],
-            reflectance: [0.0; N],
-            ok: [false; N],
-        };
+        out: &mut LaneExits<N>,
+    ) {
+        let mut local = [[0.0; N]; 3];
+        for l in 0..N {
+            set_lane(&mut local, l, lane(x, l) - self.center);
+        }
+        self.exit_lanes_local_into(&local, u, n, out)
+    }
+
+    /// [`Lens::exit_lanes_into`] from local points `x` (from the centre), as
+    /// [`Lens::branch_chain`] goes on from one exit to the next.
+    #[inline(always)]
+    pub(crate) fn exit_lanes_local_into<const N: usize>(
+        &self,
+        x: &[[f64; N]; 3],
+        u: &[[f64; N]; 3],
+        n: f64,
+        out: &mut LaneExits<N>,
+    ) {
         let caps = self.caps;
         for l in 0..N {
             let e = self.exit_step(caps, lane(x, l), lane(u, l), n);
@@ -130,8 +137,20 @@ impl Lens {
             out.part[l] = e.face as u64;
             out.ok[l] = e.found & !e.crossing.total;
         }
-        out
     }
+}
+
+impl<const N: usize> LaneExits<N> {
+    /// Zeros, to be written over ([`Lens::exit_lanes_into`]).
+    pub(crate) const EMPTY: LaneExits<N> = LaneExits {
+        y: [[0.0; N]; 3],
+        local: [[0.0; N]; 3],
+        out: [[0.0; N]; 3],
+        part: [0; N],
+        normal: [[0.0; N]; 3],
+        reflectance: [0.0; N],
+        ok: [false; N],
+    };
 }
 
 #[cfg(test)]
