@@ -11,7 +11,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, lens_passes, transmitted_rays};
+use super::lens_pass::{LensPasses, lane_transmitted, lens_passes};
 use super::scalar::kernel;
 use super::shade::{Secondary, add_light, ambient, join, light_at, shade_onward, visibility_matters};
 use super::surface::{Surface, shadow_ray, surface};
@@ -358,10 +358,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
                 Some(ps) => ps.pass.entry_fresnel[l],
                 None => fresnel_at(dir, nf, n1, n2),
             },
-            &mut |s, ior, prune, emit| match (traced(l), s.object.lens()) {
-                (Some(ps), Some(lens)) => ps.transmitted(l, lens, s.p, ior, prune, emit),
-                _ => transmitted_rays(s.object, s.p, s.nf, s.entering, dir, ior, prune, emit),
-            },
+            &mut |s, ior, prune, emit| lane_transmitted(traced(l), p, l, s, ior, prune, emit),
             &mut |sec, _| {
                 let free = |o: &Onward| o.live >> l & 1 == 0;
                 let slot = match sec.tint {

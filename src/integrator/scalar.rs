@@ -69,7 +69,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             lambda_um,
             weight,
             &mut fresnel_at,
-            &mut |s, ior, prune, emit| transmitted_rays(s.object, s.p, s.nf, s.entering, ray.dir, ior, prune, emit),
+            &mut |s, ior, prune, emit| transmitted_rays(s.object, s.p, s.nf, s.entering, ray, ior, prune, emit),
             &mut |sec, color| {
                 sec.join(
                     color,
