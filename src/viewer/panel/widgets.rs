@@ -38,6 +38,7 @@ pub enum Field {
 }
 
 impl Field {
+    #[cfg(test)]
     pub const ALL: [Field; 10] = [
         Field::Coordinate,
         Field::Angle,
