@@ -12,7 +12,8 @@
 # warm-up: the last quarter's median RSS over the second quarter's > 1.25.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
 #   bash benches/soak.sh [MINUTES] [SEED]
-# LENSVIEW=path/to/binary skips the build; SOAK_OUT=dir keeps the logs there.
+# LENSVIEW=path/to/binary skips the build; SOAK_OUT=dir keeps the logs there;
+# SOAK_DISPLAY=:N picks the Xvfb display (else a random one from :200).
 set -euo pipefail
 minutes=${1:-10}
 seed=${2:-$$}
@@ -25,7 +26,7 @@ fi
 out=${SOAK_OUT:-$(mktemp -d)}
 mkdir -p "$out"; rm -f "$out"/actions.log "$out"/frames.jsonl "$out"/shot-*.png "$out"/screenshots.txt
 tmp=$(mktemp -d)
-display=:$((200 + RANDOM % 300))
+display=${SOAK_DISPLAY:-:$((200 + RANDOM % 300))}
 Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
 xvfb=$!
 app=""

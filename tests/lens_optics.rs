@@ -146,7 +146,7 @@ fn the_renderers_path_through_a_lens_focuses_at_the_back_focal_distance() {
             let obj = &scene.objects[i];
             let p = ray.at(hit.t);
             let n = obj.world_normal(p, hit.part);
-            let out = transmitted_ray(obj, p, n, true, ray.dir, 1.5).unwrap();
+            let out = transmitted_ray(obj, p, n, true, &ray, 1.5).unwrap();
             // Where the exit ray crosses the axis: closest approach to the axis line.
             let o = out.ray.origin - v2;
             let w = out.ray.dir;

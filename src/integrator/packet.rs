@@ -359,7 +359,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             paths.depth[l],
             lambda_um,
             paths.weight[l],
-            &Alone(dir),
+            &Alone(p.ray(l)),
             &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
                 scene,
                 lambda_um,

@@ -174,7 +174,7 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, 
             skip = s.leaving(r);
             depth += 1;
         } else {
-            let Some(tr) = one_branch(s.object, s.p, s.nf, s.entering, ray.dir, ior, rng.next_f64()) else {
+            let Some(tr) = one_branch(s.object, s.p, s.nf, s.entering, &ray, ior, rng.next_f64()) else {
                 return;
             };
             power *= m.color * tr.factor;
@@ -199,14 +199,14 @@ const PHOTON_BRANCH_MIN: f64 = 1e-4;
 /// uniform in [0, 1)) and carries the factor `W = Σ w_i`, so the expected
 /// power out is `Σ w_i` — every ghost and rim reflection the renderer
 /// follows, without splitting the photon.
-fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: DVec3, ior: f64, u: f64) -> Option<Transmitted> {
+fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, ray: &Ray, ior: f64, u: f64) -> Option<Transmitted> {
     let prune = Pruning {
         scale: 1.0,
         min: PHOTON_BRANCH_MIN,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
     };
     let mut out: Vec<Transmitted> = Vec::new();
-    transmitted_rays(obj, p, nf, entering, dir, ior, &prune, &mut |t| out.push(t));
+    transmitted_rays(obj, p, nf, entering, ray, ior, &prune, &mut |t| out.push(t));
     let total: f64 = out.iter().map(|t| t.factor).sum();
     let mut left = u * total;
     let pick = out.iter().position(|t| {

@@ -70,7 +70,7 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
             depth,
             lambda_um,
             weight,
-            &Alone(ray.dir),
+            &Alone(*ray),
             &mut AtOnce::<SHADOWS, GLASS, MIRROR, SPECULAR> { scene, lambda_um },
             &mut color,
         );
@@ -79,8 +79,8 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
 }
 
 /// One ray's [`Refraction`]: each crossing computed at its surface, for a
-/// ray along the direction held.
-pub(super) struct Alone(pub(super) DVec3);
+/// ray held (a lens entry far from the world origin starts from its origin).
+pub(super) struct Alone(pub(super) Ray);
 
 impl Refraction for Alone {
     #[inline(always)]
@@ -90,7 +90,7 @@ impl Refraction for Alone {
 
     #[inline(always)]
     fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
-        transmitted_rays(s.object, s.p, s.nf, s.entering, self.0, ior, prune, emit);
+        transmitted_rays(s.object, s.p, s.nf, s.entering, &self.0, ior, prune, emit);
     }
 }
 

@@ -39,6 +39,7 @@ mod platform;
 mod refine;
 mod screen;
 mod session;
+mod settle;
 mod stats;
 mod watchdog;
 
@@ -49,7 +50,7 @@ use lensview::scene::SceneFile;
 use pacing::{Decision, Pacer};
 pub use platform::quiet_wayland_probe;
 use refine::Refine;
-use screen::{Display, Screen};
+use screen::{Display, Screen, Shown};
 use session::{Command, Outcome, Session};
 use stats::{Presented, Stats};
 use std::path::PathBuf;
@@ -366,8 +367,15 @@ impl Viewer {
         }
         let Some(screen) = &mut self.screen else { return };
         let t0 = Instant::now();
-        let Some((x0, result)) = screen.present(&self.display, self.refine.frame()) else {
-            return;
+        let (x0, result) = match screen.present(&self.display, self.refine.frame()) {
+            Shown::Nothing => return,
+            Shown::Settling(t) => {
+                // Presented when the size has settled, changed or not.
+                self.present_at = t;
+                self.exposed = true;
+                return;
+            }
+            Shown::Presented(x0, result) => (x0, result),
         };
         if let Err(e) = result {
             self.session.message = format!("present failed: {e}");

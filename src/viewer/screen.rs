@@ -6,10 +6,12 @@
 use super::gui::Gui;
 use super::overlay::OverlayMode;
 use super::panel::{NARROW, PANEL_WIDTH, STRIP_WIDTH};
+use super::settle::{Gate, SurfaceGate};
 use anyhow::{Result, anyhow};
 use lensview::render::worker::Frame;
 use pixels::{Pixels, SurfaceTexture};
 use std::sync::Arc;
+use std::time::Instant;
 use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
@@ -67,6 +69,19 @@ pub struct Screen {
     title: String,
     /// The size the surface was last configured at.
     surface: (u32, u32),
+    /// When a new window size reaches the surface.
+    gate: SurfaceGate,
+}
+
+/// What [`Screen::present`] did.
+pub enum Shown {
+    /// Nothing to draw into.
+    Nothing,
+    /// Not presented: the surface waits for the window's size to settle
+    /// (ask again at the instant; `None`: at the next resize).
+    Settling(Option<Instant>),
+    /// Presented: the picture's first column and whether presenting worked.
+    Presented(u32, Result<(), String>),
 }
 
 impl Screen {
@@ -98,6 +113,7 @@ impl Screen {
             gui,
             title,
             surface: (w, h),
+            gate: SurfaceGate::default(),
         })
     }
 
@@ -150,28 +166,29 @@ impl Screen {
         Some(((bw - self.panel_columns(d)).max(1), bh))
     }
 
-    /// Fits the surface to the window and the framebuffer to `d`.
+    /// Fits the framebuffer to `d` (the surface follows in
+    /// [`Screen::present`], once the window's size has settled).
     pub fn resize(&mut self, d: &Display) -> Result<(), String> {
-        let size = self.window.inner_size();
         let Some((bw, bh)) = self.buffer_size(d) else {
             return Ok(());
         };
-        self.fit_surface(size.width, size.height)?;
         self.pixels.resize_buffer(bw, bh).map_err(|e| e.to_string())
     }
 
-    /// Configures the surface at the window's size when it differs from the
-    /// last one. pixels' `render_with` retries an out-of-date surface at its
-    /// stored size without bound: presenting after the window was resized,
-    /// before the `Resized` event, spun there for ever (found by
-    /// `benches/soak.sh`), so the size is checked before every present.
-    fn fit_surface(&mut self, width: u32, height: u32) -> Result<(), String> {
-        if width == 0 || height == 0 || (width, height) == self.surface {
-            return Ok(());
+    /// Whether the surface may be presented to now, configured at the
+    /// window's size first when that differs from the last one and has
+    /// settled ([`SurfaceGate`]). pixels' `render_with` retries an
+    /// out-of-date surface at its stored size without bound: presenting
+    /// after the window was resized, before the `Resized` event, spun there
+    /// for ever (found by `benches/soak.sh`), so the size is checked before
+    /// every present.
+    fn fit_surface(&mut self, width: u32, height: u32) -> Result<Gate, String> {
+        let gate = self.gate.check(self.surface, (width, height), Instant::now());
+        if gate == Gate::Configure {
+            self.pixels.resize_surface(width, height).map_err(|e| e.to_string())?;
+            self.surface = (width, height);
         }
-        self.pixels.resize_surface(width, height).map_err(|e| e.to_string())?;
-        self.surface = (width, height);
-        Ok(())
+        Ok(gate)
     }
 
     /// Where the picture is, in egui's points: right of the panel.
@@ -186,16 +203,16 @@ impl Screen {
     }
 
     /// Draws `frame` right of the panel and the last UI pass (panel,
-    /// overlay, dialogs) over it, and presents. `None` when there was
-    /// nothing to draw into; else the picture's first column and whether
-    /// presenting worked.
-    pub fn present(&mut self, d: &Display, frame: Option<&Frame>) -> Option<(u32, Result<(), String>)> {
-        let (bw, bh) = self.buffer_size(d)?;
+    /// overlay, dialogs) over it, and presents (see [`Shown`]).
+    pub fn present(&mut self, d: &Display, frame: Option<&Frame>) -> Shown {
+        let Some((bw, bh)) = self.buffer_size(d) else {
+            return Shown::Nothing;
+        };
         let x0 = self.panel_columns(d);
         let (w, h) = ((bw - x0).max(1), bh);
         let buf = self.pixels.frame_mut();
         if buf.len() != (bw * bh * 4) as usize {
-            return None;
+            return Shown::Nothing;
         }
         let (row, fw) = (bw as usize * 4, w as usize * 4);
         match frame {
@@ -212,14 +229,14 @@ impl Screen {
             _ => buf.fill(0),
         }
         let size = self.window.inner_size();
-        // A window with no area (minimised) has no surface to present to:
-        // pixels would retry it without bound. Skip the frame; the next
-        // redraw after it is restored presents.
-        if size.width == 0 || size.height == 0 {
-            return Some((x0, Ok(())));
-        }
-        if let Err(e) = self.fit_surface(size.width, size.height) {
-            return Some((x0, Err(e)));
+        // A window with no area (minimised) or a new size not settled yet:
+        // skip the frame (pixels would retry an out-of-date surface without
+        // bound); the redraw at the instant, or after the next resize,
+        // presents.
+        match self.fit_surface(size.width, size.height) {
+            Err(e) => return Shown::Presented(x0, Err(e)),
+            Ok(Gate::Wait(t)) => return Shown::Settling(t),
+            Ok(Gate::Ready | Gate::Configure) => {}
         }
         let gui = &mut self.gui;
         let result = self.pixels.render_with(|encoder, target, context| {
@@ -227,6 +244,6 @@ impl Screen {
             gui.paint(encoder, target, context);
             Ok(())
         });
-        Some((x0, result.map_err(|e| e.to_string())))
+        Shown::Presented(x0, result.map_err(|e| e.to_string()))
     }
 }

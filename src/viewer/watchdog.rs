@@ -6,6 +6,9 @@
 //! window at `--exit-after` never ran again. The cause lies in the driver;
 //! this makes the window's own promise hold: the process ends, with one
 //! line saying why and exit status 1, a few seconds after the limit.
+//!
+//! The timing is [`watch`], with the clock's sleep and the ending passed
+//! in, so that a test runs it without a window and without waiting.
 
 use std::time::Duration;
 
@@ -20,14 +23,77 @@ pub fn arm(exit_after: Option<f64>) {
     };
     let spawned = std::thread::Builder::new()
         .name("lensview-watchdog".into())
-        .spawn(move || {
-            std::thread::sleep(Duration::from_secs_f64(limit + GRACE_S));
-            eprintln!(
-                "error: the window did not close {GRACE_S} s after --exit-after {limit} (the main thread is not answering; a graphics driver call may be stuck); ending the process"
-            );
-            std::process::exit(1);
-        });
+        .spawn(move || watch(limit, std::thread::sleep, end_process));
     if let Err(e) = spawned {
         eprintln!("warning: no watchdog for --exit-after: {e}");
+    }
+}
+
+/// The watchdog's body: sleeps `limit` + [`GRACE_S`] seconds (by `sleep`,
+/// in one call), then ends the process through `end` with the line to
+/// print. A limit that is not a non-negative finite number of seconds
+/// (the command line refuses one) ends it at once rather than never.
+pub fn watch(limit: f64, sleep: impl FnOnce(Duration), end: impl FnOnce(&str)) {
+    let wait = Duration::try_from_secs_f64(limit + GRACE_S).unwrap_or(Duration::ZERO);
+    sleep(wait);
+    end(&format!(
+        "error: the window did not close {GRACE_S} s after --exit-after {limit} (the main thread is not answering; a graphics driver call may be stuck); ending the process"
+    ));
+}
+
+/// How the watchdog ends a stuck window: the line on stderr, exit status 1.
+fn end_process(line: &str) {
+    eprintln!("{line}");
+    std::process::exit(1);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::mpsc;
+    use std::time::Instant;
+
+    /// The watchdog sleeps exactly the limit plus the grace, once, then
+    /// ends the process with a line naming the limit; with no limit it
+    /// does not start.
+    #[test]
+    fn ends_the_process_grace_seconds_after_the_limit() {
+        for limit in [0.0, 2.5, 600.0] {
+            let mut slept = Vec::new();
+            let mut ended = Vec::new();
+            watch(limit, |d| slept.push(d), |line| ended.push(line.to_string()));
+            assert_eq!(slept, [Duration::from_secs_f64(limit + GRACE_S)]);
+            assert_eq!(ended.len(), 1);
+            assert!(ended[0].starts_with("error: ") && ended[0].contains(&format!("--exit-after {limit}")));
+            assert!(!ended[0].contains('\n'), "one line");
+        }
+        // Not a number of seconds: no sleep for ever, and it still ends.
+        for limit in [f64::NAN, f64::INFINITY, -20.0] {
+            let mut slept = Vec::new();
+            let mut ended = 0;
+            watch(limit, |d| slept.push(d), |_| ended += 1);
+            assert_eq!((slept, ended), (vec![Duration::ZERO], 1), "{limit}");
+        }
+    }
+
+    /// On a real clock the ending comes after the sleep, on the watchdog's
+    /// own thread, while the thread that armed it is blocked: a bound
+    /// from below only (no timed assertion on speed).
+    #[test]
+    fn ends_from_its_own_thread_after_the_sleep() {
+        let (tx, rx) = mpsc::channel();
+        let start = Instant::now();
+        let nap = Duration::from_millis(30);
+        std::thread::spawn(move || {
+            watch(
+                -GRACE_S,
+                |_| std::thread::sleep(nap),
+                |_| {
+                    tx.send(Instant::now()).expect("the test waits");
+                },
+            )
+        });
+        let at = rx.recv().expect("the watchdog ends");
+        assert!(at.duration_since(start) >= nap);
     }
 }

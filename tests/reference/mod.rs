@@ -242,7 +242,7 @@ impl<T: Real> Neg for V3<T> {
 // ---------------------------------------------------------------------------
 
 /// A lens exactly as given to the code under test (all f64).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LensSpec {
     pub center: [f64; 3],
     pub axis: [f64; 3],

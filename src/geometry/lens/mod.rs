@@ -22,7 +22,9 @@
 //! World coordinates 10⁴ from the origin are spaced 2·10⁻¹² apart; a hit
 //! point rounded to them would tilt the normal of a 10⁻³ lens by 10⁻⁹, and
 //! so would normalising the direction before finding that point. Local
-//! points are added back to `C` only for output.
+//! points are added back to `C` only for output. The renderer enters the
+//! glass through the same step ([`Lens::entry_of_hit`]): from its world hit
+//! point only where world coordinates are fine enough, else from the ray.
 //!
 //! The solid is convex, so a ray meets it on one interval: entry at the larger
 //! of the two near roots, exit at the smaller of the two far roots. Inside the
@@ -48,7 +50,7 @@ mod trace;
 
 pub use branches::{Inside, LensBranch, Pruning};
 pub(crate) use lanes::LaneExits;
-pub use trace::{ExitCrossing, LensPath, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
+pub use trace::{ExitCrossing, LensEntry, LensPath, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 
 use super::{Aabb, Hit, within};
 use crate::math::{Ray, domain, max_abs, rescale_pow2};
@@ -126,6 +128,10 @@ pub struct Lens {
     reject_radius2: f64,
     /// Square of 10⁴·d: closer origins take [`Lens::localize`]'s fast path.
     fast_radius2: f64,
+    /// 10⁴·d when the centre's coordinates are at most that, else −1: a
+    /// ray whose origin's coordinates are at most this finds its entry
+    /// point well enough in world coordinates ([`Lens::entry_of_hit`]).
+    world_exact: f64,
 }
 
 impl Lens {
@@ -202,6 +208,7 @@ impl Lens {
             one_sphere: r1 == half && r2 == half,
             reject_radius2: (1.01 * 1.01) * (half * half + sag1.max(sag2).powi(2)),
             fast_radius2: (1e4 * d) * (1e4 * d),
+            world_exact: if max_abs(center) <= 1e4 * d { 1e4 * d } else { -1.0 },
         })
     }
 
@@ -318,14 +325,16 @@ impl Lens {
         self.caps[0].f(x) <= 0.0 && self.caps[1].f(x) <= 0.0
     }
 
-    /// A box around the cylinder of radius d/2 from V2 to V1.
+    /// A box around the cylinder of radius d/2 from V2 to V1, which holds
+    /// the lens: the box of its end discs, the disc of radius d/2 about each
+    /// vertex across the axis (reaching `rim` along each coordinate). The
+    /// rim circle and the vertices alone are not enough: a face bulges past
+    /// both where the axis is oblique (a ball lens by up to 20% of d).
     pub fn bounds(&self) -> Aabb {
         let a = self.axis;
         let rim = 0.5 * self.d * (DVec3::ONE - a * a).max(DVec3::ZERO).powf(0.5);
         let (p, q) = (self.vertex(LensSurface::S1), self.vertex(LensSurface::S2));
-        let lo = (self.center - rim).min(p).min(q);
-        let hi = (self.center + rim).max(p).max(q);
-        Aabb::new(lo, hi)
+        Aabb::new(p.min(q) - rim, p.max(q) + rim)
     }
 }
 
@@ -356,6 +365,34 @@ mod tests {
         assert!(Lens::new(DVec3::ZERO, DVec3::ZERO, 2.0, 5.0, 5.0, Index::Constant(1.5)).is_err());
         assert!(Lens::new(DVec3::ZERO, DVec3::Z, f64::NAN, 5.0, 5.0, Index::Constant(1.5)).is_err());
         assert!(Lens::new(DVec3::ZERO, DVec3::Z, 2.0, f64::INFINITY, 5.0, Index::Constant(1.5)).is_err());
+    }
+
+    /// Every point of both faces lies in the box, for oblique lenses of
+    /// every shape: a ball, a strongly curved one (`scenes/rim-lens.toml`),
+    /// an ordinary and a meniscus-like one.
+    #[test]
+    fn the_box_holds_both_faces() {
+        let axis = DVec3::new(0.5, 0.2, 0.77);
+        for (d, r1, r2) in [(2.0, 1.0, 1.0), (2.4, 1.45, 1.45), (2.0, 5.0, 3.0), (2.0, 1.0, 30.0)] {
+            let l = Lens::new(DVec3::new(0.0, 0.2, 2.2), axis, d, r1, r2, Index::Constant(1.5)).unwrap();
+            let b = l.bounds();
+            let (u, v) = crate::math::orthonormal_basis(l.axis);
+            for i in 0..=40 {
+                let rho = 0.5 * d * f64::from(i) / 40.0;
+                for k in 0..64 {
+                    let phi = std::f64::consts::TAU * f64::from(k) / 64.0;
+                    let radial = rho * (u * phi.cos() + v * phi.sin());
+                    for (s, r, side) in [(LensSurface::S1, r1, 1.0), (LensSurface::S2, r2, -1.0)] {
+                        let x = l.sphere_centre(s) + radial + side * (r * r - rho * rho).max(0.0).sqrt() * l.axis;
+                        let slack = DVec3::splat(1e-12);
+                        assert!(
+                            x.cmpge(b.min - slack).all() && x.cmple(b.max + slack).all(),
+                            "d {d} r {r1} {r2}: {x} outside {b:?}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

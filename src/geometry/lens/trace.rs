@@ -1,13 +1,14 @@
 //! The scalar tracer inside the glass: a real ray through the lens
 //! ([`Lens::trace`], behind `lensview lens trace`) and the pass from an
 //! entry point to the exit that the renderer follows
-//! ([`Lens::propagate_inside`]), with total internal reflections. The exit
-//! step ([`Lens::exit_step`]) is shared with the lanes
-//! ([`Lens::exit_lanes`]).
+//! ([`Lens::propagate_inside`]), with total internal reflections. The
+//! entry step ([`Lens::entry`]) is the renderer's too
+//! ([`Lens::entry_of_hit`]), and the exit step ([`Lens::exit_step`]) is
+//! shared with the lanes ([`Lens::exit_lanes`]).
 
-use super::cap::{Cap, span};
+use super::cap::{Cap, Span, span};
 use super::{Lens, LensSurface};
-use crate::math::rescale_pow2;
+use crate::math::{Ray, max_abs, rescale_pow2};
 use crate::optics::{self, Crossing};
 use glam::DVec3;
 
@@ -50,6 +51,28 @@ pub struct ExitCrossing {
     pub reflectance: f64,
 }
 
+/// Where a ray enters the glass ([`Lens::entry`]), in lens-local
+/// coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LensEntry {
+    /// The entry point, relative to the centre.
+    pub local: DVec3,
+    /// The face's outward unit normal there.
+    pub normal: DVec3,
+    /// The ray's unit direction, to refract.
+    pub dir: DVec3,
+}
+
+/// A ray in lens-local coordinates ([`Lens::localize`]: its point `p`
+/// nearest the centre, the unit direction `u`, the distance `t0` from the
+/// origin to `p`) with both faces' roots along it.
+struct LocalRay {
+    p: DVec3,
+    u: DVec3,
+    t0: f64,
+    sp: Span,
+}
+
 /// The first exit of a ray inside the glass ([`Lens::exit_step`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ExitStep {
@@ -77,31 +100,25 @@ impl Lens {
             exit_crossing: None,
             internal_reflections: 0,
         };
-        // Scaled by a power of two first: [1e200, 0, −1e201] squares to ∞,
-        // [1e-200, 0, −1e-199] to 0; the line is the same.
-        let (p, u, t0) = self.localize(origin, rescale_pow2(dir));
-        let sp = span(&self.caps, p, u);
+        let r = self.local_ray(origin, dir);
+        let LocalRay { p, u, t0, sp } = r;
         if !sp.real {
             return miss;
         }
-        let (t_in, s_in, t_out) = (sp.t_in, sp.face_in, sp.t_out);
         let tol = 1e-10 * self.d;
         // Distances from the ray's origin.
-        let (o_in, o_out) = (t_in + t0, t_out + t0);
-        if t_in >= t_out || o_out <= tol {
+        let (o_in, o_out) = (sp.t_in + t0, sp.t_out + t0);
+        if sp.t_in >= sp.t_out || o_out <= tol {
             return miss;
         }
         let mut path = if o_in >= -tol {
-            // Enters through a face (at the origin itself if it lies on one).
-            let x = if o_in > 0.0 { p + t_in * u } else { p - t0 * u };
-            let s = self.face(x, s_in);
-            let normal = self.caps[s].normal(x);
+            let (s, e) = self.entry_on(&r);
             // From air into glass (n ≥ 1) there is no total reflection.
-            let Some(inside) = optics::refract(u, normal, 1.0, n) else {
+            let Some(inside) = optics::refract(e.dir, e.normal, 1.0, n) else {
                 return miss;
             };
-            let mut path = self.propagate_local(x, inside, n);
-            path.entry = Some((LensSurface::from_part(s as u8), x, inside));
+            let mut path = self.propagate_local(e.local, inside, n);
+            path.entry = Some((LensSurface::from_part(s as u8), e.local, inside));
             path
         } else {
             // Starts inside the glass: from the origin, in local coordinates.
@@ -112,6 +129,72 @@ impl Lens {
         path.entry = world(path.entry);
         path.exit = world(path.exit);
         path
+    }
+
+    /// The ray `origin + s·dir` in lens-local coordinates with both faces'
+    /// roots along it. `dir` is scaled by a power of two first: [1e200, 0,
+    /// −1e201] squares to ∞, [1e-200, 0, −1e-199] to 0; the line is the same.
+    fn local_ray(&self, origin: DVec3, dir: DVec3) -> LocalRay {
+        let (p, u, t0) = self.localize(origin, rescale_pow2(dir));
+        LocalRay {
+            p,
+            u,
+            t0,
+            sp: span(&self.caps, p, u),
+        }
+    }
+
+    /// Where the local ray `r` enters the glass (at its origin itself if
+    /// that lies on a face, `t_in + t0 ≤ 0`): the face (0: S1, 1: S2) and
+    /// the entry. Nothing here is a number to use if `r` misses.
+    fn entry_on(&self, r: &LocalRay) -> (usize, LensEntry) {
+        let (p, u, t0) = (r.p, r.u, r.t0);
+        let x = if r.sp.t_in + t0 > 0.0 {
+            p + r.sp.t_in * u
+        } else {
+            p - t0 * u
+        };
+        let s = self.face(x, r.sp.face_in);
+        let e = LensEntry {
+            local: x,
+            normal: self.caps[s].normal(x),
+            dir: u,
+        };
+        (s, e)
+    }
+
+    /// Where the ray `origin + s·dir` enters the glass, in lens-local
+    /// arithmetic throughout: [`Lens::trace`]'s entry. The ray must meet the
+    /// lens (else nothing here is a number to use).
+    pub fn entry(&self, origin: DVec3, dir: DVec3) -> LensEntry {
+        self.entry_on(&self.local_ray(origin, dir)).1
+    }
+
+    /// Whether a ray from `origin` finds its entry point well enough from
+    /// the world hit point: when the origin's and the centre's coordinates
+    /// are at most 10⁴·d, that point's rounding, a few ε·10⁴·d, tilts the
+    /// normal by ≲ 10⁻¹¹, as in [`Lens::localize`]'s fast path.
+    #[inline(always)]
+    pub fn world_is_exact(&self, origin: DVec3) -> bool {
+        max_abs(origin) <= self.world_exact
+    }
+
+    /// The entry of the renderer's hit along `ray` at the world point `p`
+    /// (outward unit normal `normal` there, computed from `p`): `p` itself
+    /// where [`Lens::world_is_exact`], else [`Lens::entry`] from the ray, the
+    /// very entry of [`Lens::trace`]. A rounded world point `p` at 10⁴ from
+    /// the origin would tilt the normal of a 10⁻³ lens by 10⁻⁹.
+    #[inline(always)]
+    pub fn entry_of_hit(&self, ray: &Ray, p: DVec3, normal: DVec3) -> LensEntry {
+        if self.world_is_exact(ray.origin) {
+            LensEntry {
+                local: p - self.center,
+                normal,
+                dir: ray.dir,
+            }
+        } else {
+            self.entry(ray.origin, ray.dir)
+        }
     }
 
     /// Follows a ray inside the glass from the world point `x` in the unit

@@ -3,7 +3,7 @@
 //! `Document::add_primitive` / `add_lens_facing_camera`.
 
 use super::Ctx;
-use super::widgets::{positive, vec3};
+use super::widgets::{Field, positive, vec3};
 use lensview::edit::Placement;
 use lensview::edit::document::{new_lens, new_object};
 use lensview::scene::file::{IndexFile, ShapeKind, V3};
@@ -144,7 +144,7 @@ impl AddForm {
             ui.end_row();
         } else {
             ui.label("position");
-            vec3(ui, &mut self.position, 0.05);
+            vec3(ui, &mut self.position, 0.05, Field::Coordinate);
             ui.end_row();
         }
     }

@@ -1,7 +1,7 @@
 //! The *Camera* section: pose and field of view, the flight speed, *Reset
 //! the view* and *Look at the lens*.
 
-use super::widgets::vec3;
+use super::widgets::{Field, vec3};
 use super::{Ctx, drafted};
 use glam::DVec3;
 
@@ -18,10 +18,10 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
             |ui, (pos, rot, fov)| {
                 egui::Grid::new("camera-grid").num_columns(2).show(ui, |ui| {
                     ui.label("position");
-                    vec3(ui, pos, 0.02);
+                    vec3(ui, pos, 0.02, Field::Coordinate);
                     ui.end_row();
                     ui.label("rotation °");
-                    vec3(ui, rot, 0.5);
+                    vec3(ui, rot, 0.5, Field::Angle);
                     ui.end_row();
                     ui.label("field of view °");
                     ui.add(egui::DragValue::new(fov).speed(0.2).max_decimals(3));

@@ -3,7 +3,7 @@
 //! of the values as typed, and *Point at the camera* / *Put in front of the
 //! camera*.
 
-use super::widgets::{colour, index, name, number, vec3};
+use super::widgets::{Field, colour, index, name, number, vec3};
 use super::{Ctx, ERROR, drafted};
 use lensview::edit::Item;
 use lensview::edit::document::{axis_angles, axis_from_angles};
@@ -73,13 +73,13 @@ fn lens_rows(ui: &mut egui::Ui, l: &mut LensFile) {
     name(ui, &mut l.name);
     ui.end_row();
     ui.label("centre");
-    vec3(ui, &mut l.center, 0.01);
+    vec3(ui, &mut l.center, 0.01, Field::Coordinate);
     ui.end_row();
     ui.label("orientation");
     orientation(ui, l);
     ui.end_row();
     ui.label("axis");
-    vec3(ui, &mut l.axis, 0.01);
+    vec3(ui, &mut l.axis, 0.01, Field::Coordinate);
     ui.end_row();
     for (label, x, hover) in [
         ("d", &mut l.d, "diameter"),
@@ -87,7 +87,7 @@ fn lens_rows(ui: &mut egui::Ui, l: &mut LensFile) {
         ("r2", &mut l.r2, "radius of S2 (faces −axis), at least d/2"),
     ] {
         ui.label(label).on_hover_text(hover);
-        number(ui, x, 0.01);
+        number(ui, x, 0.01, Field::Length);
         ui.end_row();
     }
     ui.label("index");

@@ -2,7 +2,7 @@
 //! position or direction, intensity, colour), a colour-temperature slider,
 //! then the ambient light and shadows.
 
-use super::widgets::{colour, number, vec3};
+use super::widgets::{Field, colour, number, vec3};
 use super::{Ctx, drafted};
 use lensview::edit::Change;
 use lensview::edit::document::switch_light_kind;
@@ -87,13 +87,13 @@ fn light_rows(ui: &mut egui::Ui, l: &mut LightFile) {
     if l.kind == LightKind::Point {
         ui.label("position");
         let mut p = l.position.unwrap_or_default();
-        if vec3(ui, &mut p, 0.05) {
+        if vec3(ui, &mut p, 0.05, Field::Coordinate) {
             l.position = Some(p);
         }
     } else {
         ui.label("direction");
         let mut d = l.direction.unwrap_or([0.0, -1.0, 0.0]);
-        if vec3(ui, &mut d, 0.01) {
+        if vec3(ui, &mut d, 0.01, Field::Coordinate) {
             l.direction = Some(d);
         }
     }
@@ -104,7 +104,7 @@ fn light_rows(ui: &mut egui::Ui, l: &mut LightFile) {
         "irradiance at normal incidence"
     });
     let speed = (l.intensity.abs() * 0.005).max(0.01);
-    number(ui, &mut l.intensity, speed);
+    number(ui, &mut l.intensity, speed, Field::Intensity);
     ui.end_row();
     ui.label("colour");
     colour(ui, &mut l.color);
@@ -137,7 +137,7 @@ fn ambient_and_shadows(ui: &mut egui::Ui, cx: &mut Ctx) {
         |ui, a: &mut AmbientFile| {
             egui::Grid::new("ambient-grid").num_columns(2).show(ui, |ui| {
                 ui.label("ambient level");
-                number(ui, &mut a.intensity, 0.002);
+                number(ui, &mut a.intensity, 0.002, Field::Intensity);
                 ui.end_row();
                 ui.label("ambient colour");
                 colour(ui, &mut a.color);

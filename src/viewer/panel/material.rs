@@ -2,7 +2,7 @@
 //! material (shared materials say by how many), or a button to give it one
 //! of its own (`Document::give_own_material`).
 
-use super::widgets::{colour, index, number};
+use super::widgets::{Field, colour, index, number};
 use super::{Ctx, drafted};
 use lensview::scene::file::{MaterialFile, ObjectFile};
 
@@ -51,16 +51,16 @@ fn fields(ui: &mut egui::Ui, cx: &mut Ctx, i: usize, m: &str) {
                 ui.label("colour");
                 colour(ui, &mut mat.color);
                 ui.end_row();
-                for (label, x, speed) in [
-                    ("ambient", &mut mat.ambient, 0.01),
-                    ("diffuse", &mut mat.diffuse, 0.01),
-                    ("specular", &mut mat.specular, 0.01),
-                    ("shininess", &mut mat.shininess, 0.5),
-                    ("reflectivity", &mut mat.reflectivity, 0.005),
-                    ("transparency", &mut mat.transparency, 0.005),
+                for (label, x, speed, field) in [
+                    ("ambient", &mut mat.ambient, 0.01, Field::Coefficient),
+                    ("diffuse", &mut mat.diffuse, 0.01, Field::Coefficient),
+                    ("specular", &mut mat.specular, 0.01, Field::Coefficient),
+                    ("shininess", &mut mat.shininess, 0.5, Field::Exponent),
+                    ("reflectivity", &mut mat.reflectivity, 0.005, Field::Fraction),
+                    ("transparency", &mut mat.transparency, 0.005, Field::Fraction),
                 ] {
                     ui.label(label);
-                    number(ui, x, speed);
+                    number(ui, x, speed, field);
                     ui.end_row();
                 }
                 ui.label("index (ior)");

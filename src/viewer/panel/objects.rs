@@ -2,7 +2,7 @@
 //! the selected primitive (its material below it, see `material.rs`),
 //! and *Duplicate* / *Delete*.
 
-use super::widgets::{name, number, vec3};
+use super::widgets::{Field, name, number, vec3};
 use super::{Ctx, drafted, material};
 use lensview::edit::Item;
 use lensview::scene::file::{ObjectFile, ShapeKind};
@@ -91,10 +91,10 @@ fn object_rows(ui: &mut egui::Ui, o: &mut ObjectFile, i: usize, materials: &[Str
     ui.label(o.kind.name());
     ui.end_row();
     ui.label("position");
-    vec3(ui, &mut o.position, 0.02);
+    vec3(ui, &mut o.position, 0.02, Field::Coordinate);
     ui.end_row();
     ui.label("rotation °");
-    vec3(ui, &mut o.rotation, 0.5);
+    vec3(ui, &mut o.rotation, 0.5, Field::Angle);
     ui.end_row();
     size_rows(ui, o);
     ui.label("material");
@@ -116,7 +116,7 @@ fn size_rows(ui: &mut egui::Ui, o: &mut ObjectFile) {
         ShapeKind::Cuboid => {
             ui.label("size");
             let mut s = o.size.unwrap_or([1.0; 3]);
-            if vec3(ui, &mut s, 0.01) {
+            if vec3(ui, &mut s, 0.01, Field::Length) {
                 o.size = Some(s);
             }
             ui.end_row();
@@ -124,7 +124,7 @@ fn size_rows(ui: &mut egui::Ui, o: &mut ObjectFile) {
         ShapeKind::Sphere => {
             ui.label("radius");
             let mut r = o.radius.unwrap_or(0.5);
-            if number(ui, &mut r, 0.01) {
+            if number(ui, &mut r, 0.01, Field::Length) {
                 o.radius = Some(r);
             }
             ui.end_row();
@@ -132,13 +132,13 @@ fn size_rows(ui: &mut egui::Ui, o: &mut ObjectFile) {
         ShapeKind::Prism | ShapeKind::Pyramid => {
             ui.label("base side");
             let mut s = o.side.unwrap_or(1.0);
-            if number(ui, &mut s, 0.01) {
+            if number(ui, &mut s, 0.01, Field::Length) {
                 o.side = Some(s);
             }
             ui.end_row();
             ui.label("height");
             let mut h = o.height.unwrap_or(1.0);
-            if number(ui, &mut h, 0.01) {
+            if number(ui, &mut h, 0.01, Field::Length) {
                 o.height = Some(h);
             }
             ui.end_row();

@@ -1,18 +1,85 @@
 //! Small egui widgets the sections share: rows of numbers, colours, the
-//! index (constant or Cauchy) and the red frame of a draft.
+//! index (constant or Cauchy) and the red frame of a draft. Every number
+//! of a scene is dragged or typed within its [`Field`]'s range: the
+//! supported domain that the scene validator enforces
+//! ([`lensview::math::domain`]), so a panel edit is clamped to what a
+//! scene file may hold.
 
 use super::ERROR;
 use lensview::edit::document::index_with_dispersion;
+use lensview::math::domain;
 use lensview::scene::file::IndexFile;
+use std::ops::RangeInclusive;
 
-/// Three drag values in a row; true when one changed.
-pub fn vec3(ui: &mut egui::Ui, v: &mut [f64; 3], speed: f64) -> bool {
+/// What a number of the scene is, and so the range a panel field keeps it
+/// in (within [`domain`], the one source of these limits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// A coordinate of a position, or a component of a direction.
+    Coordinate,
+    /// A rotation angle in degrees (only kept finite).
+    Angle,
+    /// A size, a radius, a lens diameter or face radius.
+    Length,
+    /// A colour component.
+    Colour,
+    /// A light's intensity.
+    Intensity,
+    /// A material's ambient, diffuse or specular coefficient.
+    Coefficient,
+    /// A material's reflectivity or transparency.
+    Fraction,
+    /// A Phong exponent (only kept finite).
+    Exponent,
+    /// An index of refraction, or Cauchy's A.
+    Index,
+    /// Cauchy's B (µm²): with A = 1, the index at 0.38 µm stays in the domain.
+    Dispersion,
+}
+
+impl Field {
+    #[cfg(test)]
+    pub const ALL: [Field; 10] = [
+        Field::Coordinate,
+        Field::Angle,
+        Field::Length,
+        Field::Colour,
+        Field::Intensity,
+        Field::Coefficient,
+        Field::Fraction,
+        Field::Exponent,
+        Field::Index,
+        Field::Dispersion,
+    ];
+
+    /// The values a panel field of this kind may take.
+    pub fn range(self) -> RangeInclusive<f64> {
+        let b = (domain::MAX_INDEX - 1.0) * 0.38 * 0.38;
+        match self {
+            Field::Coordinate | Field::Angle => -domain::MAX_COORDINATE..=domain::MAX_COORDINATE,
+            Field::Length => domain::MIN_LENGTH..=domain::MAX_LENGTH,
+            Field::Colour => 0.0..=domain::MAX_COLOUR,
+            Field::Intensity => 0.0..=domain::MAX_INTENSITY,
+            Field::Coefficient => 0.0..=domain::MAX_COEFFICIENT,
+            Field::Fraction => 0.0..=1.0,
+            Field::Exponent => 0.0..=f64::MAX,
+            Field::Index => 1.0..=domain::MAX_INDEX,
+            Field::Dispersion => -b..=b,
+        }
+    }
+
+    /// A drag value over `x` kept in this field's range.
+    pub fn drag(self, x: &mut f64) -> egui::DragValue<'_> {
+        egui::DragValue::new(x).range(self.range())
+    }
+}
+
+/// Three drag values in a row of kind `field`; true when one changed.
+pub fn vec3(ui: &mut egui::Ui, v: &mut [f64; 3], speed: f64, field: Field) -> bool {
     ui.horizontal(|ui| {
         let mut changed = false;
         for (x, p) in v.iter_mut().zip(["x ", "y ", "z "]) {
-            changed |= ui
-                .add(egui::DragValue::new(x).speed(speed).max_decimals(4).prefix(p))
-                .changed();
+            changed |= ui.add(field.drag(x).speed(speed).max_decimals(4).prefix(p)).changed();
         }
         changed
     })
@@ -21,11 +88,12 @@ pub fn vec3(ui: &mut egui::Ui, v: &mut [f64; 3], speed: f64) -> bool {
 
 /// A positive size in the *Add* form.
 pub fn positive(x: &mut f64) -> egui::DragValue<'_> {
-    egui::DragValue::new(x).speed(0.01).range(0.001..=1e6).max_decimals(4)
+    Field::Length.drag(x).speed(0.01).max_decimals(4)
 }
 
-pub fn number(ui: &mut egui::Ui, x: &mut f64, speed: f64) -> bool {
-    ui.add(egui::DragValue::new(x).speed(speed).max_decimals(6)).changed()
+/// One number of kind `field`; true when it changed.
+pub fn number(ui: &mut egui::Ui, x: &mut f64, speed: f64, field: Field) -> bool {
+    ui.add(field.drag(x).speed(speed).max_decimals(6)).changed()
 }
 
 /// A colour picker (linear RGB, as in the scene file) and its numbers.
@@ -38,7 +106,7 @@ pub fn colour(ui: &mut egui::Ui, c: &mut [f64; 3]) -> bool {
             changed = true;
         }
         for x in c.iter_mut() {
-            changed |= ui.add(egui::DragValue::new(x).speed(0.01).max_decimals(3)).changed();
+            changed |= ui.add(Field::Colour.drag(x).speed(0.01).max_decimals(3)).changed();
         }
         changed
     })
@@ -66,12 +134,12 @@ pub fn index(ui: &mut egui::Ui, n: &mut IndexFile) {
     });
     match n {
         IndexFile::Constant(v) => {
-            ui.add(egui::DragValue::new(v).speed(0.002).max_decimals(5).prefix("n "));
+            ui.add(Field::Index.drag(v).speed(0.002).max_decimals(5).prefix("n "));
         }
         IndexFile::Cauchy([a, b]) => {
             ui.horizontal(|ui| {
-                ui.add(egui::DragValue::new(a).speed(0.002).max_decimals(5).prefix("A "));
-                ui.add(egui::DragValue::new(b).speed(0.0002).max_decimals(6).prefix("B "))
+                ui.add(Field::Index.drag(a).speed(0.002).max_decimals(5).prefix("A "));
+                ui.add(Field::Dispersion.drag(b).speed(0.0002).max_decimals(6).prefix("B "))
                     .on_hover_text("µm²");
             });
         }
@@ -86,4 +154,39 @@ pub fn draft_frame<R>(ui: &mut egui::Ui, is_draft: bool, add: impl FnOnce(&mut e
         egui::Stroke::NONE
     };
     egui::Frame::new().stroke(stroke).inner_margin(2.0).show(ui, add).inner
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No panel field reaches outside the supported domain: both ends of
+    /// every field's range pass the domain's own checks (the ones the
+    /// scene validator makes), and a field that must be positive starts
+    /// above zero.
+    #[test]
+    fn every_field_stays_inside_the_domain() {
+        for f in Field::ALL {
+            let r = f.range();
+            let (lo, hi) = (*r.start(), *r.end());
+            assert!(lo <= hi && lo.is_finite() && hi.is_finite(), "{f:?}");
+            for x in [lo, hi] {
+                let inside = match f {
+                    Field::Coordinate | Field::Angle => domain::coordinate(x).is_none(),
+                    Field::Length => domain::length(x, 0.0).is_none(),
+                    Field::Colour => (0.0..=domain::MAX_COLOUR).contains(&x),
+                    Field::Intensity => (0.0..=domain::MAX_INTENSITY).contains(&x),
+                    Field::Coefficient => (0.0..=domain::MAX_COEFFICIENT).contains(&x),
+                    Field::Fraction => (0.0..=1.0).contains(&x),
+                    Field::Exponent => x >= 0.0,
+                    Field::Index => domain::index(x).is_none(),
+                    // Cauchy's n = A + B/λ² at A = 1 over the visible range.
+                    Field::Dispersion => [0.38f64, 0.78]
+                        .iter()
+                        .all(|l| x.abs() / (l * l) <= domain::MAX_INDEX - 1.0 + 1e-12),
+                };
+                assert!(inside, "{f:?}: {x:e} is outside the supported domain");
+            }
+        }
+    }
 }
