@@ -11,7 +11,7 @@
 use super::lens_pass::{Transmitted, transmitted_rays};
 use super::surface::{spawn_ray, surface};
 use crate::color::Rgb;
-use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning};
+use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
 use crate::light::Light;
 use crate::math::{Ray, orthonormal_basis};
 use crate::optics::{self, WAVELENGTH_D_UM};
@@ -40,25 +40,68 @@ pub struct Targets {
 
 impl Targets {
     pub fn of(scene: &Scene) -> Self {
-        let sphere = |b: &crate::geometry::Aabb| ((b.min + b.max) * 0.5, (b.max - b.min).length() * 0.5);
         let spheres = scene
             .objects
             .iter()
             .filter(|o| o.material.transparency > 0.0 || o.material.reflectivity > 0.0)
-            .map(|o| sphere(&o.world_bounds))
+            .map(bounding_sphere)
             .collect();
-        let world = scene
-            .objects
-            .iter()
-            .map(|o| o.world_bounds)
-            .reduce(|a, b| a.union(&b))
-            .map_or((DVec3::ZERO, 0.0), |b| sphere(&b));
-        Targets { spheres, world }
+        Targets {
+            spheres,
+            world: world_sphere(scene),
+        }
+    }
+
+    /// Every direction from every light (for a directional light, the disc
+    /// of the whole scene): uniform emission, what the cones of [`Self::of`]
+    /// must agree with (tests/caustic_emission.rs). Empty without objects.
+    pub fn everywhere(scene: &Scene) -> Self {
+        let (c, r) = world_sphere(scene);
+        let reach = scene.lights.iter().fold(r, |r, l| match *l {
+            Light::Point { position, .. } => r.max((position - c).length()),
+            Light::Directional { .. } => r,
+        });
+        let spheres = if scene.objects.is_empty() {
+            Vec::new()
+        } else {
+            vec![(c, 1.01 * reach + 1.0)]
+        };
+        Targets { spheres, world: (c, r) }
     }
 
     pub fn is_empty(&self) -> bool {
         self.spheres.is_empty()
     }
+}
+
+/// Centre and radius of a sphere around every object.
+fn world_sphere(scene: &Scene) -> (DVec3, f64) {
+    let sphere = |b: &crate::geometry::Aabb| ((b.min + b.max) * 0.5, (b.max - b.min).length() * 0.5);
+    scene
+        .objects
+        .iter()
+        .map(|o| o.world_bounds)
+        .reduce(|a, b| a.union(&b))
+        .map_or((DVec3::ZERO, 0.0), |b| sphere(&b))
+}
+
+/// A sphere holding `o`, as tight as its shape allows: a lens lies within
+/// `d/2` of its centre (the rims meet in the plane through it, and a cap
+/// point at height `z ≤ sag` lies at `√((d/2)² − 2z(R − sag))` from it), a
+/// sphere is its own, other shapes are held by the half-diagonal of their
+/// own box (the same however the object is turned, unlike its world box).
+/// Padded by 10⁻⁹ of its size and place, for rounding.
+fn bounding_sphere(o: &Object) -> (DVec3, f64) {
+    let world = |p: DVec3| o.world_from_object * p + o.position;
+    let (c, r) = match &o.shape {
+        Shape::Lens(l) => (world(l.center), 0.5 * l.d),
+        Shape::Sphere(s) => (world(DVec3::ZERO), s.radius),
+        shape => {
+            let b = shape.bounds();
+            (world((b.min + b.max) * 0.5), (b.max - b.min).length() * 0.5)
+        }
+    };
+    (c, r + 1e-9 * (r + c.abs().max_element()))
 }
 
 /// Half-angle cosine and solid angle of target `(c, r)` seen from `from`
@@ -242,4 +285,69 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
         })
         .collect();
     chunks.concat()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every point of a tilted lens, a turned cuboid and a sphere lies in
+    /// its target sphere, and some lie near its surface (the sphere is not
+    /// loose): for the lens about half the solid angle of the sphere
+    /// around its world box.
+    #[test]
+    fn target_spheres_hold_their_objects_tightly() {
+        let text = r#"
+[camera]
+position = [0, 0, 10]
+[[lights]]
+type = "point"
+position = [5, 10, 6]
+intensity = 100
+[[lenses]]
+center = [0.3, 4.3, 6.9]
+axis = [0, 0.48, 0.88]
+d = 2
+r1 = 5
+r2 = 2.5
+n = 1.5
+[materials.glass]
+transparency = 1.0
+[[objects]]
+type = "cuboid"
+position = [3, 1, -2]
+rotation = [20, 35, 10]
+size = [1, 2, 0.5]
+material = "glass"
+[[objects]]
+type = "sphere"
+position = [-3, 1, 0]
+radius = 0.7
+material = "glass"
+"#;
+        let scene = Scene::parse("t.toml", text).unwrap().1;
+        let t = Targets::of(&scene);
+        assert_eq!(t.spheres.len(), 3);
+        for (o, &(c, r)) in scene.objects.iter().zip(&t.spheres) {
+            let b = o.world_bounds;
+            let mut far: f64 = 0.0;
+            let n = 60;
+            for i in 0..=n {
+                for j in 0..=n {
+                    for k in 0..=n {
+                        let f = DVec3::new(i as f64, j as f64, k as f64) / n as f64;
+                        let p = b.min + (b.max - b.min) * f;
+                        if o.shape.contains(o.object_from_world() * (p - o.position)) {
+                            far = far.max((p - c).length());
+                        }
+                    }
+                }
+            }
+            assert!(far <= r && far > 0.9 * r, "{}: farthest {far} vs {r}", o.name);
+        }
+        let i = scene.objects.iter().position(|o| o.lens().is_some()).unwrap();
+        let b = scene.objects[i].world_bounds;
+        let loose = (b.max - b.min).length() * 0.5;
+        assert!(t.spheres[i].1 < 0.75 * loose, "{} vs {loose}", t.spheres[i].1);
+    }
 }
