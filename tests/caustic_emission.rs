@@ -173,3 +173,110 @@ fn mirror_and_glass_cones_deliver_the_uniform_power() {
     };
     cones_agree_with_uniform(&scene, (40_000, 600_000), 4, &region, &[0, 1, 2], 5.0);
 }
+
+/// Where rays `(weight, point at z, slope)` cross the axis (rays from an
+/// axial point stay in a plane with the axis): the weighted median of the
+/// crossings, which the few weak ghosts (two inner reflections) cannot pull.
+fn median_focus(z: f64, rays: impl Iterator<Item = (f64, (f64, f64), (f64, f64))>) -> f64 {
+    let mut at: Vec<(f64, f64)> = rays
+        .map(|(w, p, v)| (z - (p.0 * v.0 + p.1 * v.1) / (v.0 * v.0 + v.1 * v.1), w))
+        .collect();
+    at.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let half = 0.5 * at.iter().map(|a| a.1).sum::<f64>();
+    let mut acc = 0.0;
+    at.iter()
+        .find(|a| {
+            acc += a.1;
+            acc >= half
+        })
+        .unwrap()
+        .0
+}
+
+/// With dispersive glass each photon carries one channel, traced at that
+/// channel's wavelength (the camera's C, d and F lines): a lens focuses red
+/// farther than green and green farther than blue (normal dispersion: the
+/// index falls with the wavelength), where an independent count of rays
+/// through the lens at each line focuses; each channel carries a third of
+/// the photons at three times the power, so the same power as one colour.
+#[test]
+fn a_dispersive_lens_focuses_red_farther_than_blue() {
+    use lensview::geometry::LensTraceStatus;
+    use lensview::optics::{RGB_WAVELENGTHS_UM, fresnel_at};
+    use lensview::sampling::Sampler;
+    use std::f64::consts::PI;
+    let (a, b, d, r, light_z, screen_z) = (1.5, 0.012, 1.2, 8.0, -60.0, 5.0);
+    let text = format!(
+        r#"
+[camera]
+position = [6, 0, 0]
+look_at = [0, 0, 3]
+[[lights]]
+type = "point"
+position = [0, 0, {light_z}]
+intensity = 1000
+[[lenses]]
+center = [0, 0, 0]
+axis = [0, 0, 1]
+d = {d}
+r1 = {r}
+r2 = {r}
+n = {{ cauchy = [{a}, {b}] }}
+[materials.screen]
+diffuse = 1.0
+[[objects]]
+type = "cuboid"
+position = [0, 0, {z}]
+size = [10, 10, 0.2]
+material = "screen"
+"#,
+        z = screen_z + 0.1
+    );
+    let scene = Scene::parse("dispersive.toml", &text).unwrap().1;
+    assert!(scene.features.dispersion);
+    let photons = photon_pass(&scene, &Targets::of(&scene), 1, 90_000, 3);
+    let lens = scene.objects.iter().find_map(|o| o.lens()).unwrap();
+    let light = DVec3::new(0.0, 0.0, light_z);
+    // The rim's cone from the light (the rim lies in the plane z = 0).
+    let cos_max = -light_z / light_z.hypot(0.5 * d);
+    let (mut focus, mut count, mut power) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+    for c in 0..3 {
+        let mine = photons.iter().filter(|ph| ph.power[c] > 0.0).map(|ph| {
+            assert!((ph.p.z - screen_z).abs() < 1e-6, "{:?}", ph.p);
+            power[c] += ph.power[c] as f64;
+            let [dx, dy, dz] = ph.dir.map(f64::from);
+            (ph.power[c] as f64, (ph.p.x, ph.p.y), (dx / dz, dy / dz))
+        });
+        focus[c] = median_focus(screen_z, mine);
+        // The independent count: rays over the rim's cone through the
+        // exact tracer at this channel's index, weighted by the Fresnel
+        // transmission of their two crossings.
+        let n = a + b / RGB_WAVELENGTHS_UM[c].powi(2);
+        let rays = (0..200_000).filter_map(|i| {
+            let (u, v) = Sampler::new(99, i, 7).next_2d();
+            let cos = 1.0 - u * (1.0 - cos_max);
+            let sin = (1.0 - cos * cos).sqrt();
+            let dir = DVec3::new(sin * (2.0 * PI * v).cos(), sin * (2.0 * PI * v).sin(), cos);
+            let path = lens.trace(light, dir, n);
+            if path.status != LensTraceStatus::Transmitted || path.internal_reflections > 0 {
+                return None;
+            }
+            let (s1, x1, inside) = path.entry.unwrap();
+            let (_, x2, out) = path.exit.unwrap();
+            let t_in = 1.0 - fresnel_at(dir, lens.normal(x1, s1 as u8), 1.0, n);
+            let t_out = 1.0 - fresnel_at(inside, -path.exit_crossing.unwrap().normal, n, 1.0);
+            let p = x2 + out * ((screen_z - x2.z) / out.z);
+            Some((t_in * t_out, (p.x, p.y), (out.x / out.z, out.y / out.z)))
+        });
+        count[c] = median_focus(screen_z, rays);
+    }
+    eprintln!("photons focus {focus:?}, ray count {count:?}, power {power:?}");
+    assert!(focus[0] > focus[1] && focus[1] > focus[2], "{focus:?}");
+    for c in 0..3 {
+        assert!(
+            (focus[c] - count[c]).abs() < 0.05 * (count[0] - count[2]),
+            "{focus:?} vs {count:?}"
+        );
+        assert!((power[c] / power[1] - 1.0).abs() < 0.03, "{power:?}");
+    }
+}

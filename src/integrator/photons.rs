@@ -14,7 +14,7 @@ use crate::color::Rgb;
 use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
 use crate::light::Light;
 use crate::math::{Ray, orthonormal_basis};
-use crate::optics::{self, WAVELENGTH_D_UM};
+use crate::optics::{self, RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::photon::Photon;
 use crate::sampling::Sampler;
 use crate::scene::{Object, Scene};
@@ -181,11 +181,12 @@ fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sample
     }
 }
 
-/// Follows one photon: at each surface it is recorded if the surface is
-/// diffuse and the photon has been bent or mirrored, then goes on by
-/// reflection or refraction with their Fresnel shares (Russian roulette),
-/// until it leaves the scene, is absorbed, or `max_depth` is used up.
-fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, out: &mut Vec<Photon>) {
+/// Follows one photon, at wavelength `lambda` (µm): at each surface it is
+/// recorded if the surface is diffuse and the photon has been bent or
+/// mirrored, then goes on by reflection or refraction with their Fresnel
+/// shares (Russian roulette), until it leaves the scene, is absorbed, or
+/// `max_depth` is used up.
+fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &mut Sampler, out: &mut Vec<Photon>) {
     let (mut skip, mut depth, mut bounced) = (usize::MAX, 0u32, false);
     while depth < scene.max_depth.max(1) {
         let Some((i, h)) = closest_hit_skip(scene, &ray, f64::INFINITY, skip) else {
@@ -196,7 +197,7 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, 
         if bounced && m.diffuse * (1.0 - m.transparency) > 0.0 {
             out.push(Photon::new(s.p, ray.dir, power));
         }
-        let ior = m.ior.at(WAVELENGTH_D_UM);
+        let ior = m.ior.at(lambda);
         let f = if m.transparency > 0.0 {
             let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
             optics::fresnel_at(ray.dir, s.nf, n1, n2)
@@ -261,15 +262,33 @@ fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, dir: DVec3, ior
     Some(tr)
 }
 
+/// The wavelength photon `i` of a light is traced at and the factor on its
+/// power: without dispersive glass the d line and all channels; with it,
+/// one channel alone at that channel's wavelength (the camera's,
+/// [`RGB_WAVELENGTHS_UM`]), three times as strong, channel `(i / t) mod 3`
+/// for `t` targets (each target's photons cycle through the channels).
+fn colour_of(scene: &Scene, i: usize, t: usize) -> (f64, Rgb) {
+    if !scene.features.dispersion {
+        return (WAVELENGTH_D_UM, Rgb::ONE);
+    }
+    let c = (i / t) % 3;
+    let mut w = Rgb::ZERO;
+    w[c] = 3.0;
+    (RGB_WAVELENGTHS_UM[c], w)
+}
+
 /// The photons of pass `pass` (from 1): `per_light` photons from each light
-/// (rounded up to a multiple of the number of targets) toward the targets,
-/// those that land after a specular bounce, in photon order. Empty when the
-/// scene has no light or nothing specular.
+/// (rounded up to a multiple of the number of targets, times three with
+/// dispersive glass, so that targets and channels get equal shares) toward
+/// the targets, those that land after a specular bounce, in photon order.
+/// Empty when the scene has no light or nothing specular.
 pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize, seed: u64) -> Vec<Photon> {
     if targets.is_empty() || scene.lights.is_empty() {
         return Vec::new();
     }
-    let per_light = per_light.max(1).div_ceil(targets.spheres.len()) * targets.spheres.len();
+    let t = targets.spheres.len();
+    let share = if scene.features.dispersion { 3 * t } else { t };
+    let per_light = per_light.max(1).div_ceil(share) * share;
     let total = per_light * scene.lights.len();
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
@@ -278,8 +297,9 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
             for i in c * CHUNK..((c + 1) * CHUNK).min(total) {
                 let mut rng = Sampler::new(seed, i as u64, pass as u64);
                 let light = &scene.lights[i / per_light];
+                let (lambda, tint) = colour_of(scene, i % per_light, t);
                 let (ray, power) = emit(light, targets, i % per_light, per_light, &mut rng);
-                trace_photon(scene, ray, power, &mut rng, &mut out);
+                trace_photon(scene, ray, power * tint, lambda, &mut rng, &mut out);
             }
             out
         })
