@@ -198,7 +198,8 @@ fn median_focus(z: f64, rays: impl Iterator<Item = (f64, (f64, f64), (f64, f64))
 /// farther than green and green farther than blue (normal dispersion: the
 /// index falls with the wavelength), where an independent count of rays
 /// through the lens at each line focuses; each channel carries a third of
-/// the photons at three times the power, so the same power as one colour.
+/// the photons at three times the power, so the same power as one colour;
+/// the same photons on any thread count.
 #[test]
 fn a_dispersive_lens_focuses_red_farther_than_blue() {
     use lensview::geometry::LensTraceStatus;
@@ -234,7 +235,13 @@ material = "screen"
     );
     let scene = Scene::parse("dispersive.toml", &text).unwrap().1;
     assert!(scene.features.dispersion);
-    let photons = photon_pass(&scene, &Targets::of(&scene), 1, 90_000, 3);
+    // The same photons, channels and all, on one thread and on three.
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| photon_pass(&scene, &Targets::of(&scene), 1, 90_000, 3))
+    };
+    let photons = on(3);
+    assert!(photons == on(1), "the photons differ between 1 and 3 threads");
     let lens = scene.objects.iter().find_map(|o| o.lens()).unwrap();
     let light = DVec3::new(0.0, 0.0, light_z);
     // The rim's cone from the light (the rim lies in the plane z = 0).
