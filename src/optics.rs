@@ -9,6 +9,12 @@ use glam::DVec3;
 /// The d line of helium (587.5618 nm), where a single "n" is quoted.
 pub const WAVELENGTH_D_UM: f64 = 0.587_561_8;
 
+/// Wavelengths (µm) at which dispersive glass is traced for the red, green
+/// and blue channels: the Fraunhofer C (hydrogen, 656.3 nm), d (helium,
+/// 587.6 nm) and F (hydrogen, 486.1 nm) lines, the lines an optician quotes
+/// dispersion at. Camera samples and caustic photons both use them.
+pub const RGB_WAVELENGTHS_UM: [f64; 3] = [0.656_281_6, WAVELENGTH_D_UM, 0.486_132_7];
+
 /// Mirror reflection of the unit direction `i` about the unit normal `n`:
 /// `r = i − 2(i·n)n`.
 #[inline]

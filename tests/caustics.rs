@@ -152,7 +152,7 @@ fn the_focal_spot_has_the_power_and_profile_of_a_ray_count() {
     // The ring of spherical aberration: the rim's rays fold inward, so the
     // densest 5 % of the area lies at the spot's edge.
     let settings = CausticSettings {
-        photons_per_pass: 250_000,
+        photons_per_pass: 125_000,
         initial_radius: Some(0.01 * spot),
         seed: 3,
     };

@@ -11,10 +11,10 @@
 use super::lens_pass::{Transmitted, transmitted_rays};
 use super::surface::{spawn_ray, surface};
 use crate::color::Rgb;
-use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning};
+use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
 use crate::light::Light;
 use crate::math::{Ray, orthonormal_basis};
-use crate::optics::{self, WAVELENGTH_D_UM};
+use crate::optics::{self, RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::photon::Photon;
 use crate::sampling::Sampler;
 use crate::scene::{Object, Scene};
@@ -40,25 +40,68 @@ pub struct Targets {
 
 impl Targets {
     pub fn of(scene: &Scene) -> Self {
-        let sphere = |b: &crate::geometry::Aabb| ((b.min + b.max) * 0.5, (b.max - b.min).length() * 0.5);
         let spheres = scene
             .objects
             .iter()
             .filter(|o| o.material.transparency > 0.0 || o.material.reflectivity > 0.0)
-            .map(|o| sphere(&o.world_bounds))
+            .map(bounding_sphere)
             .collect();
-        let world = scene
-            .objects
-            .iter()
-            .map(|o| o.world_bounds)
-            .reduce(|a, b| a.union(&b))
-            .map_or((DVec3::ZERO, 0.0), |b| sphere(&b));
-        Targets { spheres, world }
+        Targets {
+            spheres,
+            world: world_sphere(scene),
+        }
+    }
+
+    /// Every direction from every light (for a directional light, the disc
+    /// of the whole scene): uniform emission, what the cones of [`Self::of`]
+    /// must agree with (tests/caustic_emission.rs). Empty without objects.
+    pub fn everywhere(scene: &Scene) -> Self {
+        let (c, r) = world_sphere(scene);
+        let reach = scene.lights.iter().fold(r, |r, l| match *l {
+            Light::Point { position, .. } => r.max((position - c).length()),
+            Light::Directional { .. } => r,
+        });
+        let spheres = if scene.objects.is_empty() {
+            Vec::new()
+        } else {
+            vec![(c, 1.01 * reach + 1.0)]
+        };
+        Targets { spheres, world: (c, r) }
     }
 
     pub fn is_empty(&self) -> bool {
         self.spheres.is_empty()
     }
+}
+
+/// Centre and radius of a sphere around every object.
+fn world_sphere(scene: &Scene) -> (DVec3, f64) {
+    let sphere = |b: &crate::geometry::Aabb| ((b.min + b.max) * 0.5, (b.max - b.min).length() * 0.5);
+    scene
+        .objects
+        .iter()
+        .map(|o| o.world_bounds)
+        .reduce(|a, b| a.union(&b))
+        .map_or((DVec3::ZERO, 0.0), |b| sphere(&b))
+}
+
+/// A sphere holding `o`, as tight as its shape allows: a lens lies within
+/// `d/2` of its centre (the rims meet in the plane through it, and a cap
+/// point at height `z ≤ sag` lies at `√((d/2)² − 2z(R − sag))` from it), a
+/// sphere is its own, other shapes are held by the half-diagonal of their
+/// own box (the same however the object is turned, unlike its world box).
+/// Padded by 10⁻⁹ of its size and place, for rounding.
+fn bounding_sphere(o: &Object) -> (DVec3, f64) {
+    let world = |p: DVec3| o.world_from_object * p + o.position;
+    let (c, r) = match &o.shape {
+        Shape::Lens(l) => (world(l.center), 0.5 * l.d),
+        Shape::Sphere(s) => (world(DVec3::ZERO), s.radius),
+        shape => {
+            let b = shape.bounds();
+            (world((b.min + b.max) * 0.5), (b.max - b.min).length() * 0.5)
+        }
+    };
+    (c, r + 1e-9 * (r + c.abs().max_element()))
 }
 
 /// Half-angle cosine and solid angle of target `(c, r)` seen from `from`
@@ -138,11 +181,12 @@ fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sample
     }
 }
 
-/// Follows one photon: at each surface it is recorded if the surface is
-/// diffuse and the photon has been bent or mirrored, then goes on by
-/// reflection or refraction with their Fresnel shares (Russian roulette),
-/// until it leaves the scene, is absorbed, or `max_depth` is used up.
-fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, out: &mut Vec<Photon>) {
+/// Follows one photon, at wavelength `lambda` (µm): at each surface it is
+/// recorded if the surface is diffuse and the photon has been bent or
+/// mirrored, then goes on by reflection or refraction with their Fresnel
+/// shares (Russian roulette), until it leaves the scene, is absorbed, or
+/// `max_depth` is used up.
+fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &mut Sampler, out: &mut Vec<Photon>) {
     let (mut skip, mut depth, mut bounced) = (usize::MAX, 0u32, false);
     while depth < scene.max_depth.max(1) {
         let Some((i, h)) = closest_hit_skip(scene, &ray, f64::INFINITY, skip) else {
@@ -153,7 +197,7 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, rng: &mut Sampler, 
         if bounced && m.diffuse * (1.0 - m.transparency) > 0.0 {
             out.push(Photon::new(s.p, ray.dir, power));
         }
-        let ior = m.ior.at(WAVELENGTH_D_UM);
+        let ior = m.ior.at(lambda);
         let f = if m.transparency > 0.0 {
             let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
             optics::fresnel_at(ray.dir, s.nf, n1, n2)
@@ -218,15 +262,33 @@ fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, ray: &Ray, ior:
     Some(tr)
 }
 
+/// The wavelength photon `i` of a light is traced at and the factor on its
+/// power: without dispersive glass the d line and all channels; with it,
+/// one channel alone at that channel's wavelength (the camera's,
+/// [`RGB_WAVELENGTHS_UM`]), three times as strong, channel `(i / t) mod 3`
+/// for `t` targets (each target's photons cycle through the channels).
+fn colour_of(scene: &Scene, i: usize, t: usize) -> (f64, Rgb) {
+    if !scene.features.dispersion {
+        return (WAVELENGTH_D_UM, Rgb::ONE);
+    }
+    let c = (i / t) % 3;
+    let mut w = Rgb::ZERO;
+    w[c] = 3.0;
+    (RGB_WAVELENGTHS_UM[c], w)
+}
+
 /// The photons of pass `pass` (from 1): `per_light` photons from each light
-/// (rounded up to a multiple of the number of targets) toward the targets,
-/// those that land after a specular bounce, in photon order. Empty when the
-/// scene has no light or nothing specular.
+/// (rounded up to a multiple of the number of targets, times three with
+/// dispersive glass, so that targets and channels get equal shares) toward
+/// the targets, those that land after a specular bounce, in photon order.
+/// Empty when the scene has no light or nothing specular.
 pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize, seed: u64) -> Vec<Photon> {
     if targets.is_empty() || scene.lights.is_empty() {
         return Vec::new();
     }
-    let per_light = per_light.max(1).div_ceil(targets.spheres.len()) * targets.spheres.len();
+    let t = targets.spheres.len();
+    let share = if scene.features.dispersion { 3 * t } else { t };
+    let per_light = per_light.max(1).div_ceil(share) * share;
     let total = per_light * scene.lights.len();
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
@@ -235,11 +297,77 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
             for i in c * CHUNK..((c + 1) * CHUNK).min(total) {
                 let mut rng = Sampler::new(seed, i as u64, pass as u64);
                 let light = &scene.lights[i / per_light];
+                let (lambda, tint) = colour_of(scene, i % per_light, t);
                 let (ray, power) = emit(light, targets, i % per_light, per_light, &mut rng);
-                trace_photon(scene, ray, power, &mut rng, &mut out);
+                trace_photon(scene, ray, power * tint, lambda, &mut rng, &mut out);
             }
             out
         })
         .collect();
     chunks.concat()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every point of a tilted lens, a turned cuboid and a sphere lies in
+    /// its target sphere, and some lie near its surface (the sphere is not
+    /// loose): for the lens about half the solid angle of the sphere
+    /// around its world box.
+    #[test]
+    fn target_spheres_hold_their_objects_tightly() {
+        let text = r#"
+[camera]
+position = [0, 0, 10]
+[[lights]]
+type = "point"
+position = [5, 10, 6]
+intensity = 100
+[[lenses]]
+center = [0.3, 4.3, 6.9]
+axis = [0, 0.48, 0.88]
+d = 2
+r1 = 5
+r2 = 2.5
+n = 1.5
+[materials.glass]
+transparency = 1.0
+[[objects]]
+type = "cuboid"
+position = [3, 1, -2]
+rotation = [20, 35, 10]
+size = [1, 2, 0.5]
+material = "glass"
+[[objects]]
+type = "sphere"
+position = [-3, 1, 0]
+radius = 0.7
+material = "glass"
+"#;
+        let scene = Scene::parse("t.toml", text).unwrap().1;
+        let t = Targets::of(&scene);
+        assert_eq!(t.spheres.len(), 3);
+        for (o, &(c, r)) in scene.objects.iter().zip(&t.spheres) {
+            let b = o.world_bounds;
+            let mut far: f64 = 0.0;
+            let n = 60;
+            for i in 0..=n {
+                for j in 0..=n {
+                    for k in 0..=n {
+                        let f = DVec3::new(i as f64, j as f64, k as f64) / n as f64;
+                        let p = b.min + (b.max - b.min) * f;
+                        if o.shape.contains(o.object_from_world() * (p - o.position)) {
+                            far = far.max((p - c).length());
+                        }
+                    }
+                }
+            }
+            assert!(far <= r && far > 0.9 * r, "{}: farthest {far} vs {r}", o.name);
+        }
+        let i = scene.objects.iter().position(|o| o.lens().is_some()).unwrap();
+        let b = scene.objects[i].world_bounds;
+        let loose = (b.max - b.min).length() * 0.5;
+        assert!(t.spheres[i].1 < 0.75 * loose, "{} vs {loose}", t.spheres[i].1);
+    }
 }

@@ -13,7 +13,7 @@ use crate::scene::Scene;
 use std::sync::Arc;
 
 /// Photons shot from each light in one pass.
-pub const PHOTONS_PER_PASS: usize = 1 << 16;
+pub const PHOTONS_PER_PASS: usize = 1 << 15;
 /// Photon passes `lensview render` runs per sample per pixel.
 pub const PASSES_PER_SPP: u32 = 2;
 /// The fewest photon passes `lensview render` runs.
@@ -138,6 +138,41 @@ pub fn with_caustics(scene: &Scene, passes: u32, settings: CausticSettings) -> S
 pub struct Interleaved {
     scene: Option<Arc<Scene>>,
     caustics: Option<Caustics>,
+    /// The job's scene holding the map, what stages render: kept from stage
+    /// to stage and from job to job, so that a stage hands it a new map
+    /// (one `Arc`) and a camera move copies the camera into it, never the
+    /// objects again ([`refresh`]).
+    with_map: Option<Scene>,
+}
+
+/// Makes `copy` equal to `from`, copying the objects (and what is built
+/// from them) only when they differ; the map it holds stays. Every field is
+/// named, so a new one cannot be forgotten.
+fn refresh(copy: &mut Scene, from: &Scene) {
+    let Scene {
+        camera,
+        ambient,
+        lights,
+        objects,
+        background,
+        max_depth,
+        shadows,
+        spp,
+        caustics,
+        caustic_map: _,
+        features,
+        bvh,
+        others_bounds,
+    } = from;
+    if copy.objects != *objects {
+        copy.objects.clone_from(objects);
+        copy.bvh.clone_from(bvh);
+        copy.others_bounds.clone_from(others_bounds);
+    }
+    copy.camera = camera.clone();
+    copy.lights.clone_from(lights);
+    (copy.ambient, copy.background, copy.max_depth) = (*ambient, *background, *max_depth);
+    (copy.shadows, copy.spp, copy.caustics, copy.features) = (*shadows, *spp, *caustics, *features);
 }
 
 impl Interleaved {
@@ -151,6 +186,15 @@ impl Interleaved {
         if !same {
             self.caustics = Caustics::new(scene, CausticSettings::default());
         }
+        match (&self.caustics, &mut self.with_map) {
+            (None, w) => *w = None,
+            (Some(_), Some(w)) => refresh(w, scene),
+            (Some(_), w) => *w = Some(Scene::clone(scene)),
+        }
+        // Until the next stage the map is held only by `caustics`.
+        if let Some(w) = &mut self.with_map {
+            w.caustic_map = None;
+        }
         self.scene = Some(scene.clone());
     }
 
@@ -161,6 +205,10 @@ impl Interleaved {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
+        // The map is then held only by `c` and grows in place.
+        if let Some(w) = &mut self.with_map {
+            w.caustic_map = None;
+        }
         for _ in 0..added_spp.saturating_mul(PASSES_PER_SPP) {
             if cancelled() || !c.can_refine() {
                 break;
@@ -169,16 +217,18 @@ impl Interleaved {
         }
     }
 
-    /// The scene to render the stage with: the job's with the map, or
-    /// `None` when there is no map (render the job's scene itself). Drop it
-    /// before the next [`Self::refine`], which then changes the map in
-    /// place.
-    pub fn scene_with_map(&self) -> Option<Scene> {
-        let (c, scene) = (self.caustics.as_ref()?, self.scene.as_ref()?);
-        let map = c.shared()?;
-        let mut s = Scene::clone(scene);
-        s.caustic_map = Some(map);
-        Some(s)
+    /// The scene to render with: the job's `job` (what [`Self::follow`]
+    /// took) holding the current map, or `job` itself when there is none.
+    /// Nothing but the map's `Arc` is copied.
+    pub fn scene<'a>(&'a mut self, job: &'a Scene) -> &'a Scene {
+        let map = self.caustics.as_ref().and_then(Caustics::shared);
+        match (&mut self.with_map, map) {
+            (Some(w), Some(map)) => {
+                w.caustic_map = Some(map);
+                w
+            }
+            _ => job,
+        }
     }
 
     /// Passes and photons of the current map (zero without one).
@@ -208,21 +258,57 @@ mod tests {
         assert!(photons > 1000, "{photons}");
         let mut moved = base.clone();
         moved.camera.position.x += 1.0;
-        it.follow(&Arc::new(moved));
+        let job = Arc::new(moved.clone());
+        it.follow(&job);
         assert_eq!(it.counts(), (passes, photons));
-        let shown = it.scene_with_map().unwrap();
-        assert_eq!(shown.camera.position.x, base.camera.position.x + 1.0);
-        assert_eq!(shown.caustic_map.unwrap().0.passes(), passes);
+        let shown = it.scene(&job);
+        assert!(!std::ptr::eq(shown, &*job), "the job's scene has no map");
+        let mut want = moved.clone();
+        want.caustic_map = shown.caustic_map.clone();
+        assert_eq!(*shown, want, "the job's scene, camera and all, with the map");
+        assert_eq!(shown.caustic_map.as_ref().unwrap().0.passes(), passes);
         let mut lit = base.clone();
         if let crate::light::Light::Point { position, .. } = &mut lit.lights[0] {
             position.x += 0.5;
         }
-        it.follow(&Arc::new(lit));
+        let lit = Arc::new(lit);
+        it.follow(&lit);
         assert_eq!(it.counts(), (0, 0));
-        assert!(it.scene_with_map().is_none());
+        assert!(std::ptr::eq(it.scene(&lit), &*lit));
         // Cancelled: no pass.
         it.refine(4, &|| true);
         assert_eq!(it.counts(), (0, 0));
+    }
+
+    /// Nothing large is copied per stage or per camera move: the scene a
+    /// stage renders keeps its objects through a camera move, and the map
+    /// grows in place between stages (a copy would be a new allocation).
+    #[test]
+    fn stages_copy_neither_the_objects_nor_the_map() {
+        let base = focal_spot();
+        let mut it = Interleaved::default();
+        let job = Arc::new(base.clone());
+        it.follow(&job);
+        it.refine(1, &|| false);
+        let objects = it.scene(&job).objects.as_ptr();
+        let map = |s: &Scene| Arc::as_ptr(&s.caustic_map.as_ref().unwrap().0);
+        let before = map(it.scene(&job));
+        it.refine(1, &|| false);
+        assert_eq!(map(it.scene(&job)), before, "the map was copied to grow");
+        assert_eq!(it.counts().0, 2 * PASSES_PER_SPP);
+        let mut moved = base.clone();
+        moved.camera.position.y += 0.5;
+        let job = Arc::new(moved);
+        it.follow(&job);
+        let shown = it.scene(&job);
+        assert_eq!(shown.objects.as_ptr(), objects, "a camera move copied the objects");
+        assert_eq!(shown.camera, job.camera);
+        let mut edited = base;
+        edited.objects[0].material.diffuse *= 0.5;
+        let job = Arc::new(edited);
+        it.follow(&job);
+        it.refine(1, &|| false);
+        assert_eq!(it.scene(&job).objects, job.objects);
     }
 
     /// Passes for a headless render: in proportion to the samples.

@@ -27,11 +27,7 @@ use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_til
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Wavelengths (µm) at which dispersive glass is traced for the red, green
-/// and blue channels: the Fraunhofer C (hydrogen, 656.3 nm), d (helium,
-/// 587.6 nm) and F (hydrogen, 486.1 nm) lines, the lines an optician quotes
-/// dispersion at.
-pub const RGB_WAVELENGTHS_UM: [f64; 3] = [0.656_281_6, WAVELENGTH_D_UM, 0.486_132_7];
+pub use crate::optics::RGB_WAVELENGTHS_UM;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderSettings {

@@ -150,11 +150,13 @@ enum Start {
 /// A camera move with a picture to move: the previous picture reprojected
 /// into the new view (refinement then goes on from the first
 /// full-resolution sample); otherwise a fresh start at the first stage
-/// that fits the budget. `shown` is the scene whose picture `prog` holds.
+/// that fits the budget. `shown` is the scene whose picture `prog` holds;
+/// the holes are traced in `traced` (the job's scene with its photon map).
 fn start(
     prog: &mut Progressive,
     shown: &mut Option<Arc<Scene>>,
     job: &Job,
+    traced: &Scene,
     stages: &[Stage],
     seconds_per_sample: Option<f64>,
 ) -> Start {
@@ -165,7 +167,7 @@ fn start(
             && same_but_camera(s, &job.scene)
     });
     if let Some(old) = moved
-        && prog.reproject(&job.scene, &old.camera, |holes| hole_level(holes, seconds_per_sample))
+        && prog.reproject(traced, &old.camera, |holes| hole_level(holes, seconds_per_sample))
     {
         prog.seed = job.seed;
         *shown = Some(job.scene.clone());
@@ -250,7 +252,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
             wake();
             ok
         };
-        let first = match start(&mut prog, &mut shown, &job, &stages, seconds_per_sample) {
+        let traced = caustics.scene(&job.scene);
+        let first = match start(&mut prog, &mut shown, &job, traced, &stages, seconds_per_sample) {
             Start::Moved(dt) => {
                 if !send(
                     &prog,
@@ -275,11 +278,9 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
             if let Stage::Samples(n) = stage {
                 caustics.refine(n.saturating_sub(prog.spp), &cancelled);
             }
-            let with_map = caustics.scene_with_map();
-            if !prog.run(with_map.as_ref().unwrap_or(&job.scene), stage, &cancelled) {
+            if !prog.run(caustics.scene(&job.scene), stage, &cancelled) {
                 break;
             }
-            drop(with_map);
             shown = Some(job.scene.clone());
             let dt = t0.elapsed().as_secs_f64();
             let cost = prog.samples_cast - before;
@@ -450,6 +451,57 @@ mod tests {
         assert!(matches!(first, Stage::Blocks(_) | Stage::Samples(1)), "{first:?}");
         assert_eq!(hole_level(1000, None), 1);
         assert_eq!(hole_level(100_000, Some(1e-6)), 4);
+    }
+
+    /// The pixels a reprojection traces afresh see the photon map: turned
+    /// from the floor behind it to the focal spot, which fills the view,
+    /// the camera's first (reprojected) frame is as bright as the frames
+    /// after, not the grey of the lens's shadow.
+    #[test]
+    fn reprojected_holes_show_the_caustic() {
+        use crate::camera::Camera;
+        use glam::DVec3;
+        let text = include_str!("../../scenes/focal-spot.toml");
+        let mut scene = Scene::parse("focal-spot.toml", text).unwrap().1;
+        let eye = DVec3::new(0.0, 1.2, 0.8);
+        scene.camera = Camera::new(eye, DVec3::new(-55.0, 180.0, 0.0), 40.0);
+        let w = Worker::spawn(|| {});
+        let a = Job {
+            scene: Arc::new(scene.clone()),
+            ..job(1, 48, 32, 2)
+        };
+        w.submit(a.clone());
+        frames_until_last_of(&w, 1);
+        scene.camera = Camera::new(eye, DVec3::new(-55.0, 0.0, 0.0), 40.0);
+        w.submit(Job {
+            generation: 2,
+            scene: Arc::new(scene.clone()),
+            ..a
+        });
+        let frames = frames_until_last_of(&w, 2);
+        assert_eq!(frames[0].stage, Stage::Reprojected);
+        // The middle of the view, inside the spot.
+        let mean = |f: &Frame| {
+            let px = |(x, y): (usize, usize)| f.rgba[4 * (y * 48 + x)] as f64;
+            (10..22)
+                .flat_map(|y| (16..32).map(move |x| (x, y)))
+                .map(px)
+                .sum::<f64>()
+                / 192.0
+        };
+        let (first, last) = (mean(&frames[0]), mean(frames.last().unwrap()));
+        // The same view without caustics: the lens's shadow.
+        scene.caustics = Some(false);
+        scene.compile();
+        let w = Worker::spawn(|| {});
+        w.submit(Job {
+            generation: 3,
+            scene: Arc::new(scene),
+            ..job(3, 48, 32, 1)
+        });
+        let shadow = mean(frames_until_last_of(&w, 3).last().unwrap());
+        assert!(last > 1.3 * shadow, "no spot to see: {last} vs the shadow's {shadow}");
+        assert!(first > 0.8 * last, "reprojected {first}, then {last} (shadow {shadow})");
     }
 
     #[test]
