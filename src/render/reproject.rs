@@ -85,21 +85,27 @@ impl Projector {
     /// infinity): the inverse of [`Camera::ray`]; `None` behind the camera.
     #[inline]
     pub fn project(&self, v: Vec3) -> Option<(f32, f32, f32)> {
+        let p = self.project_any(v);
+        (p.2 > 0.0).then_some(p)
+    }
+
+    /// [`Self::project`] without the test (behind the camera, the depth is
+    /// not positive and the position means nothing): no branch, so that a
+    /// loop over lanes of it runs in SIMD registers.
+    #[inline(always)]
+    fn project_any(&self, v: Vec3) -> (f32, f32, f32) {
         let z = v.dot(self.forward);
-        if !(z > 0.0) {
-            return None;
-        }
         let iz = 1.0 / z;
-        Some((
+        (
             self.cx + v.dot(self.right) * iz * self.sx,
             self.cy - v.dot(self.up) * iz * self.sy,
             z,
-        ))
+        )
     }
 
     /// The direction through the continuous pixel position `(x, y)`, scaled
     /// to depth 1 along the view's axis (the inverse of [`Self::project`]).
-    #[inline]
+    #[inline(always)]
     fn direction(&self, x: f32, y: f32) -> Vec3 {
         self.forward + self.right * ((x - self.cx) * self.isx) - self.up * ((y - self.cy) * self.isy)
     }
@@ -158,54 +164,100 @@ pub fn warp(
     let (wu, hu) = (w as usize, h as usize);
     splat(src, cam, (w, h), scratch);
     let (splat, old) = (&scratch.splat[..wu * hu], &scratch.old[..]);
-    let (to_new, to_old) = (Projector::new(cam, (w, h)), Projector::new(src.camera, src.size));
-    let shift = (cam.position - src.camera.position).as_vec3();
-    let hit = |v: Vec3, seen| FirstHit {
-        offset: v.to_array(),
-        seen,
+    let back = Back {
+        splat,
+        old,
+        size: (wu, hu),
+        old_size: src.size,
+        to_new: Projector::new(cam, (w, h)),
+        to_old: Projector::new(src.camera, src.size),
+        shift: (cam.position - src.camera.position).as_vec3(),
     };
     out.par_chunks_mut(wu * ROWS)
         .zip(out_first.par_chunks_mut(wu * ROWS))
         .enumerate()
         .map(|(band, (rows, firsts))| {
-            let mut holes = 0;
             // Per column, the least key of the three rows around, and the
             // least of them that is glass or a mirror.
             let (mut near, mut spec) = (vec![EMPTY; wu + 2], vec![EMPTY; wu + 2]);
+            let mut holes = 0;
             for (r, (row, first)) in rows.chunks_mut(wu).zip(firsts.chunks_mut(wu)).enumerate() {
                 let y = band * ROWS + r;
                 column_minima(splat, (wu, hu), y, &mut near, &mut spec);
-                for x in 0..wu {
-                    let k = pick(
-                        splat[y * wu + x].load(Ordering::Relaxed),
-                        &near[x..x + 3],
-                        &spec[x..x + 3],
-                    );
-                    let moved = (k & 3 != SPECULAR)
-                        .then(|| {
-                            let d = to_new.direction(x as f32 + 0.5, y as f32 + 0.5);
-                            let (v, f) = if k & 3 == SKY {
-                                (d, hit(d.normalize(), Seen::Sky))
-                            } else {
-                                let rel = d * f32::from_bits(k & !3);
-                                (shift + rel, hit(rel, Seen::Surface))
-                            };
-                            let (u, v, z) = to_old.project(v)?;
-                            taps(old, src.size, (u, v), (k & 3 != SKY).then_some(z)).map(|c| (c, f))
-                        })
-                        .flatten();
-                    match moved {
-                        Some((c, f)) => (row[x], first[x]) = (c, f),
-                        None => {
-                            first[x] = FirstHit::default();
-                            holes += 1;
-                        }
-                    }
-                }
+                holes += back.row(y, (&near, &spec), row, first);
             }
             holes
         })
         .sum()
+}
+
+/// What step 2 reads.
+struct Back<'a> {
+    splat: &'a [AtomicU32],
+    old: &'a [Vec4],
+    size: (usize, usize),
+    old_size: (u32, u32),
+    to_new: Projector,
+    to_old: Projector,
+    /// The new camera's position less the old one's.
+    shift: Vec3,
+}
+
+impl Back<'_> {
+    /// Step 2 for row `y` (`near`, `spec`: [`column_minima`]), [`LANES`]
+    /// pixels at a time: each takes a splat's depth, puts that point on its
+    /// own centre ray, projects it into the old view and interpolates the
+    /// old colours there ([`taps`]). Returns the pixels left.
+    fn row(&self, y: usize, (near, spec): (&[u32], &[u32]), row: &mut [Rgb], first: &mut [FirstHit]) -> usize {
+        let w = self.size.0;
+        let mut holes = 0;
+        for x0 in (0..w).step_by(LANES) {
+            let m = (w - x0).min(LANES);
+            let mut k = [SPECULAR; LANES];
+            for (l, k) in k.iter_mut().enumerate().take(m) {
+                let x = x0 + l;
+                *k = pick(
+                    self.splat[y * w + x].load(Ordering::Relaxed),
+                    &near[x..x + 3],
+                    &spec[x..x + 3],
+                );
+            }
+            // The points (less the new camera position) and where they lie
+            // in the old view, lane by lane without branches.
+            let (mut rel, mut at) = ([Vec3::ZERO; LANES], [(0.0, 0.0, 0.0); LANES]);
+            for l in 0..LANES {
+                let sky = k[l] & 3 == SKY;
+                let d = self.to_new.direction((x0 + l) as f32 + 0.5, y as f32 + 0.5);
+                rel[l] = d * if sky { 1.0 } else { f32::from_bits(k[l] & !3) };
+                at[l] = self.to_old.project_any(if sky { d } else { self.shift + rel[l] });
+            }
+            for l in 0..m {
+                let (class, (u, v, z)) = (k[l] & 3, at[l]);
+                let taken = (class != SPECULAR && z > 0.0)
+                    .then(|| taps(self.old, self.old_size, (u, v), (class != SKY).then_some(z)))
+                    .flatten();
+                let x = x0 + l;
+                first[x] = match taken {
+                    Some(c) => {
+                        row[x] = c;
+                        let (offset, seen) = match class {
+                            SKY => (rel[l].normalize(), Seen::Sky),
+                            _ => (rel[l], Seen::Surface),
+                        };
+                        FirstHit {
+                            offset: offset.to_array(),
+                            seen,
+                        }
+                    }
+                    None => {
+                        holes += 1;
+                        FirstHit::default()
+                    }
+                };
+            }
+        }
+        holes
+    }
 }
 
 /// Step 1: every old pixel's point splatted on the new view, keeping the
@@ -248,7 +300,7 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
                 continue;
             }
             let k = key(if class == SKY { f32::MAX } else { z }, class);
-            let cell = &splat[y as usize * w as usize + x as usize];
+            let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
             if k < cell.load(Ordering::Relaxed) {
                 cell.fetch_min(k, Ordering::Relaxed);
             }
@@ -302,27 +354,26 @@ fn taps(old: &[Vec4], (w, h): (u32, u32), (u, v): (f32, f32), z: Option<f32>) ->
     // Floor, for positions above −1.
     let (u0, v0) = ((u + 1.0) as i32 - 1, (v + 1.0) as i32 - 1);
     let (fu, fv) = (u - u0 as f32, v - v0 as f32);
-    let (wx, wy) = ([1.0 - fu, fu], [1.0 - fv, fv]);
-    let mut sum = Vec4::ZERO;
-    for (ty, wy) in [v0, v0 + 1].into_iter().zip(wy) {
-        if ty < 0 || ty >= h {
-            continue;
-        }
-        for (tx, wx) in [u0, u0 + 1].into_iter().zip(wx) {
-            if tx < 0 || tx >= w {
-                continue;
-            }
+    // Taps off the picture weigh nothing (their indices are clamped).
+    let wx = [if u0 >= 0 { 1.0 - fu } else { 0.0 }, if u0 + 1 < w { fu } else { 0.0 }];
+    let wy = [if v0 >= 0 { 1.0 - fv } else { 0.0 }, if v0 + 1 < h { fv } else { 0.0 }];
+    let xs = [u0.max(0), (u0 + 1).min(w - 1)];
+    let ys = [v0.max(0), (v0 + 1).min(h - 1)];
+    let (mut sum, mut weight) = (Vec4::ZERO, 0.0);
+    for (ty, wy) in ys.into_iter().zip(wy) {
+        for (tx, wx) in xs.into_iter().zip(wx) {
             let t = old[(ty * w + tx) as usize];
             let same = match z {
                 None => t.w == f32::INFINITY,
                 Some(z) => (t.w - z).abs() <= DEPTH_TOLERANCE * z,
             };
-            // The weight rides in `w`.
             let wt = if same { wx * wy } else { 0.0 };
-            sum += t.truncate().extend(1.0) * wt;
+            // (`w` sums nothing meaningful.)
+            sum += t * wt;
+            weight += wt;
         }
     }
-    (sum.w > 1e-3).then(|| (sum.truncate() / sum.w).as_dvec3())
+    (weight > 1e-3).then(|| (sum.truncate() / weight).as_dvec3())
 }
 
 /// Step 3: traces the pixels [`warp`] left ([`Seen::Unknown`]): at their
