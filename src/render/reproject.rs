@@ -19,12 +19,15 @@
 //!    the caller's budget says so.
 
 use super::progressive::mean;
-use super::sparse::{Batch, FirstHit, Seen};
+mod fill;
+
+pub use fill::fill;
+
+use super::sparse::{FirstHit, Seen};
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::scene::Scene;
 use crate::simd::LANES;
-use crate::trace::TILE;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -374,73 +377,6 @@ fn taps(old: &[Vec4], (w, h): (u32, u32), (u, v): (f32, f32), z: Option<f32>) ->
         }
     }
     (weight > 1e-3).then(|| (sum.truncate() / weight).as_dvec3())
-}
-
-/// Step 3: traces the pixels [`warp`] left ([`Seen::Unknown`]): at their
-/// centres when `block` is 1 (they get their first hits too), else one
-/// sample at the centre of each `block × block` block holding some (the
-/// point a block level samples), which fills them. Returns the samples
-/// cast.
-pub fn fill(scene: &Scene, (w, h): (u32, u32), block: u32, out: &mut [Rgb], first: &mut [FirstHit]) -> u64 {
-    let (wu, n) = (w as usize, block.max(1) as usize);
-    // Bands of block rows, or for single pixels of a tile's height.
-    let band = if n == 1 { TILE } else { n };
-    out.par_chunks_mut(wu * band)
-        .zip(first.par_chunks_mut(wu * band))
-        .enumerate()
-        .map(|(by, (rows, first))| {
-            let rows_here = rows.len() / wu;
-            let is_hole = |i: usize| first[i].seen == Seen::Unknown;
-            // The holes (n = 1) or the blocks holding some, as destinations.
-            let dst: Vec<u32> = if n == 1 {
-                // By columns of a packet's width, as the tiles go.
-                let per_column =
-                    |x0: usize| (0..rows_here).flat_map(move |r| (x0..(x0 + LANES).min(wu)).map(move |x| r * wu + x));
-                (0..wu)
-                    .step_by(LANES)
-                    .flat_map(per_column)
-                    .filter(|&i| is_hole(i))
-                    .map(|i| i as u32)
-                    .collect()
-            } else {
-                (0..wu.div_ceil(n))
-                    .filter(|&bx| (0..rows_here).any(|r| (bx * n..((bx + 1) * n).min(wu)).any(|x| is_hole(r * wu + x))))
-                    .map(|bx| bx as u32)
-                    .collect()
-            };
-            let mut colours = vec![Rgb::ZERO; if n == 1 { 0 } else { wu.div_ceil(n) }];
-            let mut batch = Batch::default();
-            {
-                let mut sink = |d: u32, c: Rgb, f: &dyn Fn() -> FirstHit| {
-                    if n == 1 {
-                        (rows[d as usize], first[d as usize]) = (c, f());
-                    } else {
-                        colours[d as usize] = c;
-                    }
-                };
-                let cy = (by * n + n / 2).min(h as usize - 1);
-                for &d in &dst {
-                    let (x, y) = if n == 1 {
-                        (d as usize % wu, by * band + d as usize / wu)
-                    } else {
-                        ((d as usize * n + n / 2).min(wu - 1), cy)
-                    };
-                    batch.push(scene, (w, h), (x as f64 + 0.5, y as f64 + 0.5), d, &mut sink);
-                }
-                batch.flush(scene, (w, h), &mut sink);
-            }
-            if n > 1 {
-                for r in 0..rows_here {
-                    for x in 0..wu {
-                        if first[r * wu + x].seen == Seen::Unknown {
-                            rows[r * wu + x] = colours[x / n];
-                        }
-                    }
-                }
-            }
-            dst.len() as u64
-        })
-        .sum()
 }
 
 #[cfg(test)]
