@@ -394,6 +394,22 @@ mod tests {
         }
     }
 
+    /// `old`'s picture (`img`) seen from `camera`, as a warp's source.
+    fn source<'a>(
+        camera: &'a Camera,
+        size: (u32, u32),
+        img: &'a crate::render::Image,
+        old: &'a Progressive,
+    ) -> Source<'a> {
+        Source {
+            camera,
+            size,
+            colour: &img.pixels,
+            count: None,
+            first: old.first_hits(),
+        }
+    }
+
     fn one_sample(scene: &Scene, (w, h): (u32, u32)) -> Progressive {
         let mut p = Progressive::new(w, h, 0).with_sampling(Sampling::UNIFORM);
         assert!(p.run(scene, Stage::Samples(1), &|| false));
@@ -415,13 +431,7 @@ mod tests {
         let old = one_sample(&a, size);
         let fresh = one_sample(&b, size);
         let (old_img, new_img) = (old.image(), fresh.image());
-        let src = Source {
-            camera: &a.camera,
-            size,
-            colour: &old_img.pixels,
-            count: None,
-            first: old.first_hits(),
-        };
+        let src = source(&a.camera, size, &old_img, &old);
         let mut out = vec![Rgb::ZERO; w * h];
         let mut first = vec![FirstHit::default(); w * h];
         let holes = warp(&src, &b.camera, size, &mut Scratch::default(), &mut out, &mut first);
@@ -484,13 +494,7 @@ mod tests {
             let on = |threads: usize| {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
                 pool.install(|| {
-                    let src = Source {
-                        camera: &a.camera,
-                        size,
-                        colour: &old_img.pixels,
-                        count: None,
-                        first: old.first_hits(),
-                    };
+                    let src = source(&a.camera, size, &old_img, &old);
                     let mut out = vec![Rgb::ZERO; n];
                     let mut first = vec![FirstHit::default(); n];
                     let holes = warp(&src, &b.camera, size, &mut Scratch::default(), &mut out, &mut first);
@@ -503,6 +507,40 @@ mod tests {
             for threads in [2, 3] {
                 assert!(on(threads) == one, "{threads} threads differ from one");
             }
+        }
+    }
+
+    /// Of two points splatted on one pixel the nearer wins, though it comes
+    /// first: here the nearer (pixel 0's, moved onto pixel `p`'s ray) is
+    /// not what `p` saw, so `p`'s taps refuse it and `p` is left to step 3,
+    /// while its neighbours move.
+    #[test]
+    fn the_nearest_splat_wins_whatever_comes_first() {
+        let cam = Scene::default_scene().1.camera;
+        let size = (8, 8);
+        let ray = |x: usize, y: usize| cam.ray(x as f64 + 0.5, y as f64 + 0.5, 8, 8).dir.as_vec3();
+        let p = 4 * 8 + 4;
+        let mut first: Vec<FirstHit> = (0..64)
+            .map(|i| FirstHit {
+                offset: (ray(i % 8, i / 8) * 5.0).to_array(),
+                seen: Seen::Surface,
+            })
+            .collect();
+        first[0].offset = (ray(4, 4) * 2.0).to_array();
+        let colour = vec![Rgb::splat(0.5); 64];
+        let src = Source {
+            camera: &cam,
+            size,
+            colour: &colour,
+            count: None,
+            first: &first,
+        };
+        let (mut out, mut got) = (vec![Rgb::ZERO; 64], vec![FirstHit::default(); 64]);
+        warp(&src, &cam, size, &mut Scratch::default(), &mut out, &mut got);
+        assert_eq!(got[p].seen, Seen::Unknown);
+        for q in [p - 1, p + 1, p - 8, p + 8] {
+            assert_eq!(got[q].seen, Seen::Surface, "pixel {q}");
+            assert!((out[q] - Rgb::splat(0.5)).abs().max_element() < 1e-6);
         }
     }
 
