@@ -138,7 +138,7 @@ pub struct Progressive {
     /// Working memory of adaptive waves (clamped means) and of
     /// reprojection (the nearest splat per pixel).
     means: Vec<[f32; 3]>,
-    splat: Vec<std::sync::atomic::AtomicU64>,
+    splat: super::reproject::Scratch,
     /// What each pixel's centre ray met (written with sample 0, or by a
     /// reprojection), and the buffer a first sample stage writes.
     first: Vec<FirstHit>,
@@ -175,7 +175,7 @@ impl Progressive {
             next_first: vec![FirstHit::default(); n],
             reprojected: false,
             means: Vec::new(),
-            splat: Vec::new(),
+            splat: Default::default(),
             preview: vec![Rgb::ZERO; n],
             block: 1,
         }
@@ -215,18 +215,17 @@ impl Progressive {
             return false;
         }
         let size = (self.width, self.height);
-        if self.spp > 0 {
-            // The source colours: the means, in the spare preview plane.
-            self.preview
-                .par_iter_mut()
-                .zip(&self.sum)
-                .zip(&self.count)
-                .for_each(|((o, s), c)| *o = mean(*s, *c));
-        }
+        // The source colours: the means of the samples, or the preview.
+        let (colour, count) = if self.spp > 0 {
+            (&self.sum, Some(&self.count[..]))
+        } else {
+            (&self.preview, None)
+        };
         let src = Source {
             camera: from,
             size,
-            colour: &self.preview,
+            colour,
+            count,
             first: &self.first,
         };
         let holes = warp(
@@ -461,7 +460,7 @@ impl Progressive {
 /// The mean of `n` samples summing to `sum` (the product with `1/n`, as
 /// every frame has always been computed).
 #[inline]
-fn mean(sum: Rgb, n: u32) -> Rgb {
+pub(super) fn mean(sum: Rgb, n: u32) -> Rgb {
     sum * (1.0 / n.max(1) as f64)
 }
 

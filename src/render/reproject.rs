@@ -18,19 +18,23 @@
 //!    tap fits — at their centres, or per block of a coarser level when
 //!    the caller's budget says so.
 
-use super::sparse::{Batch, FirstHit, Seen};
+use super::progressive::mean;
+mod fill;
+
+pub use fill::fill;
+
+use super::sparse::{FirstHit, Seen};
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::scene::Scene;
 use crate::simd::LANES;
-use crate::trace::TILE;
-use glam::DVec3;
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU32, Ordering};
 
-/// Relative difference of distance (from the old camera) under which an
-/// old pixel's point counts as the same surface as a new pixel's.
-pub const DEPTH_TOLERANCE: f64 = 0.03;
+/// Relative difference of depth (along the old view's axis) under which
+/// an old pixel's point counts as the same surface as a new pixel's.
+pub const DEPTH_TOLERANCE: f32 = 0.03;
 
 /// Whether `a` and `b` differ only by their cameras: then a picture of one
 /// may be reprojected into the other.
@@ -44,295 +48,342 @@ pub fn same_but_camera(a: &Scene, b: &Scene) -> bool {
         && a.objects == b.objects
 }
 
-/// A view's projection, its constants worked out once.
+/// A view's projection, its constants worked out once, in `f32` (a
+/// pixel's position to a thousandth of a pixel is plenty for a warp).
 #[derive(Clone, Copy, Debug)]
 pub struct Projector {
-    position: DVec3,
-    right: DVec3,
-    up: DVec3,
-    forward: DVec3,
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
     /// Pixels per unit of screen coordinate, and the centre.
-    sx: f64,
-    sy: f64,
-    cx: f64,
-    cy: f64,
+    sx: f32,
+    sy: f32,
+    cx: f32,
+    cy: f32,
+    /// Their inverses, for [`Self::direction`].
+    isx: f32,
+    isy: f32,
 }
 
 impl Projector {
     pub fn new(cam: &Camera, (w, h): (u32, u32)) -> Projector {
         let tan = (0.5 * cam.fov_y_deg.to_radians()).tan();
         let (cx, cy) = (0.5 * w as f64, 0.5 * h as f64);
+        let (sx, sy) = (cx / (tan * w as f64 / h as f64), cy / tan);
         Projector {
-            position: cam.position,
-            right: cam.right(),
-            up: cam.up(),
-            forward: cam.forward(),
-            sx: cx / (tan * w as f64 / h as f64),
-            sy: cy / tan,
-            cx,
-            cy,
+            right: cam.right().as_vec3(),
+            up: cam.up().as_vec3(),
+            forward: cam.forward().as_vec3(),
+            sx: sx as f32,
+            sy: sy as f32,
+            cx: cx as f32,
+            cy: cy as f32,
+            isx: (1.0 / sx) as f32,
+            isy: (1.0 / sy) as f32,
         }
     }
 
-    /// The continuous pixel position of world point `p` (or of direction
-    /// `p` when `at_infinity`): the inverse of [`Camera::ray`]; `None`
-    /// behind the camera.
+    /// The continuous pixel position and depth (along the view's axis) of
+    /// `v`, a point less the camera position or a direction (a point at
+    /// infinity): the inverse of [`Camera::ray`]; `None` behind the camera.
     #[inline]
-    pub fn project(&self, p: DVec3, at_infinity: bool) -> Option<(f64, f64)> {
-        let v = if at_infinity { p } else { p - self.position };
+    pub fn project(&self, v: Vec3) -> Option<(f32, f32, f32)> {
+        let p = self.project_any(v);
+        (p.2 > 0.0).then_some(p)
+    }
+
+    /// [`Self::project`] without the test (behind the camera, the depth is
+    /// not positive and the position means nothing): no branch, so that a
+    /// loop over lanes of it runs in SIMD registers.
+    #[inline(always)]
+    fn project_any(&self, v: Vec3) -> (f32, f32, f32) {
         let z = v.dot(self.forward);
-        if !(z > 0.0) {
-            return None;
-        }
         let iz = 1.0 / z;
-        Some((
+        (
             self.cx + v.dot(self.right) * iz * self.sx,
             self.cy - v.dot(self.up) * iz * self.sy,
-        ))
+            z,
+        )
+    }
+
+    /// The direction through the continuous pixel position `(x, y)`, scaled
+    /// to depth 1 along the view's axis (the inverse of [`Self::project`]).
+    #[inline(always)]
+    fn direction(&self, x: f32, y: f32) -> Vec3 {
+        self.forward + self.right * ((x - self.cx) * self.isx) - self.up * ((y - self.cy) * self.isy)
     }
 }
 
-/// The picture before the move: its camera, colours and first hits.
+/// The picture before the move: its camera, colours and first hits. With
+/// `count`, a pixel's colour is `colour / count` (running sums).
 pub struct Source<'a> {
     pub camera: &'a Camera,
     pub size: (u32, u32),
     pub colour: &'a [Rgb],
+    pub count: Option<&'a [u32]>,
     pub first: &'a [FirstHit],
 }
 
-/// A first hit's world point (or direction, for the background).
-fn point(cam: &Camera, f: &FirstHit) -> DVec3 {
-    let o = DVec3::from(f.offset.map(f64::from));
-    if f.seen == Seen::Sky { o } else { cam.position + o }
+/// Working memory of [`warp`], kept from call to call.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    /// Per new pixel, the nearest point splatted on it: [`key`].
+    splat: Vec<AtomicU32>,
+    /// Per old pixel, its colour and (in `w`) its first hit's depth in the
+    /// old view: infinite for the background, NaN where nothing may be
+    /// taken (glass, mirrors, unknown). One load per tap.
+    old: Vec<Vec4>,
 }
+
+/// What a splat key says besides depth (its two low bits).
+const SURFACE: u32 = 0;
+const SKY: u32 = 1;
+const SPECULAR: u32 = 2;
+/// No splat.
+const EMPTY: u32 = u32::MAX;
+
+/// A splat key: the depth's bits (positive, so ordered as integers) with
+/// the class in the two low bits: the minimum is the nearest point
+/// whatever order the splats come in.
+#[inline]
+fn key(z: f32, class: u32) -> u32 {
+    (z.to_bits() & !3) | class
+}
+
+/// Rows of new pixels per parallel task of step 2.
+const ROWS: usize = 8;
 
 /// Steps 1 and 2: the old picture in the new view `cam` (`w × h`, the same
 /// size), into `out` and `out_first`; pixels left for step 3 get
 /// [`Seen::Unknown`]. Returns how many.
-/// `splat` is working memory, kept from call to call.
 pub fn warp(
     src: &Source,
     cam: &Camera,
     (w, h): (u32, u32),
-    splat: &mut Vec<AtomicU64>,
+    scratch: &mut Scratch,
     out: &mut [Rgb],
     out_first: &mut [FirstHit],
 ) -> usize {
     let (wu, hu) = (w as usize, h as usize);
-    let n = wu * hu;
-    // Step 1: the nearest splat per pixel, as (distance bits << 32) | source.
-    // Glass and mirrors take part, so that they hide what is behind them.
-    splat.resize_with(n, || AtomicU64::new(u64::MAX));
-    splat
-        .par_iter_mut()
-        .with_min_len(4096)
-        .for_each(|s| *s.get_mut() = u64::MAX);
-    let splat = &splat[..n];
-    let to_new = Projector::new(cam, (w, h));
-    src.first.par_iter().enumerate().with_min_len(1024).for_each(|(i, f)| {
-        if f.seen == Seen::Unknown {
-            return;
-        }
-        let sky = f.seen == Seen::Sky;
-        let p = point(src.camera, f);
-        let Some((x, y)) = to_new.project(p, sky) else { return };
-        if !(x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64) {
-            return;
-        }
-        let d = if sky {
-            f32::MAX
-        } else {
-            (p - cam.position).length() as f32
-        };
-        let key = ((d.to_bits() as u64) << 32) | i as u64;
-        splat[y as usize * wu + x as usize].fetch_min(key, Ordering::Relaxed);
-    });
-    // Step 2.
-    let to_old = Projector::new(src.camera, src.size);
-    out.par_chunks_mut(wu)
-        .zip(out_first.par_chunks_mut(wu))
+    splat(src, cam, (w, h), scratch);
+    let (splat, old) = (&scratch.splat[..wu * hu], &scratch.old[..]);
+    let back = Back {
+        splat,
+        old,
+        size: (wu, hu),
+        old_size: src.size,
+        to_new: Projector::new(cam, (w, h)),
+        to_old: Projector::new(src.camera, src.size),
+        shift: (cam.position - src.camera.position).as_vec3(),
+    };
+    out.par_chunks_mut(wu * ROWS)
+        .zip(out_first.par_chunks_mut(wu * ROWS))
         .enumerate()
-        .map(|(y, (row, first))| {
+        .map(|(band, (rows, firsts))| {
+            // Per column, the least key of the three rows around, and the
+            // least of them that is glass or a mirror.
+            let (mut near, mut spec) = (vec![EMPTY; wu + 2], vec![EMPTY; wu + 2]);
             let mut holes = 0;
-            for x in 0..wu {
-                match look_back(src, &to_old, cam, (w, h), splat, (x, y)) {
-                    Some((c, f)) => (row[x], first[x]) = (c, f),
-                    None => {
-                        first[x] = FirstHit::default();
-                        holes += 1;
-                    }
-                }
+            for (r, (row, first)) in rows.chunks_mut(wu).zip(firsts.chunks_mut(wu)).enumerate() {
+                let y = band * ROWS + r;
+                column_minima(splat, (wu, hu), y, &mut near, &mut spec);
+                holes += back.row(y, (&near, &spec), row, first);
             }
             holes
         })
         .sum()
 }
 
-/// Step 2 for new pixel `(x, y)`: its colour and first hit, or `None`.
-fn look_back(
-    src: &Source,
-    to_old: &Projector,
-    cam: &Camera,
-    (w, h): (u32, u32),
-    splat: &[AtomicU64],
-    (x, y): (usize, usize),
-) -> Option<(Rgb, FirstHit)> {
-    let wu = w as usize;
-    let at = |i: usize| splat[i].load(Ordering::Relaxed);
-    let source = |key: u64| &src.first[(key & 0xffff_ffff) as usize];
-    // The splat on the pixel, else the nearest on a neighbour. Glass or a
-    // mirror splatted nearer on a neighbour may cover this pixel now (its
-    // silhouette moved): left to step 3.
-    let own = at(y * wu + x);
-    let mut nearest = u64::MAX;
-    for y2 in y.saturating_sub(1)..(y + 2).min(h as usize) {
-        for x2 in x.saturating_sub(1)..(x + 2).min(wu) {
-            let k = at(y2 * wu + x2);
-            if k < own && source(k).seen == Seen::Specular {
-                return None;
+/// What step 2 reads.
+struct Back<'a> {
+    splat: &'a [AtomicU32],
+    old: &'a [Vec4],
+    size: (usize, usize),
+    old_size: (u32, u32),
+    to_new: Projector,
+    to_old: Projector,
+    /// The new camera's position less the old one's.
+    shift: Vec3,
+}
+
+impl Back<'_> {
+    /// Step 2 for row `y` (`near`, `spec`: [`column_minima`]), [`LANES`]
+    /// pixels at a time: each takes a splat's depth, puts that point on its
+    /// own centre ray, projects it into the old view and interpolates the
+    /// old colours there ([`taps`]). Returns the pixels left.
+    fn row(&self, y: usize, (near, spec): (&[u32], &[u32]), row: &mut [Rgb], first: &mut [FirstHit]) -> usize {
+        let w = self.size.0;
+        let mut holes = 0;
+        for x0 in (0..w).step_by(LANES) {
+            let m = (w - x0).min(LANES);
+            let mut k = [SPECULAR; LANES];
+            for (l, k) in k.iter_mut().enumerate().take(m) {
+                let x = x0 + l;
+                *k = pick(
+                    self.splat[y * w + x].load(Ordering::Relaxed),
+                    &near[x..x + 3],
+                    &spec[x..x + 3],
+                );
             }
-            nearest = nearest.min(k);
+            // The points (less the new camera position) and where they lie
+            // in the old view, lane by lane without branches.
+            let (mut rel, mut at) = ([Vec3::ZERO; LANES], [(0.0, 0.0, 0.0); LANES]);
+            for l in 0..LANES {
+                let sky = k[l] & 3 == SKY;
+                let d = self.to_new.direction((x0 + l) as f32 + 0.5, y as f32 + 0.5);
+                rel[l] = d * if sky { 1.0 } else { f32::from_bits(k[l] & !3) };
+                at[l] = self.to_old.project_any(if sky { d } else { self.shift + rel[l] });
+            }
+            for l in 0..m {
+                let (class, (u, v, z)) = (k[l] & 3, at[l]);
+                let taken = (class != SPECULAR && z > 0.0)
+                    .then(|| taps(self.old, self.old_size, (u, v), (class != SKY).then_some(z)))
+                    .flatten();
+                let x = x0 + l;
+                first[x] = match taken {
+                    Some(c) => {
+                        row[x] = c;
+                        let (offset, seen) = match class {
+                            SKY => (rel[l].normalize(), Seen::Sky),
+                            _ => (rel[l], Seen::Surface),
+                        };
+                        FirstHit {
+                            offset: offset.to_array(),
+                            seen,
+                        }
+                    }
+                    None => {
+                        holes += 1;
+                        FirstHit::default()
+                    }
+                };
+            }
+        }
+        holes
+    }
+}
+
+/// Step 1: every old pixel's point splatted on the new view, keeping the
+/// nearest per new pixel (glass and mirrors too, so that they hide what is
+/// behind them); and the old pixels' colours and depths for [`taps`].
+fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) {
+    let n = w as usize * h as usize;
+    const CHUNK: usize = 4096;
+    scratch.splat.resize_with(n, || AtomicU32::new(EMPTY));
+    scratch.old.resize(src.first.len(), Vec4::ZERO);
+    scratch.splat[..n]
+        .par_chunks_mut(CHUNK)
+        .for_each(|c| c.iter_mut().for_each(|s| *s.get_mut() = EMPTY));
+    let splat = &scratch.splat[..n];
+    let to_new = Projector::new(cam, (w, h));
+    let fwd_old = src.camera.forward().as_vec3();
+    let shift = (src.camera.position - cam.position).as_vec3();
+    let (wf, hf) = (w as f32, h as f32);
+    scratch.old.par_chunks_mut(CHUNK).enumerate().for_each(|(c, olds)| {
+        for (j, old) in olds.iter_mut().enumerate() {
+            let i = c * CHUNK + j;
+            let f = &src.first[i];
+            let colour = match src.count {
+                Some(count) => mean(src.colour[i], count[i]),
+                None => src.colour[i],
+            };
+            let o = Vec3::from(f.offset);
+            let (class, v, depth) = match f.seen {
+                Seen::Unknown => {
+                    *old = colour.as_vec3().extend(f32::NAN);
+                    continue;
+                }
+                Seen::Sky => (SKY, o, f32::INFINITY),
+                Seen::Surface => (SURFACE, o + shift, o.dot(fwd_old)),
+                Seen::Specular => (SPECULAR, o + shift, f32::NAN),
+            };
+            *old = colour.as_vec3().extend(depth);
+            let Some((x, y, z)) = to_new.project(v) else { continue };
+            if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
+                continue;
+            }
+            let k = key(if class == SKY { f32::MAX } else { z }, class);
+            let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
+            if k < cell.load(Ordering::Relaxed) {
+                cell.fetch_min(k, Ordering::Relaxed);
+            }
+        }
+    });
+}
+
+/// For row `y`: per column `x` (at `x + 1`; the ends stay [`EMPTY`]) the
+/// least key of rows `y − 1 ..= y + 1` into `near`, and the least of
+/// those that is glass or a mirror into `spec`.
+fn column_minima(splat: &[AtomicU32], (w, h): (usize, usize), y: usize, near: &mut [u32], spec: &mut [u32]) {
+    near[1..=w].fill(EMPTY);
+    spec[1..=w].fill(EMPTY);
+    for y2 in y.saturating_sub(1)..(y + 2).min(h) {
+        let row = &splat[y2 * w..(y2 + 1) * w];
+        for ((k, n), s) in row.iter().zip(&mut near[1..=w]).zip(&mut spec[1..=w]) {
+            let k = k.load(Ordering::Relaxed);
+            *n = (*n).min(k);
+            *s = (*s).min(if k & 3 == SPECULAR { k } else { EMPTY });
         }
     }
-    let key = if own == u64::MAX { nearest } else { own };
-    if key == u64::MAX || source(key).seen == Seen::Specular {
-        return None;
+}
+
+/// The key a new pixel takes from its own splat `own` and the column
+/// minima around it: its own, else the nearest on a neighbour (for the
+/// gaps a forward move opens). Glass or a mirror splatted nearer on a
+/// neighbour may cover the pixel now (its silhouette moved): then, as for
+/// no splat at all, a key of class [`SPECULAR`], left to step 3.
+#[inline]
+fn pick(own: u32, near: &[u32], spec: &[u32]) -> u32 {
+    let spec = spec[0].min(spec[1]).min(spec[2]);
+    let near = near[0].min(near[1]).min(near[2]);
+    match own {
+        _ if spec < own => spec,
+        EMPTY if near == EMPTY => SPECULAR,
+        EMPTY => near,
+        _ => own,
     }
-    let from = source(key);
-    let sky = from.seen == Seen::Sky;
-    let dir = cam.ray(x as f64 + 0.5, y as f64 + 0.5, w, h).dir;
-    let (p, first) = if sky {
-        (
-            dir,
-            FirstHit {
-                offset: dir.as_vec3().to_array(),
-                seen: Seen::Sky,
-            },
-        )
-    } else {
-        let d = f32::from_bits((key >> 32) as u32) as f64;
-        let p = cam.position + dir * d;
-        (
-            p,
-            FirstHit {
-                offset: (dir * d).as_vec3().to_array(),
-                seen: Seen::Surface,
-            },
-        )
-    };
-    let (u, v) = to_old.project(p, sky)?;
-    taps(src, (w, h), (u, v), p, sky).map(|c| (c, first))
 }
 
 /// The old picture's colour at continuous position `(u, v)`, bilinear over
-/// the taps that saw `p` (the background when `sky`); `None` if none did.
-fn taps(src: &Source, (w, h): (u32, u32), (u, v): (f64, f64), p: DVec3, sky: bool) -> Option<Rgb> {
-    let wu = w as usize;
+/// the taps whose depth is within [`DEPTH_TOLERANCE`] of `z` (the
+/// background's when `z` is `None`); `None` if none is.
+#[inline]
+fn taps(old: &[Vec4], (w, h): (u32, u32), (u, v): (f32, f32), z: Option<f32>) -> Option<Rgb> {
+    let (w, h) = (w as i32, h as i32);
     let (u, v) = (u - 0.5, v - 0.5);
-    let (u0, v0) = (u.floor(), v.floor());
-    let (fu, fv) = (u - u0, v - v0);
-    let old_d = (p - src.camera.position).length();
-    let (mut sum, mut weight) = (Rgb::ZERO, 0.0);
-    let corners = [
-        (0, 0, (1.0 - fu) * (1.0 - fv)),
-        (1, 0, fu * (1.0 - fv)),
-        (0, 1, (1.0 - fu) * fv),
-        (1, 1, fu * fv),
-    ];
-    for (dx, dy, wt) in corners {
-        let (tx, ty) = (u0 as i64 + dx, v0 as i64 + dy);
-        if tx < 0 || ty < 0 || tx >= w as i64 || ty >= h as i64 || wt <= 0.0 {
-            continue;
-        }
-        let k = ty as usize * wu + tx as usize;
-        let t = &src.first[k];
-        let same = match t.seen {
-            Seen::Sky => sky,
-            Seen::Surface if !sky => {
-                let td = glam::Vec3::from(t.offset).length() as f64;
-                (td - old_d).abs() <= DEPTH_TOLERANCE * old_d
-            }
-            _ => false,
-        };
-        if same {
-            sum += src.colour[k] * wt;
+    if !(u > -1.0 && v > -1.0 && u < w as f32 && v < h as f32) {
+        return None;
+    }
+    // Floor, for positions above −1.
+    let (u0, v0) = ((u + 1.0) as i32 - 1, (v + 1.0) as i32 - 1);
+    let (fu, fv) = (u - u0 as f32, v - v0 as f32);
+    // Taps off the picture weigh nothing (their indices are clamped).
+    let wx = [if u0 >= 0 { 1.0 - fu } else { 0.0 }, if u0 + 1 < w { fu } else { 0.0 }];
+    let wy = [if v0 >= 0 { 1.0 - fv } else { 0.0 }, if v0 + 1 < h { fv } else { 0.0 }];
+    let xs = [u0.max(0), (u0 + 1).min(w - 1)];
+    let ys = [v0.max(0), (v0 + 1).min(h - 1)];
+    let (mut sum, mut weight) = (Vec4::ZERO, 0.0);
+    for (ty, wy) in ys.into_iter().zip(wy) {
+        for (tx, wx) in xs.into_iter().zip(wx) {
+            let t = old[(ty * w + tx) as usize];
+            let same = match z {
+                None => t.w == f32::INFINITY,
+                Some(z) => (t.w - z).abs() <= DEPTH_TOLERANCE * z,
+            };
+            let wt = if same { wx * wy } else { 0.0 };
+            // (`w` sums nothing meaningful.)
+            sum += t * wt;
             weight += wt;
         }
     }
-    (weight > 1e-3).then(|| sum / weight)
-}
-
-/// Step 3: traces the pixels [`warp`] left ([`Seen::Unknown`]): at their
-/// centres when `block` is 1 (they get their first hits too), else one
-/// sample at the centre of each `block × block` block holding some (the
-/// point a block level samples), which fills them. Returns the samples
-/// cast.
-pub fn fill(scene: &Scene, (w, h): (u32, u32), block: u32, out: &mut [Rgb], first: &mut [FirstHit]) -> u64 {
-    let (wu, n) = (w as usize, block.max(1) as usize);
-    // Bands of block rows, or for single pixels of a tile's height.
-    let band = if n == 1 { TILE } else { n };
-    out.par_chunks_mut(wu * band)
-        .zip(first.par_chunks_mut(wu * band))
-        .enumerate()
-        .map(|(by, (rows, first))| {
-            let rows_here = rows.len() / wu;
-            let is_hole = |i: usize| first[i].seen == Seen::Unknown;
-            // The holes (n = 1) or the blocks holding some, as destinations.
-            let dst: Vec<u32> = if n == 1 {
-                // By columns of a packet's width, as the tiles go.
-                let per_column =
-                    |x0: usize| (0..rows_here).flat_map(move |r| (x0..(x0 + LANES).min(wu)).map(move |x| r * wu + x));
-                (0..wu)
-                    .step_by(LANES)
-                    .flat_map(per_column)
-                    .filter(|&i| is_hole(i))
-                    .map(|i| i as u32)
-                    .collect()
-            } else {
-                (0..wu.div_ceil(n))
-                    .filter(|&bx| (0..rows_here).any(|r| (bx * n..((bx + 1) * n).min(wu)).any(|x| is_hole(r * wu + x))))
-                    .map(|bx| bx as u32)
-                    .collect()
-            };
-            let mut colours = vec![Rgb::ZERO; if n == 1 { 0 } else { wu.div_ceil(n) }];
-            let mut batch = Batch::default();
-            {
-                let mut sink = |d: u32, c: Rgb, f: &dyn Fn() -> FirstHit| {
-                    if n == 1 {
-                        (rows[d as usize], first[d as usize]) = (c, f());
-                    } else {
-                        colours[d as usize] = c;
-                    }
-                };
-                let cy = (by * n + n / 2).min(h as usize - 1);
-                for &d in &dst {
-                    let (x, y) = if n == 1 {
-                        (d as usize % wu, by * band + d as usize / wu)
-                    } else {
-                        ((d as usize * n + n / 2).min(wu - 1), cy)
-                    };
-                    batch.push(scene, (w, h), (x as f64 + 0.5, y as f64 + 0.5), d, &mut sink);
-                }
-                batch.flush(scene, (w, h), &mut sink);
-            }
-            if n > 1 {
-                for r in 0..rows_here {
-                    for x in 0..wu {
-                        if first[r * wu + x].seen == Seen::Unknown {
-                            rows[r * wu + x] = colours[x / n];
-                        }
-                    }
-                }
-            }
-            dst.len() as u64
-        })
-        .sum()
+    (weight > 1e-3).then(|| (sum.truncate() / weight).as_dvec3())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::render::progressive::{Progressive, Sampling, Stage};
+    use glam::DVec3;
 
     /// `scene` with its camera moved by `by` (world units).
     fn moved(scene: &Scene, by: DVec3) -> Scene {
@@ -340,6 +391,22 @@ mod tests {
         Scene {
             camera: Camera::new(c.position + by, c.rotation_deg, c.fov_y_deg),
             ..scene.clone()
+        }
+    }
+
+    /// `old`'s picture (`img`) seen from `camera`, as a warp's source.
+    fn source<'a>(
+        camera: &'a Camera,
+        size: (u32, u32),
+        img: &'a crate::render::Image,
+        old: &'a Progressive,
+    ) -> Source<'a> {
+        Source {
+            camera,
+            size,
+            colour: &img.pixels,
+            count: None,
+            first: old.first_hits(),
         }
     }
 
@@ -364,15 +431,10 @@ mod tests {
         let old = one_sample(&a, size);
         let fresh = one_sample(&b, size);
         let (old_img, new_img) = (old.image(), fresh.image());
-        let src = Source {
-            camera: &a.camera,
-            size,
-            colour: &old_img.pixels,
-            first: old.first_hits(),
-        };
+        let src = source(&a.camera, size, &old_img, &old);
         let mut out = vec![Rgb::ZERO; w * h];
         let mut first = vec![FirstHit::default(); w * h];
-        let holes = warp(&src, &b.camera, size, &mut Vec::new(), &mut out, &mut first);
+        let holes = warp(&src, &b.camera, size, &mut Scratch::default(), &mut out, &mut first);
         let left: Vec<bool> = first.iter().map(|f| f.seen == Seen::Unknown).collect();
         assert_eq!(left.iter().filter(|&&l| l).count(), holes);
         assert_eq!(fill(&b, size, 1, &mut out, &mut first) as usize, holes);
@@ -408,18 +470,96 @@ mod tests {
         );
     }
 
-    /// Projecting a camera ray's point gives back its pixel position.
+    /// Warp and fill give the same picture, first hits and hole count on
+    /// one thread as on several (the nearest splat wins whatever order the
+    /// threads splat in), for a move and a turn.
+    #[test]
+    fn reprojection_is_the_same_on_any_thread_count() {
+        let a = Scene::default_scene().1;
+        let size = (80, 56);
+        let n = (size.0 * size.1) as usize;
+        let old = one_sample(&a, size);
+        let old_img = old.image();
+        let c = &a.camera;
+        let turned = Camera::new(
+            c.position + c.right() * 0.05,
+            c.rotation_deg + DVec3::new(1.0, 2.0, 0.0),
+            c.fov_y_deg,
+        );
+        for cam in [moved(&a, DVec3::new(0.0, 0.0, -0.3)).camera, turned] {
+            let b = Scene {
+                camera: cam,
+                ..a.clone()
+            };
+            let on = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                pool.install(|| {
+                    let src = source(&a.camera, size, &old_img, &old);
+                    let mut out = vec![Rgb::ZERO; n];
+                    let mut first = vec![FirstHit::default(); n];
+                    let holes = warp(&src, &b.camera, size, &mut Scratch::default(), &mut out, &mut first);
+                    fill(&b, size, 2, &mut out, &mut first);
+                    (holes, out, first)
+                })
+            };
+            let one = on(1);
+            assert!(one.0 > 0 && one.0 < n / 2, "{} holes", one.0);
+            for threads in [2, 3] {
+                assert!(on(threads) == one, "{threads} threads differ from one");
+            }
+        }
+    }
+
+    /// Of two points splatted on one pixel the nearer wins, though it comes
+    /// first: here the nearer (pixel 0's, moved onto pixel `p`'s ray) is
+    /// not what `p` saw, so `p`'s taps refuse it and `p` is left to step 3,
+    /// while its neighbours move.
+    #[test]
+    fn the_nearest_splat_wins_whatever_comes_first() {
+        let cam = Scene::default_scene().1.camera;
+        let size = (8, 8);
+        let ray = |x: usize, y: usize| cam.ray(x as f64 + 0.5, y as f64 + 0.5, 8, 8).dir.as_vec3();
+        let p = 4 * 8 + 4;
+        let mut first: Vec<FirstHit> = (0..64)
+            .map(|i| FirstHit {
+                offset: (ray(i % 8, i / 8) * 5.0).to_array(),
+                seen: Seen::Surface,
+            })
+            .collect();
+        first[0].offset = (ray(4, 4) * 2.0).to_array();
+        let colour = vec![Rgb::splat(0.5); 64];
+        let src = Source {
+            camera: &cam,
+            size,
+            colour: &colour,
+            count: None,
+            first: &first,
+        };
+        let (mut out, mut got) = (vec![Rgb::ZERO; 64], vec![FirstHit::default(); 64]);
+        warp(&src, &cam, size, &mut Scratch::default(), &mut out, &mut got);
+        assert_eq!(got[p].seen, Seen::Unknown);
+        for q in [p - 1, p + 1, p - 8, p + 8] {
+            assert_eq!(got[q].seen, Seen::Surface, "pixel {q}");
+            assert!((out[q] - Rgb::splat(0.5)).abs().max_element() < 1e-6);
+        }
+    }
+
+    /// Projecting a camera ray's point gives back its pixel position, and
+    /// the direction through a position is the camera ray's.
     #[test]
     fn projection_inverts_the_camera_ray() {
         let cam = Camera::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(-20.0, 30.0, 0.0), 50.0);
         let p = Projector::new(&cam, (320, 200));
         for (x, y) in [(0.5, 0.5), (160.0, 100.0), (319.5, 7.25), (3.0, 199.0)] {
             let r = cam.ray(x, y, 320, 200);
-            for (q, inf) in [(r.origin + r.dir * 7.0, false), (r.dir, true)] {
-                let (u, v) = p.project(q, inf).unwrap();
-                assert!((u - x).abs() < 1e-9 && (v - y).abs() < 1e-9, "{x},{y} → {u},{v}");
+            for v in [r.dir * 7.0, r.dir] {
+                let (u, v, _) = p.project(v.as_vec3()).unwrap();
+                let (u, v) = (u as f64, v as f64);
+                assert!((u - x).abs() < 1e-3 && (v - y).abs() < 1e-3, "{x},{y} → {u},{v}");
             }
+            let d = p.direction(x as f32, y as f32).normalize().as_dvec3();
+            assert!((d - r.dir).length() < 1e-5, "{d} against {}", r.dir);
         }
-        assert!(p.project(cam.position - cam.forward(), false).is_none());
+        assert!(p.project(-cam.forward().as_vec3()).is_none());
     }
 }

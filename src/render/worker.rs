@@ -129,14 +129,19 @@ impl Drop for Worker {
     }
 }
 
+/// How much more a pixel left by a reprojection costs to trace than the
+/// average camera sample: most are seen through the lens (measured on
+/// cubes.toml at 1280×720, docs/performance.md: about 4.5).
+const HOLE_COST: f64 = 4.0;
+
 /// The block size at which a reprojection traces the `holes` pixels it
 /// could not move: the finest whose predicted time fits the first frame's
-/// budget (each pixel's centre when nothing is measured yet).
+/// budget (2×2 blocks, ≥ 45 dB on cubes.toml, when nothing is measured).
 pub fn hole_level(holes: usize, seconds_per_sample: Option<f64>) -> u32 {
-    let Some(sps) = seconds_per_sample else { return 1 };
+    let Some(sps) = seconds_per_sample else { return 2 };
     [1, 2, 4, 8]
         .into_iter()
-        .find(|&n| holes as f64 / (n * n) as f64 * sps <= FIRST_FRAME_BUDGET_S)
+        .find(|&n| holes as f64 / (n * n) as f64 * sps * HOLE_COST <= FIRST_FRAME_BUDGET_S)
         .unwrap_or(8)
 }
 
@@ -449,8 +454,10 @@ mod tests {
         });
         let first = frames_until_last_of(&w, 3)[0].stage;
         assert!(matches!(first, Stage::Blocks(_) | Stage::Samples(1)), "{first:?}");
-        assert_eq!(hole_level(1000, None), 1);
-        assert_eq!(hole_level(100_000, Some(1e-6)), 4);
+        assert_eq!(hole_level(1000, None), 2);
+        assert_eq!(hole_level(1000, Some(1e-6)), 1);
+        assert_eq!(hole_level(100_000, Some(1e-7)), 2);
+        assert_eq!(hole_level(100_000, Some(1e-6)), 8);
     }
 
     /// The pixels a reprojection traces afresh see the photon map: turned
