@@ -46,7 +46,8 @@ impl Packet {
     }
 
     /// A packet to fill lane by lane in place ([`Packet::set`], then
-    /// [`Packet::fill_unused`], which sets every lane not set): no array of
+    /// [`Packet::fill_unused`], which sets every lane not set and every
+    /// lane's inverse direction): no array of
     /// rays to build and copy first. Its lanes mean nothing until then.
     pub const EMPTY: Packet = Packet {
         o: [[0.0; LANES]; 3],
@@ -57,20 +58,34 @@ impl Packet {
     };
 
     /// Sets lane `l` to `ray` (unit direction), searched on `(0, t_max)`
-    /// (an empty interval when `t_max` is negative).
+    /// (an empty interval when `t_max` is negative); its inverse direction
+    /// is computed by [`Packet::fill_unused`].
     #[inline(always)]
     pub fn set(&mut self, l: usize, ray: &Ray, t_max: f64) {
-        let inv = ray.dir.recip();
         for k in 0..3 {
             self.o[k][l] = ray.origin[k];
             self.d[k][l] = ray.dir[k];
-            self.inv[k][l] = inv[k];
         }
         self.t_max[l] = t_max;
     }
 
+    /// Every lane's inverse direction from its direction, all lanes at once
+    /// (what `DVec3::recip` gives lane by lane): computed only for the packets
+    /// that are traced ([`Packet::fill_unused`]), not per ray as it is set, so
+    /// that the rays gathered and then traced one by one or found to leave
+    /// the scene pay no division.
+    #[inline(always)]
+    fn invert(&mut self) {
+        for k in 0..3 {
+            for l in 0..LANES {
+                self.inv[k][l] = 1.0 / self.d[k][l];
+            }
+        }
+    }
+
     /// Makes every lane outside the bit mask `live` (not empty) a copy of
-    /// its first lane with an empty interval, so that it never hits.
+    /// its first lane with an empty interval, so that it never hits, and
+    /// computes every lane's inverse direction: the packet is ready to trace.
     #[inline(always)]
     pub fn fill_unused(&mut self, live: u32) {
         debug_assert!(live != 0 && live < 1 << LANES);
@@ -80,11 +95,11 @@ impl Packet {
                 for k in 0..3 {
                     self.o[k][l] = self.o[k][first];
                     self.d[k][l] = self.d[k][first];
-                    self.inv[k][l] = self.inv[k][first];
                 }
                 self.t_max[l] = -1.0;
             }
         }
+        self.invert();
         self.len = LANES;
     }
 
@@ -101,6 +116,7 @@ impl Packet {
                 None => p.set(l, &rays[0], -1.0),
             }
         }
+        p.invert();
         p.len = rays.len();
         p
     }
