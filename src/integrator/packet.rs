@@ -11,7 +11,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, Sink, Transmitted, chain, lens_passes};
+use super::lens_pass::{LensPasses, Transmitted, chain, lens_passes};
 use super::scalar::{Alone, kernel};
 use super::shade::{
     Secondary, Tracer, add_light, ambient, followed, glass_shares, join, lens_pruning, light_at, reflected, refracted,
@@ -19,6 +19,7 @@ use super::shade::{
 };
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
+use crate::geometry::{Inside, Lens, Pruning};
 use crate::light::{Light, LightSample};
 use crate::scene::Scene;
 use crate::simd::{LANES, Lanes, live_lanes};
@@ -377,8 +378,10 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
 /// traced together: [`shade_onward`]'s steps for a lane entering a lens
 /// ([`glass_shares`], [`lens_pruning`], [`refracted`], [`reflected`]), the
 /// rays out at its first two exits taken from the lanes
-/// ([`LensPasses::walk`]), the rest of the tree from the scalar [`chain`]. Out of line, so that the common path
-/// stays small. The lanes' colours take nothing until the rays come back.
+/// ([`LensPasses::walk`]) straight into the refracted packets, the rest of
+/// the tree from the scalar [`chain`] ([`chain_on`], out of line). Out of
+/// line, so that the common path stays small. The lanes' colours take
+/// nothing until the rays come back.
 #[inline(never)]
 fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
@@ -396,36 +399,85 @@ fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool,
         if depth >= scene.max_depth {
             continue;
         }
-        let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
-            scene,
-            lambda_um,
-            l,
-            onward,
-            extra,
-        };
         let m = &s.object.material;
         let (kr, kt) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
         if followed(kt, weight) {
             let prune = lens_pruning(scene, depth, weight, kt);
-            let mut send = Refracted {
+            let lane = LensLane {
                 scene,
                 s,
                 depth,
                 weight,
                 kt,
-                gather: &mut gather,
+                l,
+            };
+            // A lane's rays out of a lens take the refracted slots in order
+            // (`Gather` would find them free: the lane sent nothing yet).
+            let mut slot = 0;
+            let mut send = |tr: Transmitted| {
+                if let Some(sec) = lane.refracted(tr) {
+                    if slot < 2 {
+                        onward[slot].push(l, &sec);
+                    } else {
+                        extra.push(further::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, l, &sec, lambda_um));
+                    }
+                    slot += 1;
+                }
             };
             if let Some(on) = passes.walk(l, lens, s.p, &prune, &mut send) {
-                // Rare: through a pointer, so that the chain's code is not
-                // repeated here.
-                let rest: &mut dyn FnMut(Transmitted) = &mut |tr| send.send(tr);
-                chain(lens, on, m.ior.at(lambda_um), &prune, rest);
+                chain_on::<SHADOWS, GLASS, MIRROR, SPECULAR>(&lane, lambda_um, (lens, on, &prune), onward, extra);
             }
         }
         if followed(kr, weight) {
-            gather.trace(reflected(s, paths.rays.dir(l), depth, weight, kr), &mut Rgb::default());
+            onward[2].push(l, &reflected(s, paths.rays.dir(l), depth, weight, kr));
         }
     }
+}
+
+/// A lane of [`send_through_lens`] entering a lens at its surface `s`
+/// (transmitted share `kt`).
+struct LensLane<'a, 's> {
+    scene: &'a Scene,
+    s: &'a Surface<'s>,
+    depth: u32,
+    weight: f64,
+    kt: f64,
+    l: usize,
+}
+
+impl LensLane<'_, '_> {
+    /// [`refracted`] for a ray out of the lens.
+    #[inline(always)]
+    fn refracted(&self, tr: Transmitted) -> Option<Secondary> {
+        refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr)
+    }
+}
+
+/// The rays out of a lens past the first two exits of lane `lane` (the
+/// light inside `on` in `lens`, pruned by `prune`), by the scalar
+/// [`chain`], gathered as [`Gather`] does. Rare: out of line, so that
+/// the lanes' common path keeps its values in registers.
+#[inline(never)]
+fn chain_on<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    lane: &LensLane,
+    lambda_um: f64,
+    (lens, on, prune): (&Lens, Inside, &Pruning),
+    onward: &mut [Onward; 3],
+    extra: &mut Vec<Extra>,
+) {
+    let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+        scene: lane.scene,
+        lambda_um,
+        l: lane.l,
+        onward,
+        extra,
+    };
+    let ior = lane.s.object.material.ior.at(lambda_um);
+    chain(lens, on, ior, prune, |tr| {
+        if let Some(sec) = lane.refracted(tr) {
+            gather.trace(sec, &mut Rgb::default());
+        }
+    });
 }
 
 /// A lane's further ray out of a lens, traced at once by the scalar
@@ -477,27 +529,6 @@ impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR:
                 &sec,
                 self.lambda_um,
             )),
-        }
-    }
-}
-
-/// The rays out of a lens that lane `gather` sends on, as [`refracted`]
-/// makes them from the surface `s` of entry (transmitted share `kt`).
-struct Refracted<'a, 's, T: Tracer> {
-    scene: &'a Scene,
-    s: &'a Surface<'s>,
-    depth: u32,
-    weight: f64,
-    kt: f64,
-    gather: &'a mut T,
-}
-
-impl<T: Tracer> Sink for Refracted<'_, '_, T> {
-    #[inline(always)]
-    fn send(&mut self, tr: Transmitted) {
-        if let Some(sec) = refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr) {
-            // A packet's lanes take their colours when the rays come back.
-            self.gather.trace(sec, &mut Rgb::default());
         }
     }
 }
