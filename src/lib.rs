@@ -56,7 +56,7 @@
 //! | caustics: the photon map, photons traced, passes scheduled | `photon.rs`, `integrator/photons.rs`, `render/caustics.rs` |
 //! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
-//! | the viewer's shell, flight, refinement, statistics | `viewer/{mod,flight,refine,stats,session,screen,input}.rs` (binary) |
+//! | the viewer's shell, flight, refinement, statistics; its heap policy | `viewer/{mod,flight,refine,stats,session,screen,input,heap}.rs` (binary) |
 //! | when the window presents; when a resized surface is configured; the watchdog of `--exit-after`; the overlay and key help (egui); the X11 environment | `viewer/{pacing,settle,watchdog,overlay,platform}.rs` (binary) |
 //! | each panel section | `viewer/panel/{add,objects,material,camera,lens,light,render,menu,file_dialog,confirm}.rs` (binary) |
 //! | optics over the picture (F6); the lens analysis window (F7) and its plots | `viewer/optics.rs`; `viewer/panel/{analysis,plots}.rs` (binary) |

@@ -191,7 +191,10 @@ impl Progressive {
     /// unchanged (the sums are cleared when the first sample stage runs).
     pub fn reset(&mut self, width: u32, height: u32, seed: u64) {
         if (width, height) != (self.width, self.height) {
-            *self = Progressive::new(width, height, seed).with_sampling(self.sampling);
+            let sampling = self.sampling;
+            // The old buffers are freed before the new ones are allocated.
+            *self = Progressive::new(0, 0, seed);
+            *self = Progressive::new(width, height, seed).with_sampling(sampling);
         } else {
             self.seed = seed;
             self.spp = 0;

@@ -29,6 +29,7 @@
 
 mod flight;
 mod gui;
+mod heap;
 mod input;
 mod keys;
 mod optics;
@@ -111,6 +112,7 @@ struct Viewer {
 }
 
 pub fn run(opts: ViewOptions) -> Result<()> {
+    heap::return_large_blocks();
     let event_loop = EventLoop::<UserEvent>::with_user_event().build().map_err(|e| {
         anyhow!(
             "cannot open a window: no display available ({e}); render headless instead: lensview render {} -o out.png",
