@@ -5,8 +5,9 @@
 #    (the last frame's `sent_ms_since_input - queued_ms`: always presented,
 #    whatever the pacing) against `render --spp 8` headless at the same size
 #    (the same samples), measured just before in the same round; and the
-#    median `render_ms` of the "1 spp" frames presented against the median
-#    of `bench --frame-only` (paced builds present fewer of them);
+#    median `render_ms` of the "1 spp" stages the render thread finished
+#    after the first generation (the frame log's `stages`, drawn or not)
+#    against the median of `bench --frame-only`;
 #  - latency: for the first frame of each generation after a key (W), the
 #    time from the input to the screen (`ms_since_input`) against what it
 #    cannot beat: the input to the frame leaving the render thread
@@ -96,7 +97,15 @@ for tag in ("A", "B"):
     for log in logs:
         r = log.rsplit("-", 1)[1].split(".")[0]
         frames = [json.loads(l) for l in open(log)]
-        one += [f["render_ms"] for f in frames if f["level"] == "1 spp"]
+        # Every "1 spp" stage the render thread finished after the first
+        # generation (the log's `stages`), drawn or not; older builds log
+        # only the frames presented.
+        first_gen = frames[0]["generation"] if frames else 0
+        stages = [s for f in frames for s in f.get("stages", []) if s["generation"] != first_gen]
+        if any("stages" in f for f in frames):
+            one += [s["render_ms"] for s in stages if s["level"] == "1 spp"]
+        else:
+            one += [f["render_ms"] for f in frames if f["level"] == "1 spp"]
         first_t = frames[0]["t"] if frames else 0
         gens = sorted({f["generation"] for f in frames})[1:]
         to8 += [f["sent_ms_since_input"] - f["queued_ms"] for f in frames if f["level"] == "8 spp"]

@@ -113,8 +113,15 @@ impl Worker {
     /// still wanted; frames of older or cancelled jobs are dropped. Never
     /// waits.
     pub fn newest_frame(&self) -> Option<Frame> {
+        self.frames().pop()
+    }
+
+    /// Takes every frame sent so far and returns those of the job still
+    /// wanted, oldest first; frames of older or cancelled jobs are dropped.
+    /// Never waits.
+    pub fn frames(&self) -> Vec<Frame> {
         let wanted = self.wanted.load(Ordering::SeqCst);
-        self.frames.try_iter().filter(|f| f.generation == wanted).last()
+        self.frames.try_iter().filter(|f| f.generation == wanted).collect()
     }
 }
 

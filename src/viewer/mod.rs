@@ -383,10 +383,16 @@ impl Viewer {
             self.session.message = format!("present failed: {e}");
         }
         self.pacer.presented(Instant::now(), t0.elapsed());
+        // Taken only with a frame to log: a line without one is not written.
+        let stages = match self.refine.frame() {
+            Some(_) => self.refine.take_stages(),
+            None => Vec::new(),
+        };
         let p = Presented {
             frame: self.refine.frame(),
             x0,
             input_time: self.refine.input_time(),
+            stages: &stages,
         };
         self.stats.presented(t0, p);
     }

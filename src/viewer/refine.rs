@@ -14,6 +14,18 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// A stage the render thread finished: its generation, level and time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StageTime {
+    pub generation: u64,
+    pub level: String,
+    pub render_ms: f64,
+}
+
+/// Stages kept for the frame log while nothing is presented (a hidden
+/// window): the oldest go first.
+pub const MAX_STAGES: usize = 256;
+
 pub struct Refine {
     worker: Worker,
     generation: u64,
@@ -21,6 +33,9 @@ pub struct Refine {
     input_time: Instant,
     /// Newest frame of the current generation.
     frame: Option<Frame>,
+    /// Every stage received since the frame log last took them
+    /// ([`Self::take_stages`]), presented or not: at most [`MAX_STAGES`].
+    stages: Vec<StageTime>,
     paused: bool,
     max_spp: u32,
     screenshots: u32,
@@ -33,6 +48,7 @@ impl Refine {
             generation: 0,
             input_time: Instant::now(),
             frame: None,
+            stages: Vec::new(),
             paused: false,
             max_spp,
             screenshots: 0,
@@ -85,13 +101,27 @@ impl Refine {
     /// Takes the frames the render thread sent; true when a newer frame of
     /// the current generation arrived (draw it).
     pub fn receive(&mut self) -> bool {
-        match self.worker.newest_frame() {
+        let mut frames = self.worker.frames();
+        self.stages.extend(frames.iter().map(|f| StageTime {
+            generation: f.generation,
+            level: f.stage.label(),
+            render_ms: f.render_ms,
+        }));
+        let over = self.stages.len().saturating_sub(MAX_STAGES);
+        self.stages.drain(..over);
+        match frames.pop() {
             Some(f) => {
                 self.frame = Some(f);
                 true
             }
             None => false,
         }
+    }
+
+    /// The stages received since the last call, oldest first (the frame
+    /// log's `stages`: the render thread's work, whether presented or not).
+    pub fn take_stages(&mut self) -> Vec<StageTime> {
+        std::mem::take(&mut self.stages)
     }
 
     pub fn frame(&self) -> Option<&Frame> {
@@ -181,5 +211,30 @@ mod tests {
         assert_eq!(r.frame().map(|f| f.spp), Some(4));
         r.clear_frame();
         assert!(r.frame().is_none());
+    }
+
+    /// Every stage the render thread sends reaches the stage record once,
+    /// in order, also those never drawn because a newer one came with them.
+    #[test]
+    fn every_stage_is_recorded_once_whether_drawn_or_not() {
+        let scene = Arc::new(Scene::default_scene().1);
+        let mut r = Refine::new(Worker::spawn(|| {}), 4);
+        r.take_stages();
+        r.submit(scene, (48, 32));
+        let g = r.generation;
+        // Let every stage arrive before taking them: most are never drawn.
+        let end = Instant::now() + Duration::from_secs(30);
+        let mut seen = Vec::new();
+        while Instant::now() < end && !seen.iter().any(|s: &StageTime| s.level == "4 spp") {
+            std::thread::sleep(Duration::from_millis(200));
+            r.receive();
+            seen.extend(r.take_stages());
+        }
+        let levels: Vec<&str> = seen.iter().map(|s| s.level.as_str()).collect();
+        assert!(seen.iter().all(|s| s.generation == g && s.render_ms >= 0.0), "{seen:?}");
+        assert_eq!(levels.iter().filter(|l| **l == "1 spp").count(), 1, "{levels:?}");
+        let pos = |l: &str| levels.iter().position(|x| *x == l);
+        assert!(pos("1 spp") < pos("2 spp") && pos("2 spp") < pos("4 spp"), "{levels:?}");
+        assert!(r.take_stages().is_empty());
     }
 }

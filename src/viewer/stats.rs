@@ -1,9 +1,10 @@
 //! Figures about the window's own work: present times, the smoothed frame
 //! interval, the frame log (`--frame-log`, one JSON line per presented
-//! frame), and the lines of the overlay (timings, camera, light, lens,
+//! frame, with every stage finished since the last line), and the lines of the overlay (timings, camera, light, lens,
 //! message).
 
 use super::overlay::OverlayMode;
+use super::refine::StageTime;
 use lensview::edit::Document;
 use lensview::render::worker::Frame;
 use std::io::Write;
@@ -26,6 +27,9 @@ pub struct Presented<'a> {
     pub x0: u32,
     /// When the input behind the frame's generation happened.
     pub input_time: Instant,
+    /// The stages the render thread finished since the last line, drawn or
+    /// not (the log's `stages`: throughput counts every one).
+    pub stages: &'a [StageTime],
 }
 
 impl Stats {
@@ -68,6 +72,11 @@ impl Stats {
                 "present_ms": self.present_ms,
                 "photons": f.photons,
                 "t": (now - self.started).as_secs_f64(),
+                "stages": p.stages.iter().map(|s| serde_json::json!({
+                    "generation": s.generation,
+                    "level": s.level,
+                    "render_ms": s.render_ms,
+                })).collect::<Vec<_>>(),
             });
             let _ = writeln!(log, "{line}");
         }
@@ -232,12 +241,19 @@ mod tests {
         let t0 = Instant::now();
         std::thread::sleep(Duration::from_millis(30));
         let f = frame(7, 4);
+        let stage = |level: &str, render_ms| StageTime {
+            generation: 7,
+            level: level.into(),
+            render_ms,
+        };
+        let stages = [stage("1 spp", 40.0), stage("2 spp", 30.0), stage("4 spp", 12.5)];
         stats.presented(
             t0,
             Presented {
                 frame: Some(&f),
                 x0: 360,
                 input_time,
+                stages: &stages,
             },
         );
         // A redraw with no frame writes no line; a second frame does.
@@ -247,6 +263,7 @@ mod tests {
                 frame: None,
                 x0: 0,
                 input_time,
+                stages: &[],
             },
         );
         let g = frame(8, 0);
@@ -260,6 +277,7 @@ mod tests {
                 frame: Some(&g),
                 x0: 0,
                 input_time,
+                stages: &[],
             },
         );
         let text = std::fs::read_to_string(&path).unwrap();
@@ -268,7 +286,15 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 13, "{keys:?}");
+        assert_eq!(keys.len(), 14, "{keys:?}");
+        let st = l["stages"].as_array().unwrap();
+        let got: Vec<_> = st
+            .iter()
+            .map(|x| (x["level"].as_str().unwrap(), x["render_ms"].as_f64().unwrap()))
+            .collect();
+        assert_eq!(got, [("1 spp", 40.0), ("2 spp", 30.0), ("4 spp", 12.5)]);
+        assert!(st.iter().all(|x| x["generation"] == 7));
+        assert!(lines[1]["stages"].as_array().unwrap().is_empty());
         assert_eq!(l["photons"], 4096);
         assert_eq!(l["generation"], 7);
         assert_eq!(l["level"], "4 spp");
