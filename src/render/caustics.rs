@@ -146,9 +146,10 @@ pub struct Interleaved {
 }
 
 /// Makes `copy` equal to `from`, copying the objects (and what is built
-/// from them) only when they differ; the map it holds stays. Every field is
-/// named, so a new one cannot be forgotten.
-fn refresh(copy: &mut Scene, from: &Scene) {
+/// from them) only when they differ (not compared again when the caller
+/// already knows them equal: `objects_equal`); the map it holds stays.
+/// Every field is named, so a new one cannot be forgotten.
+fn refresh(copy: &mut Scene, from: &Scene, objects_equal: bool) {
     let Scene {
         camera,
         ambient,
@@ -164,7 +165,7 @@ fn refresh(copy: &mut Scene, from: &Scene) {
         bvh,
         others_bounds,
     } = from;
-    if copy.objects != *objects {
+    if !objects_equal && copy.objects != *objects {
         copy.objects.clone_from(objects);
         copy.bvh.clone_from(bvh);
         copy.others_bounds.clone_from(others_bounds);
@@ -188,7 +189,8 @@ impl Interleaved {
         }
         match (&self.caustics, &mut self.with_map) {
             (None, w) => *w = None,
-            (Some(_), Some(w)) => refresh(w, scene),
+            // `with_map` holds the previous job's objects: `same` compared them.
+            (Some(_), Some(w)) => refresh(w, scene, same),
             (Some(_), w) => *w = Some(Scene::clone(scene)),
         }
         // Until the next stage the map is held only by `caustics`.

@@ -3,7 +3,7 @@
 //! a `crossbeam-channel`, then calls a wake-up function so an event loop can
 //! draw it. A newer job cancels the current one between row bands, and
 //! [`Worker::cancel`] stops it without starting another (the viewer's
-//! pause). [`Worker::newest_frame`] hands out only frames of the job that
+//! pause). [`Worker::frames`] hands out only frames of the job that
 //! is still wanted.
 
 use super::caustics::Interleaved;
@@ -104,16 +104,9 @@ impl Worker {
 
     /// Stops the current job between row bands and starts none: the thread
     /// waits for the next [`Self::submit`]. Frames the job already sent are
-    /// dropped by [`Self::newest_frame`].
+    /// dropped by [`Self::frames`].
     pub fn cancel(&self) {
         self.wanted.store(NOTHING, Ordering::SeqCst);
-    }
-
-    /// Takes every frame sent so far and returns the newest one of the job
-    /// still wanted; frames of older or cancelled jobs are dropped. Never
-    /// waits.
-    pub fn newest_frame(&self) -> Option<Frame> {
-        self.frames().pop()
     }
 
     /// Takes every frame sent so far and returns those of the job still
@@ -402,7 +395,7 @@ mod tests {
         // Job 1 is running and its first frame waits in the channel.
         w.cancel();
         assert!(
-            w.newest_frame().is_none(),
+            w.frames().pop().is_none(),
             "a frame of the cancelled job was handed out"
         );
         drop(gate);
@@ -419,13 +412,13 @@ mod tests {
     }
 
     #[test]
-    fn newest_frame_drops_frames_of_older_jobs() {
+    fn frames_drops_frames_of_older_jobs() {
         let w = Worker::spawn(|| {});
         w.submit(job(1, 16, 16, 2));
         wait_for_a_frame(&w);
         // Frames of job 1 wait in the channel; job 2 replaces it.
         w.submit(job(2, 16, 16, 2));
-        let f = w.newest_frame();
+        let f = w.frames().pop();
         assert!(
             f.as_ref().is_none_or(|f| f.generation == 2),
             "{:?}",
