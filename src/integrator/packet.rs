@@ -192,7 +192,49 @@ impl Onward {
 /// The radiance of each live lane of `paths` (the others are zero), written
 /// to `out`: the local shading of every lane, each light's shadow rays as
 /// one packet, then the refracted and reflected rays as a packet each.
+///
+/// Compiled twice, like the walks of `crate::trace` ([`crate::simd`]'s
+/// `with_avx2!`, by hand for the const parameters): the AVX2 build runs
+/// where the CPU has it. The lanes' shading is scalar arithmetic either
+/// way (no FMA is enabled, and Rust never contracts a multiply and an add),
+/// so both builds give the same bits; AVX2's three-operand instructions
+/// save the register copies of the SSE2 build, and the lane loops run four
+/// lanes to an instruction instead of two.
 pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the AVX2 build differs from the portable one only in
+        // being compiled with AVX2 instructions, and the line above has
+        // just checked that this CPU has them.
+        return unsafe {
+            packet_kernel_avx2::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out)
+        };
+    }
+    packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
+}
+
+/// [`packet_kernel`]'s AVX2 build.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn packet_kernel_avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
+    packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
+}
+
+/// [`packet_kernel`]'s steps, compiled into each build.
+#[inline(always)]
+fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     paths: &PacketPaths,
     lambda_um: f64,
@@ -529,6 +571,54 @@ impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR:
                 &sec,
                 self.lambda_um,
             )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::radiance;
+    use crate::optics::WAVELENGTH_D_UM;
+    use crate::trace::camera_hits;
+
+    /// The portable build of the packet kernel (its first depth; the
+    /// depths below go through [`packet_kernel`], the AVX2 build where the
+    /// CPU has it) gives every lane the scalar kernel's radiance bit for
+    /// bit, as the AVX2 build does (`render`'s tests compare that one).
+    #[test]
+    fn the_portable_packet_kernel_gives_the_scalar_radiance() {
+        let parse = |name, text| Scene::parse(name, text).unwrap().1;
+        let scenes = [
+            Scene::default_scene().1,
+            parse("primitives", include_str!("../../scenes/primitives.toml")),
+            parse("optical bench", include_str!("../../scenes/optical-bench.toml")),
+        ];
+        let (w, h) = (48u32, 36u32);
+        let mut scratch = PacketScratch::default();
+        for scene in &scenes {
+            let mut lit = 0;
+            for y in 0..h {
+                for x0 in (0..w).step_by(LANES) {
+                    let xs: Lanes<f64> = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+                    let ys = [y as f64 + 0.5; LANES];
+                    let (p, hits) = camera_hits(scene, &xs, &ys, LANES, w, h);
+                    let paths = PacketPaths::camera(&p, &hits, LANES);
+                    let mut out = [Rgb::ZERO; LANES];
+                    let f = scene.features;
+                    with_features!(
+                        f,
+                        packet_kernel_impl,
+                        (scene, &paths, WAVELENGTH_D_UM, &mut scratch, &mut out)
+                    );
+                    for l in 0..LANES {
+                        let want = radiance(scene, &p.ray(l), 0, WAVELENGTH_D_UM);
+                        assert_eq!(out[l], want, "pixel {}, {y}", x0 as usize + l);
+                        lit += usize::from(want != scene.background);
+                    }
+                }
+            }
+            assert!(lit > (w * h) as usize / 2, "only {lit} pixels lit");
         }
     }
 }
