@@ -14,15 +14,15 @@ use super::PacketPaths;
 use super::lens_pass::{LensPasses, Transmitted, chain, lens_passes};
 use super::scalar::{Alone, kernel};
 use super::shade::{
-    Secondary, Tracer, add_light, ambient, followed, glass_shares, join, lens_pruning, light_at, reflected, refracted,
+    Secondary, Tracer, add_light, ambient, faces, followed, glass_shares, join, lens_pruning, reflected, refracted,
     shade_onward, visibility_matters,
 };
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
 use crate::geometry::{Inside, Lens, Pruning};
-use crate::light::{Light, LightSample};
+use crate::light::{Light, LightLanes};
 use crate::scene::Scene;
-use crate::simd::{LANES, Lanes, live_lanes};
+use crate::simd::{LANES, Lanes, lane, live_lanes, mask, set_lane};
 use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
 
 /// The packet kernel's working memory for one depth of its recursion, and
@@ -242,12 +242,20 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
     out: &mut Lanes<Rgb>,
 ) {
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
-    if !local_shading::<GLASS>(scene, paths, &mut surfaces, out) {
+    let mut at = SurfaceLanes::EMPTY;
+    if !local_shading::<GLASS>(scene, paths, &mut surfaces, &mut at, out) {
         // Every ray escaped (the rays a lens reflects, mostly).
         return;
     }
     for light in &scene.lights {
-        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(scene, paths.rays, &surfaces, light, &mut scratch.shadow, out);
+        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(
+            scene,
+            paths.rays,
+            (&surfaces, &at),
+            light,
+            &mut scratch.shadow,
+            out,
+        );
     }
     if !(GLASS || MIRROR) {
         return;
@@ -285,17 +293,35 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
     }
 }
 
-/// Each live lane's surface (in `surfaces`) and [`ambient`] term, or the
-/// background where its ray escapes (in `out`); whether any lane hit.
+/// The lanes' surfaces as structure of arrays, for the lane loops of
+/// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
+/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none).
+struct SurfaceLanes {
+    hit: u32,
+    p: [Lanes<f64>; 3],
+    nf: [Lanes<f64>; 3],
+}
+
+impl SurfaceLanes {
+    const EMPTY: SurfaceLanes = SurfaceLanes {
+        hit: 0,
+        p: [[0.0; LANES]; 3],
+        nf: [[0.0; LANES]; 3],
+    };
+}
+
+/// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
+/// term, or the background where its ray escapes (in `out`); whether any
+/// lane hit.
 #[inline(always)]
 fn local_shading<'s, const GLASS: bool>(
     scene: &'s Scene,
     paths: &PacketPaths,
     surfaces: &mut [Option<Surface<'s>>; LANES],
+    at: &mut SurfaceLanes,
     out: &mut Lanes<Rgb>,
 ) -> bool {
     *out = [Rgb::ZERO; LANES];
-    let mut any = false;
     for l in 0..LANES {
         if paths.active >> l & 1 == 0 {
             continue;
@@ -304,13 +330,15 @@ fn local_shading<'s, const GLASS: bool>(
             Some((i, h)) => {
                 let s = surface(scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
+                set_lane(&mut at.p, l, s.p);
+                set_lane(&mut at.nf, l, s.nf);
+                at.hit |= 1 << l;
                 surfaces[l] = Some(s);
-                any = true;
             }
             None => out[l] = scene.background,
         }
     }
-    any
+    at.hit != 0
 }
 
 /// [`add_light`] of `light` at every lane's surface, its shadow rays a
@@ -319,24 +347,30 @@ fn local_shading<'s, const GLASS: bool>(
 fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
     scene: &Scene,
     p: &Packet,
-    surfaces: &[Option<Surface>; LANES],
+    (surfaces, at): (&[Option<Surface>; LANES], &SurfaceLanes),
     light: &Light,
     shadow: &mut Packet,
     out: &mut Lanes<Rgb>,
 ) {
-    let mut samples: [Option<LightSample>; LANES] = [None; LANES];
+    // [`light_at`] in every lane, as lane loops: the lanes lit are those
+    // that hit a surface on the light's side.
+    let mut samples = LightLanes::EMPTY;
+    light.sample_lanes(&at.p, &mut samples);
+    let mut facing = [false; LANES];
     for l in 0..LANES {
-        samples[l] = surfaces[l].as_ref().and_then(|s| light_at(s, light));
+        facing[l] = faces(lane(&at.nf, l), &samples.get(l));
     }
+    let lit = mask(&facing) & at.hit;
     let mut vis = [Rgb::ONE; LANES];
     if SHADOWS && scene.shadows {
         let mut live = 0u32;
         let mut skip = [NO_OBJECT; LANES];
-        for l in 0..LANES {
-            if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l])
-                && visibility_matters::<GLASS, SPECULAR>(s, ls, p.dir(l))
-            {
-                let (r, t_max) = shadow_ray(s, ls);
+        for l in live_lanes(lit) {
+            let (Some(s), ls) = (&surfaces[l], samples.get(l)) else {
+                continue;
+            };
+            if visibility_matters::<GLASS, SPECULAR>(s, &ls, p.dir(l)) {
+                let (r, t_max) = shadow_ray(s, &ls);
                 shadow.set(l, &r, t_max);
                 live |= 1 << l;
                 skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
@@ -347,9 +381,9 @@ fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>
             vis = transmittances(scene, shadow, &skip);
         }
     }
-    for l in 0..LANES {
-        if let (Some(s), Some(ls)) = (&surfaces[l], &samples[l]) {
-            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, p.dir(l), ls, vis[l], &mut out[l]);
+    for l in live_lanes(lit) {
+        if let Some(s) = &surfaces[l] {
+            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, p.dir(l), &samples.get(l), vis[l], &mut out[l]);
         }
     }
 }

@@ -64,7 +64,14 @@ pub(super) fn join(color: &mut Rgb, tint: Option<Rgb>, factor: f64, l: Rgb) {
 #[inline]
 pub fn light_at(s: &Surface, light: &Light) -> Option<LightSample> {
     let ls = light.sample(s.p);
-    (s.nf.dot(ls.to_light) > 0.0).then_some(ls)
+    faces(s.nf, &ls).then_some(ls)
+}
+
+/// Whether the light of sample `ls` is on the side of the surface whose
+/// normal (on the side the ray came from) is `nf`: [`light_at`]'s test.
+#[inline(always)]
+pub(super) fn faces(nf: DVec3, ls: &LightSample) -> bool {
+    nf.dot(ls.to_light) > 0.0
 }
 
 /// `rv` to the power `shininess`: by repeated squaring for a whole
