@@ -14,10 +14,10 @@ use super::PacketPaths;
 use super::lens_pass::{LensPasses, Transmitted, chain, lens_passes};
 use super::scalar::{Alone, kernel};
 use super::shade::{
-    Secondary, Tracer, add_light, ambient, faces, followed, glass_shares, join, lens_pruning, reflected, refracted,
-    shade_onward, visibility_matters,
+    Secondary, Tracer, add_light, ambient, diffuse_share, faces, followed, glass_shares, join, lens_pruning,
+    light_matters, reflected, refracted, shade_onward,
 };
-use super::surface::{Surface, shadow_ray, surface};
+use super::surface::{Surface, shadow_ray_from, surface};
 use crate::color::Rgb;
 use crate::geometry::{Inside, Lens, Pruning};
 use crate::light::{Light, LightLanes};
@@ -295,11 +295,15 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 
 /// The lanes' surfaces as structure of arrays, for the lane loops of
 /// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
-/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none).
+/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none)
+/// and what [`light_matters`] and [`shadow_ray_from`] read of its object
+/// (`kd_ks_lobe`: [`diffuse_share`], `specular`, `lobe_cos_min`; `scale`).
 struct SurfaceLanes {
     hit: u32,
     p: [Lanes<f64>; 3],
     nf: [Lanes<f64>; 3],
+    kd_ks_lobe: [Lanes<f64>; 3],
+    scale: Lanes<f64>,
 }
 
 impl SurfaceLanes {
@@ -307,7 +311,22 @@ impl SurfaceLanes {
         hit: 0,
         p: [[0.0; LANES]; 3],
         nf: [[0.0; LANES]; 3],
+        kd_ks_lobe: [[0.0; LANES]; 3],
+        scale: [0.0; LANES],
     };
+
+    /// Sets lane `l` to the surface `s`.
+    #[inline(always)]
+    fn set<const GLASS: bool>(&mut self, l: usize, s: &Surface) {
+        let (m, o) = (&s.object.material, s.object);
+        set_lane(&mut self.p, l, s.p);
+        set_lane(&mut self.nf, l, s.nf);
+        self.kd_ks_lobe[0][l] = diffuse_share::<GLASS>(m);
+        self.kd_ks_lobe[1][l] = m.specular;
+        self.kd_ks_lobe[2][l] = o.lobe_cos_min;
+        self.scale[l] = o.scale;
+        self.hit |= 1 << l;
+    }
 }
 
 /// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
@@ -330,9 +349,7 @@ fn local_shading<'s, const GLASS: bool>(
             Some((i, h)) => {
                 let s = surface(scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
-                set_lane(&mut at.p, l, s.p);
-                set_lane(&mut at.nf, l, s.nf);
-                at.hit |= 1 << l;
+                at.set::<GLASS>(l, &s);
                 surfaces[l] = Some(s);
             }
             None => out[l] = scene.background,
@@ -363,17 +380,26 @@ fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>
     let lit = mask(&facing) & at.hit;
     let mut vis = [Rgb::ONE; LANES];
     if SHADOWS && scene.shadows {
-        let mut live = 0u32;
+        // [`light_matters`] and [`shadow_ray_from`] in every lane, as a lane
+        // loop; the lanes that trace their shadow ray are those lit where it
+        // matters (`fill_unused` sets the others).
+        let mut matters = [false; LANES];
+        for l in 0..LANES {
+            let (ls, nf) = (samples.get(l), lane(&at.nf, l));
+            matters[l] = light_matters::<SPECULAR>(
+                [at.kd_ks_lobe[0][l], at.kd_ks_lobe[1][l], at.kd_ks_lobe[2][l]],
+                nf,
+                &ls,
+                p.dir(l),
+            );
+            let (r, t_max) = shadow_ray_from(lane(&at.p, l), nf, at.scale[l], &ls);
+            shadow.set(l, &r, t_max);
+        }
+        let live = mask(&matters) & lit;
         let mut skip = [NO_OBJECT; LANES];
-        for l in live_lanes(lit) {
-            let (Some(s), ls) = (&surfaces[l], samples.get(l)) else {
-                continue;
-            };
-            if visibility_matters::<GLASS, SPECULAR>(s, &ls, p.dir(l)) {
-                let (r, t_max) = shadow_ray(s, &ls);
-                shadow.set(l, &r, t_max);
-                live |= 1 << l;
-                skip[l] = u32::try_from(s.leaving(ls.to_light)).unwrap_or(NO_OBJECT);
+        for l in live_lanes(live) {
+            if let Some(s) = &surfaces[l] {
+                skip[l] = u32::try_from(s.leaving(samples.get(l).to_light)).unwrap_or(NO_OBJECT);
             }
         }
         if live != 0 {

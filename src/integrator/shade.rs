@@ -1,7 +1,7 @@
 //! The shading steps both kernels run, the scalar one ray by ray and the
 //! packet one lane by lane, in the same order with the same arithmetic:
 //! [`ambient`], each light ([`light_at`], [`add_light`], with
-//! [`visibility_matters`] deciding whether a packet traces its shadow ray)
+//! [`light_matters`] deciding whether a packet traces its shadow ray)
 //! and the rays sent on ([`shade_onward`], [`Secondary`]).
 
 use super::lens_pass::Transmitted;
@@ -86,27 +86,36 @@ fn phong_lobe(rv: f64, shininess: f64) -> f64 {
     }
 }
 
-/// Whether the light of sample `ls` can change what shading adds at the
-/// surface for a ray along `dir`: a diffuse term (zero for clear glass, whose
-/// opacity is zero) or a specular one (left out where `r·v` is at most the
-/// object's [`crate::scene::Object::lobe_cos_min`], below which the lobe is under
-/// [`crate::material::LOBE_FLOOR`] of its peak). Where neither is, the shadow ray
-/// would not change a bit of the pixel, and a packet does not trace it (the
-/// scalar kernel still does: the tests compare the two paths bit for bit).
-/// The expressions are `shade`'s own.
+/// The share of the light a material `m` reflects diffusely: its `diffuse`
+/// times its opacity (zero for clear glass).
 #[inline(always)]
-pub(super) fn visibility_matters<const GLASS: bool, const SPECULAR: bool>(
-    s: &Surface,
+pub(super) fn diffuse_share<const GLASS: bool>(m: &Material) -> f64 {
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    m.diffuse * opacity
+}
+
+/// Whether the light of sample `ls` can change what shading adds at a
+/// surface of normal `nf` (on the side the ray came from) for a ray along
+/// `dir`: a diffuse term (`kd`, the [`diffuse_share`]: zero for clear glass)
+/// or a specular one (`ks`, left out where `r·v` is at most the object's
+/// [`crate::scene::Object::lobe_cos_min`], below which the lobe is under
+/// [`crate::material::LOBE_FLOOR`] of its peak). Where neither is, the shadow
+/// ray would not change a bit of the pixel, and a packet does not trace it
+/// (the scalar kernel still does: the tests compare the two paths bit for
+/// bit). The expressions are [`add_light`]'s own, on plain values
+/// (`[kd, ks, lobe_cos_min]`) so that a packet runs it as a lane loop.
+#[inline(always)]
+pub(super) fn light_matters<const SPECULAR: bool>(
+    [kd, ks, lobe_cos_min]: [f64; 3],
+    nf: DVec3,
     ls: &LightSample,
     dir: DVec3,
 ) -> bool {
-    let m = &s.object.material;
-    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
-    let cos = s.nf.dot(ls.to_light);
-    if m.diffuse * opacity * cos != 0.0 || !ls.irradiance.is_finite() {
+    let cos = nf.dot(ls.to_light);
+    if kd * cos != 0.0 || !ls.irradiance.is_finite() {
         return true;
     }
-    SPECULAR && m.specular > 0.0 && optics::reflect(-ls.to_light, s.nf).dot(-dir) > s.object.lobe_cos_min
+    SPECULAR && ks > 0.0 && optics::reflect(-ls.to_light, nf).dot(-dir) > lobe_cos_min
 }
 
 /// The ambient term at the surface, and the caustic photons' light there
@@ -137,7 +146,6 @@ pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: 
     color: &mut Rgb,
 ) {
     let m = &s.object.material;
-    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
     let cos = s.nf.dot(ls.to_light);
     let mut e = ls.irradiance;
     if SHADOWS && scene.shadows {
@@ -146,7 +154,7 @@ pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: 
             return;
         }
     }
-    *color += m.color * e * (m.diffuse * opacity * cos);
+    *color += m.color * e * (diffuse_share::<GLASS>(m) * cos);
     if SPECULAR && m.specular > 0.0 {
         let r = optics::reflect(-ls.to_light, s.nf);
         let rv = r.dot(-dir);

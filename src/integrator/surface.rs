@@ -80,8 +80,15 @@ fn spawn_ray_by(p: DVec3, normal: DVec3, dir: DVec3, offset: f64) -> Ray {
 /// light along it.
 #[inline]
 pub fn shadow_ray(s: &Surface, ls: &LightSample) -> (Ray, f64) {
-    let offset = surface_offset(s.p, s.object.scale);
-    let sr = spawn_ray_by(s.p, s.nf, ls.to_light, offset);
+    shadow_ray_from(s.p, s.nf, s.object.scale, ls)
+}
+
+/// [`shadow_ray`] from the point `p` with normal `nf` (on the side the ray
+/// came from) of an object of scale `scale`.
+#[inline(always)]
+pub(super) fn shadow_ray_from(p: DVec3, nf: DVec3, scale: f64, ls: &LightSample) -> (Ray, f64) {
+    let offset = surface_offset(p, scale);
+    let sr = spawn_ray_by(p, nf, ls.to_light, offset);
     // The origin is `offset` from the surface along a unit normal.
     let dist = if ls.distance.is_finite() {
         (ls.distance - offset).max(0.0)
