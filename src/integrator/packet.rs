@@ -12,18 +12,15 @@
 
 use super::PacketPaths;
 use super::lens_pass::{LensPasses, Transmitted, chain, lens_passes};
+use super::local::{SurfaceLanes, add_light_lanes, local_shading};
 use super::scalar::{Alone, kernel};
-use super::shade::{
-    Secondary, Tracer, add_light, ambient, diffuse_share, faces, followed, glass_shares, join, lens_pruning,
-    light_matters, reflected, refracted, shade_onward,
-};
-use super::surface::{Surface, shadow_ray_from, surface};
+use super::shade::{Secondary, Tracer, followed, glass_shares, join, lens_pruning, reflected, refracted, shade_onward};
+use super::surface::Surface;
 use crate::color::Rgb;
 use crate::geometry::{Inside, Lens, Pruning};
-use crate::light::{Light, LightLanes};
 use crate::scene::Scene;
-use crate::simd::{LANES, Lanes, lane, live_lanes, mask, set_lane};
-use crate::trace::{NO_OBJECT, Packet, closest_hits, transmittances};
+use crate::simd::{LANES, Lanes, live_lanes};
+use crate::trace::{NO_OBJECT, Packet, closest_hits};
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
@@ -248,14 +245,7 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
         return;
     }
     for light in &scene.lights {
-        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(
-            scene,
-            paths.rays,
-            (&surfaces, &at),
-            light,
-            &mut scratch.shadow,
-            out,
-        );
+        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(scene, paths.rays, &at, light, &mut scratch.shadow, out);
     }
     if !(GLASS || MIRROR) {
         return;
@@ -289,127 +279,6 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
             for e in extra.iter() {
                 join(&mut out[e.lane], e.tint, e.factor, e.back);
             }
-        }
-    }
-}
-
-/// The lanes' surfaces as structure of arrays, for the lane loops of
-/// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
-/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none)
-/// and what [`light_matters`] and [`shadow_ray_from`] read of its object
-/// (`kd_ks_lobe`: [`diffuse_share`], `specular`, `lobe_cos_min`; `scale`).
-struct SurfaceLanes {
-    hit: u32,
-    p: [Lanes<f64>; 3],
-    nf: [Lanes<f64>; 3],
-    kd_ks_lobe: [Lanes<f64>; 3],
-    scale: Lanes<f64>,
-}
-
-impl SurfaceLanes {
-    const EMPTY: SurfaceLanes = SurfaceLanes {
-        hit: 0,
-        p: [[0.0; LANES]; 3],
-        nf: [[0.0; LANES]; 3],
-        kd_ks_lobe: [[0.0; LANES]; 3],
-        scale: [0.0; LANES],
-    };
-
-    /// Sets lane `l` to the surface `s`.
-    #[inline(always)]
-    fn set<const GLASS: bool>(&mut self, l: usize, s: &Surface) {
-        let (m, o) = (&s.object.material, s.object);
-        set_lane(&mut self.p, l, s.p);
-        set_lane(&mut self.nf, l, s.nf);
-        self.kd_ks_lobe[0][l] = diffuse_share::<GLASS>(m);
-        self.kd_ks_lobe[1][l] = m.specular;
-        self.kd_ks_lobe[2][l] = o.lobe_cos_min;
-        self.scale[l] = o.scale;
-        self.hit |= 1 << l;
-    }
-}
-
-/// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
-/// term, or the background where its ray escapes (in `out`); whether any
-/// lane hit.
-#[inline(always)]
-fn local_shading<'s, const GLASS: bool>(
-    scene: &'s Scene,
-    paths: &PacketPaths,
-    surfaces: &mut [Option<Surface<'s>>; LANES],
-    at: &mut SurfaceLanes,
-    out: &mut Lanes<Rgb>,
-) -> bool {
-    *out = [Rgb::ZERO; LANES];
-    for l in 0..LANES {
-        if paths.active >> l & 1 == 0 {
-            continue;
-        }
-        match paths.hits.get(l) {
-            Some((i, h)) => {
-                let s = surface(scene, &paths.rays.ray(l), i, h);
-                out[l] = ambient::<GLASS>(scene, &s);
-                at.set::<GLASS>(l, &s);
-                surfaces[l] = Some(s);
-            }
-            None => out[l] = scene.background,
-        }
-    }
-    at.hit != 0
-}
-
-/// [`add_light`] of `light` at every lane's surface, its shadow rays a
-/// packet (`shadow`, working memory).
-#[inline(always)]
-fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
-    scene: &Scene,
-    p: &Packet,
-    (surfaces, at): (&[Option<Surface>; LANES], &SurfaceLanes),
-    light: &Light,
-    shadow: &mut Packet,
-    out: &mut Lanes<Rgb>,
-) {
-    // [`light_at`] in every lane, as lane loops: the lanes lit are those
-    // that hit a surface on the light's side.
-    let mut samples = LightLanes::EMPTY;
-    light.sample_lanes(&at.p, &mut samples);
-    let mut facing = [false; LANES];
-    for l in 0..LANES {
-        facing[l] = faces(lane(&at.nf, l), &samples.get(l));
-    }
-    let lit = mask(&facing) & at.hit;
-    let mut vis = [Rgb::ONE; LANES];
-    if SHADOWS && scene.shadows {
-        // [`light_matters`] and [`shadow_ray_from`] in every lane, as a lane
-        // loop; the lanes that trace their shadow ray are those lit where it
-        // matters (`fill_unused` sets the others).
-        let mut matters = [false; LANES];
-        for l in 0..LANES {
-            let (ls, nf) = (samples.get(l), lane(&at.nf, l));
-            matters[l] = light_matters::<SPECULAR>(
-                [at.kd_ks_lobe[0][l], at.kd_ks_lobe[1][l], at.kd_ks_lobe[2][l]],
-                nf,
-                &ls,
-                p.dir(l),
-            );
-            let (r, t_max) = shadow_ray_from(lane(&at.p, l), nf, at.scale[l], &ls);
-            shadow.set(l, &r, t_max);
-        }
-        let live = mask(&matters) & lit;
-        let mut skip = [NO_OBJECT; LANES];
-        for l in live_lanes(live) {
-            if let Some(s) = &surfaces[l] {
-                skip[l] = u32::try_from(s.leaving(samples.get(l).to_light)).unwrap_or(NO_OBJECT);
-            }
-        }
-        if live != 0 {
-            shadow.fill_unused(live);
-            vis = transmittances(scene, shadow, &skip);
-        }
-    }
-    for l in live_lanes(lit) {
-        if let Some(s) = &surfaces[l] {
-            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, p.dir(l), &samples.get(l), vis[l], &mut out[l]);
         }
     }
 }

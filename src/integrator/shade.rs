@@ -115,7 +115,7 @@ pub(super) fn light_matters<const SPECULAR: bool>(
     if kd * cos != 0.0 || !ls.irradiance.is_finite() {
         return true;
     }
-    SPECULAR && ks > 0.0 && optics::reflect(-ls.to_light, nf).dot(-dir) > lobe_cos_min
+    SPECULAR && ks > 0.0 && lobe_cos(nf, ls, dir) > lobe_cos_min
 }
 
 /// The ambient term at the surface, and the caustic photons' light there
@@ -146,22 +146,55 @@ pub(super) fn add_light<const SHADOWS: bool, const GLASS: bool, const SPECULAR: 
     color: &mut Rgb,
 ) {
     let m = &s.object.material;
-    let cos = s.nf.dot(ls.to_light);
+    let (e, arrives) = arriving(SHADOWS && scene.shadows, ls, visible);
+    if !arrives {
+        return;
+    }
+    *color += lambert(m.color, e, diffuse_share::<GLASS>(m), s.nf, ls);
+    if SPECULAR && m.specular > 0.0 {
+        let rv = lobe_cos(s.nf, ls, dir);
+        if rv > s.object.lobe_cos_min {
+            *color += phong(e, m.specular, rv, m.shininess);
+        }
+    }
+}
+
+/// The light of sample `ls` that arrives, dimmed by the transmittance
+/// `visible` of its shadow ray when `shadows`, and whether any does
+/// ([`add_light`] adds nothing where none does).
+#[inline(always)]
+pub(super) fn arriving(shadows: bool, ls: &LightSample, visible: Rgb) -> (Rgb, bool) {
     let mut e = ls.irradiance;
-    if SHADOWS && scene.shadows {
+    if shadows {
         e *= visible;
         if e == Rgb::ZERO {
-            return;
+            return (e, false);
         }
     }
-    *color += m.color * e * (diffuse_share::<GLASS>(m) * cos);
-    if SPECULAR && m.specular > 0.0 {
-        let r = optics::reflect(-ls.to_light, s.nf);
-        let rv = r.dot(-dir);
-        if rv > s.object.lobe_cos_min {
-            *color += e * (m.specular * phong_lobe(rv, m.shininess));
-        }
-    }
+    (e, true)
+}
+
+/// The Lambert term of the light `e` arriving from sample `ls` at a
+/// surface of colour `color`, diffuse share `kd` ([`diffuse_share`]) and
+/// normal `nf`.
+#[inline(always)]
+pub(super) fn lambert(color: Rgb, e: Rgb, kd: f64, nf: DVec3, ls: &LightSample) -> Rgb {
+    let cos = nf.dot(ls.to_light);
+    color * e * (kd * cos)
+}
+
+/// `r·v`: the cosine between the light of sample `ls` mirrored in the
+/// normal `nf` and the way back along `dir`, which the Phong lobe is of.
+#[inline(always)]
+pub(super) fn lobe_cos(nf: DVec3, ls: &LightSample, dir: DVec3) -> f64 {
+    optics::reflect(-ls.to_light, nf).dot(-dir)
+}
+
+/// The Phong term of the light `e` for a specular coefficient `ks` and
+/// lobe cosine `rv` ([`lobe_cos`]).
+#[inline(always)]
+pub(super) fn phong(e: Rgb, ks: f64, rv: f64, shininess: f64) -> Rgb {
+    e * (ks * phong_lobe(rv, shininess))
 }
 
 /// How a kernel refracts at a surface for [`shade_onward`]: the scalar one

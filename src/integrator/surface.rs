@@ -28,8 +28,7 @@ impl Surface<'_> {
     /// the same test to the bit).
     #[inline(always)]
     pub fn outward(&self, dir: DVec3) -> bool {
-        let d = dir.dot(self.nf);
-        if self.entering { d > 0.0 } else { d < 0.0 }
+        outward(self.entering, self.nf, dir)
     }
 
     /// The object a ray leaving this point along `dir` cannot meet again,
@@ -41,6 +40,14 @@ impl Surface<'_> {
     pub fn leaving(&self, dir: DVec3) -> usize {
         if self.outward(dir) { self.index } else { usize::MAX }
     }
+}
+
+/// [`Surface::outward`] for a surface of normal `nf` reached from outside
+/// (`entering`) or inside.
+#[inline(always)]
+pub(super) fn outward(entering: bool, nf: DVec3, dir: DVec3) -> bool {
+    let d = dir.dot(nf);
+    if entering { d > 0.0 } else { d < 0.0 }
 }
 
 /// The shading data of hit `hit` of object `index` along `ray`.

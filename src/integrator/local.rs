@@ -1,0 +1,169 @@
+//! The packet kernel's local shading ([`local_shading`], [`add_light_lanes`]):
+//! the lanes' surfaces kept as structure of arrays as well
+//! ([`SurfaceLanes`]), so that the steps of `shade.rs` that read only
+//! numbers (a light's sample, whether a shadow ray matters, the ray, the
+//! Lambert term, the cosine of the Phong lobe) run as lane loops, which
+//! the AVX2 build of the kernel turns into vector instructions. Each lane
+//! gets the scalar kernel's arithmetic, in its order.
+
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
+use super::PacketPaths;
+use super::shade::{ambient, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong};
+use super::surface::{Surface, outward, shadow_ray_from, surface};
+use crate::color::Rgb;
+use crate::light::{Light, LightLanes};
+use crate::scene::Scene;
+use crate::simd::{LANES, Lanes, lane, live_lanes, mask, set_lane};
+use crate::trace::{NO_OBJECT, Packet, transmittances};
+
+/// The lanes' surfaces as structure of arrays, for the lane loops of
+/// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
+/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none),
+/// side and object ([`Surface::entering`], [`Surface::index`]) and what
+/// shading reads of its object: `kd_ks_lobe` ([`diffuse_share`],
+/// `specular`, `lobe_cos_min`), `color`, `shininess`, `scale`.
+pub(super) struct SurfaceLanes {
+    hit: u32,
+    p: [Lanes<f64>; 3],
+    nf: [Lanes<f64>; 3],
+    entering: Lanes<bool>,
+    index: Lanes<u32>,
+    kd_ks_lobe: [Lanes<f64>; 3],
+    color: [Lanes<f64>; 3],
+    shininess: Lanes<f64>,
+    scale: Lanes<f64>,
+}
+
+impl SurfaceLanes {
+    pub(super) const EMPTY: SurfaceLanes = SurfaceLanes {
+        hit: 0,
+        p: [[0.0; LANES]; 3],
+        nf: [[0.0; LANES]; 3],
+        entering: [false; LANES],
+        index: [NO_OBJECT; LANES],
+        kd_ks_lobe: [[0.0; LANES]; 3],
+        color: [[0.0; LANES]; 3],
+        shininess: [0.0; LANES],
+        scale: [0.0; LANES],
+    };
+
+    /// Sets lane `l` to the surface `s`.
+    #[inline(always)]
+    fn set<const GLASS: bool>(&mut self, l: usize, s: &Surface) {
+        let (m, o) = (&s.object.material, s.object);
+        set_lane(&mut self.p, l, s.p);
+        set_lane(&mut self.nf, l, s.nf);
+        self.entering[l] = s.entering;
+        self.index[l] = u32::try_from(s.index).unwrap_or(NO_OBJECT);
+        self.kd_ks_lobe[0][l] = diffuse_share::<GLASS>(m);
+        self.kd_ks_lobe[1][l] = m.specular;
+        self.kd_ks_lobe[2][l] = o.lobe_cos_min;
+        set_lane(&mut self.color, l, m.color);
+        self.shininess[l] = m.shininess;
+        self.scale[l] = o.scale;
+        self.hit |= 1 << l;
+    }
+}
+
+/// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
+/// term, or the background where its ray escapes (in `out`); whether any
+/// lane hit.
+#[inline(always)]
+pub(super) fn local_shading<'s, const GLASS: bool>(
+    scene: &'s Scene,
+    paths: &PacketPaths,
+    surfaces: &mut [Option<Surface<'s>>; LANES],
+    at: &mut SurfaceLanes,
+    out: &mut Lanes<Rgb>,
+) -> bool {
+    *out = [Rgb::ZERO; LANES];
+    for l in 0..LANES {
+        if paths.active >> l & 1 == 0 {
+            continue;
+        }
+        match paths.hits.get(l) {
+            Some((i, h)) => {
+                let s = surface(scene, &paths.rays.ray(l), i, h);
+                out[l] = ambient::<GLASS>(scene, &s);
+                at.set::<GLASS>(l, &s);
+                surfaces[l] = Some(s);
+            }
+            None => out[l] = scene.background,
+        }
+    }
+    at.hit != 0
+}
+
+/// [`super::shade::add_light`] of `light` at every lane's surface (`at`),
+/// its shadow rays a packet (`shadow`, working memory), as lane loops: the
+/// light's samples ([`super::shade::light_at`]), the shadow rays that
+/// matter ([`light_matters`], [`shadow_ray_from`]), the Lambert terms and
+/// the lobe cosines; the Phong terms lane by lane where the lobe is on.
+#[inline(always)]
+pub(super) fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
+    scene: &Scene,
+    p: &Packet,
+    at: &SurfaceLanes,
+    light: &Light,
+    shadow: &mut Packet,
+    out: &mut Lanes<Rgb>,
+) {
+    let mut samples = LightLanes::EMPTY;
+    light.sample_lanes(&at.p, &mut samples);
+    let mut facing = [false; LANES];
+    for l in 0..LANES {
+        facing[l] = faces(lane(&at.nf, l), &samples.get(l));
+    }
+    // The lanes lit: those that hit a surface on the light's side.
+    let lit = mask(&facing) & at.hit;
+    let shadows = SHADOWS && scene.shadows;
+    let mut vis = [Rgb::ONE; LANES];
+    if shadows {
+        // The lanes that trace their shadow ray are those lit where it
+        // matters (`fill_unused` sets the others).
+        let mut matters = [false; LANES];
+        let mut skip = [NO_OBJECT; LANES];
+        for l in 0..LANES {
+            let (ls, nf) = (samples.get(l), lane(&at.nf, l));
+            let kd_ks_lobe = [at.kd_ks_lobe[0][l], at.kd_ks_lobe[1][l], at.kd_ks_lobe[2][l]];
+            matters[l] = light_matters::<SPECULAR>(kd_ks_lobe, nf, &ls, p.dir(l));
+            let (r, t_max) = shadow_ray_from(lane(&at.p, l), nf, at.scale[l], &ls);
+            shadow.set(l, &r, t_max);
+            // [`Surface::leaving`].
+            skip[l] = if outward(at.entering[l], nf, ls.to_light) {
+                at.index[l]
+            } else {
+                NO_OBJECT
+            };
+        }
+        let live = mask(&matters) & lit;
+        if live != 0 {
+            shadow.fill_unused(live);
+            vis = transmittances(scene, shadow, &skip);
+        }
+    }
+    // [`super::shade::add_light`]'s steps: the light that arrives (none
+    // where the shadow ray found nothing), the Lambert term, then the
+    // Phong term where the lobe is on.
+    let mut e = [Rgb::ZERO; LANES];
+    let mut on = [false; LANES];
+    let mut rv = [0.0; LANES];
+    let mut lobe = [false; LANES];
+    for l in 0..LANES {
+        let (ls, nf) = (samples.get(l), lane(&at.nf, l));
+        let (arrived, arrives) = arriving(shadows, &ls, vis[l]);
+        on[l] = lit >> l & 1 != 0 && arrives;
+        e[l] = arrived;
+        let term = lambert(lane(&at.color, l), e[l], at.kd_ks_lobe[0][l], nf, &ls);
+        out[l] = if on[l] { out[l] + term } else { out[l] };
+        rv[l] = lobe_cos(nf, &ls, p.dir(l));
+        lobe[l] = at.kd_ks_lobe[1][l] > 0.0 && rv[l] > at.kd_ks_lobe[2][l];
+    }
+    if SPECULAR {
+        for l in live_lanes(mask(&on) & mask(&lobe)) {
+            out[l] += phong(e[l], at.kd_ks_lobe[1][l], rv[l], at.shininess[l]);
+        }
+    }
+}
