@@ -20,10 +20,13 @@ use crate::trace::{NO_OBJECT, Packet, transmittances};
 
 /// The lanes' surfaces as structure of arrays, for the lane loops of
 /// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
-/// point and normal ([`Surface::p`], [`Surface::nf`]; zero where none),
-/// side and object ([`Surface::entering`], [`Surface::index`]) and what
-/// shading reads of its object: `kd_ks_lobe` ([`diffuse_share`],
-/// `specular`, `lobe_cos_min`), `color`, `shininess`, `scale`.
+/// point and normal ([`Surface::p`], [`Surface::nf`]), side and object
+/// ([`Surface::entering`], [`Surface::index`]) and what shading reads of
+/// its object: `kd_ks_lobe` ([`diffuse_share`], `specular`,
+/// `lobe_cos_min`), `color`, `shininess`, `scale`. Zero where no surface
+/// (all zero bits, so that a packet starts it with a few vector stores,
+/// not a copy of a constant): the lane loops compute there too, and the
+/// masks drop it.
 pub(super) struct SurfaceLanes {
     hit: u32,
     p: [Lanes<f64>; 3],
@@ -42,7 +45,7 @@ impl SurfaceLanes {
         p: [[0.0; LANES]; 3],
         nf: [[0.0; LANES]; 3],
         entering: [false; LANES],
-        index: [NO_OBJECT; LANES],
+        index: [0; LANES],
         kd_ks_lobe: [[0.0; LANES]; 3],
         color: [[0.0; LANES]; 3],
         shininess: [0.0; LANES],
