@@ -23,10 +23,9 @@ use crate::trace::{NO_OBJECT, Packet, transmittances};
 /// point and normal ([`Surface::p`], [`Surface::nf`]), side and object
 /// ([`Surface::entering`], [`Surface::index`]) and what shading reads of
 /// its object: `kd_ks_lobe` ([`diffuse_share`], `specular`,
-/// `lobe_cos_min`), `color`, `shininess`, `scale`. Zero where no surface
-/// (all zero bits, so that a packet starts it with a few vector stores,
-/// not a copy of a constant): the lane loops compute there too, and the
-/// masks drop it.
+/// `lobe_cos_min`), `color`, `shininess`, `scale`. Kept in the packet
+/// kernel's scratch: a lane without a surface holds what an earlier
+/// packet left there, which the lane loops compute on and the masks drop.
 pub(super) struct SurfaceLanes {
     hit: u32,
     p: [Lanes<f64>; 3],
@@ -82,6 +81,7 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
     out: &mut Lanes<Rgb>,
 ) -> bool {
     *out = [Rgb::ZERO; LANES];
+    at.hit = 0;
     for l in 0..LANES {
         if paths.active >> l & 1 == 0 {
             continue;

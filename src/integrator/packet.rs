@@ -24,11 +24,15 @@ use crate::trace::{NO_OBJECT, Packet, closest_hits};
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
-/// gathered refracted and reflected rays and what they bring back. Kept
-/// from packet to packet, so that these arrays (about 3 KB a depth) are
-/// neither built nor copied per packet; every lane read is written first.
+/// lanes' surfaces as structure of arrays, the gathered refracted and
+/// reflected rays and what they bring back. Kept from packet to packet, so
+/// that these arrays (about 4 KB a depth) are neither built nor copied per
+/// packet; every lane read is written first, but for the lanes without a
+/// surface in `surfaces`, whose numbers the lane loops run on and the
+/// masks drop.
 pub struct PacketScratch {
     shadow: Packet,
+    surfaces: SurfaceLanes,
     lens: LensPasses,
     onward: [Onward; 3],
     back: [Lanes<Rgb>; 3],
@@ -50,6 +54,7 @@ impl Default for PacketScratch {
     fn default() -> Self {
         PacketScratch {
             shadow: Packet::EMPTY,
+            surfaces: SurfaceLanes::EMPTY,
             lens: LensPasses::EMPTY,
             onward: [Onward::EMPTY, Onward::EMPTY, Onward::EMPTY],
             back: [[Rgb::ZERO; LANES]; 3],
@@ -239,13 +244,20 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
     out: &mut Lanes<Rgb>,
 ) {
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
-    let mut at = SurfaceLanes::EMPTY;
-    if !local_shading::<GLASS>(scene, paths, &mut surfaces, &mut at, out) {
+    let at = &mut scratch.surfaces;
+    if !local_shading::<GLASS>(scene, paths, &mut surfaces, at, out) {
         // Every ray escaped (the rays a lens reflects, mostly).
         return;
     }
     for light in &scene.lights {
-        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(scene, paths.rays, &at, light, &mut scratch.shadow, out);
+        add_light_lanes::<SHADOWS, GLASS, SPECULAR>(
+            scene,
+            paths.rays,
+            &scratch.surfaces,
+            light,
+            &mut scratch.shadow,
+            out,
+        );
     }
     if !(GLASS || MIRROR) {
         return;
