@@ -121,6 +121,10 @@ pub(super) fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPEC
     }
     // The lanes lit: those that hit a surface on the light's side.
     let lit = mask(&facing) & at.hit;
+    if lit == 0 {
+        // No lane gets anything of this light.
+        return;
+    }
     let shadows = SHADOWS && scene.shadows;
     let mut vis = [Rgb::ONE; LANES];
     if shadows {
