@@ -73,8 +73,15 @@ pub struct Worker {
     /// row bands, so one atomic both cancels and tells frames apart.
     wanted: Arc<AtomicU64>,
     shown: Arc<Shown>,
+    /// Pixel buffers of frames the window is done with, for the render
+    /// thread to write the next frames into (a frame's buffer is megabytes,
+    /// mapped afresh and faulted in page by page when allocated).
+    spare: Sender<Vec<u8>>,
     handle: Option<JoinHandle<()>>,
 }
+
+/// Buffers kept for reuse at most: the frame being drawn, one on its way.
+const SPARE_BUFFERS: usize = 2;
 
 /// What the window has on screen, for the render thread's hold after the
 /// first frame of a job: the newest generation shown, and how long to wait
@@ -114,16 +121,18 @@ impl Worker {
         let (frame_tx, frame_rx) = unbounded::<Frame>();
         let wanted = Arc::new(AtomicU64::new(NOTHING));
         let shown = Arc::new(Shown::default());
+        let (spare, spare_rx) = crossbeam_channel::bounded(SPARE_BUFFERS);
         let (w, s) = (wanted.clone(), shown.clone());
         let handle = std::thread::Builder::new()
             .name("lensview-render".into())
-            .spawn(move || run(job_rx, frame_tx, (w, s), wake))
+            .spawn(move || run(job_rx, frame_tx, (w, s, spare_rx), wake))
             .ok();
         Worker {
             jobs: Some(job_tx),
             frames: frame_rx,
             wanted,
             shown,
+            spare,
             handle,
         }
     }
@@ -139,6 +148,12 @@ impl Worker {
         let ms = max.as_millis().min(u64::MAX as u128) as u64;
         self.shown.hold_ms.store(ms, Ordering::Relaxed);
         self.shown.wake();
+    }
+
+    /// Hands back the pixels of a frame no longer needed: the render thread
+    /// writes a later frame into them (dropped when enough are kept).
+    pub fn recycle(&self, rgba: Vec<u8>) {
+        let _ = self.spare.try_send(rgba);
     }
 
     /// Reports that the frames of `generation` sent so far are on screen.
@@ -256,8 +271,15 @@ struct Timing {
 
 impl Frame {
     /// The frame showing `prog` after `stage` of `job`.
-    fn of(prog: &Progressive, job: &Job, stage: Stage, t: Timing, last: bool, photons: (u32, usize)) -> Frame {
-        let mut rgba = Vec::new();
+    /// `rgba`: a buffer to write the pixels into (a recycled one, or empty).
+    fn of(
+        prog: &Progressive,
+        job: &Job,
+        (stage, mut rgba): (Stage, Vec<u8>),
+        t: Timing,
+        last: bool,
+        photons: (u32, usize),
+    ) -> Frame {
         prog.write_rgba8(&mut rgba);
         Frame {
             generation: job.generation,
@@ -289,7 +311,12 @@ fn update_rate(seconds_per_sample: &mut Option<f64>, dt: f64, cost: u64) {
     }
 }
 
-fn run(jobs: Receiver<Job>, frames: Sender<Frame>, (wanted, screen): (Arc<AtomicU64>, Arc<Shown>), wake: impl Fn()) {
+fn run(
+    jobs: Receiver<Job>,
+    frames: Sender<Frame>,
+    (wanted, screen, spare): (Arc<AtomicU64>, Arc<Shown>, Receiver<Vec<u8>>),
+    wake: impl Fn(),
+) {
     let mut seconds_per_sample: Option<f64> = None;
     // Reused across jobs of the same size: allocating and zeroing two
     // full-resolution buffers per keypress costs milliseconds.
@@ -312,7 +339,8 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, (wanted, screen): (Arc<Atomic
         caustics.follow(&job.scene);
         let first_sent = std::cell::Cell::new(false);
         let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
-            let frame = Frame::of(prog, &job, stage, Timing { dt, cast, queued_ms }, last, photons);
+            let rgba = spare.try_recv().unwrap_or_default();
+            let frame = Frame::of(prog, &job, (stage, rgba), Timing { dt, cast, queued_ms }, last, photons);
             let ok = frames.send(frame).is_ok();
             wake();
             if ok && !last && !first_sent.replace(true) {
@@ -601,6 +629,30 @@ mod tests {
         w.hold_first_frames(Duration::ZERO);
         w.submit(job(4, 32, 24, 4));
         assert_eq!(frames_until_last_of(&w, 4).last().map(|f| f.spp), Some(4));
+    }
+
+    /// A frame's buffer handed back is written again: the next frame's
+    /// pixels are in it (the same allocation), and they are what a worker
+    /// given no buffers sends for the same jobs.
+    #[test]
+    fn recycled_buffers_carry_the_next_frames() {
+        let (w, plain) = (Worker::spawn(|| {}), Worker::spawn(|| {}));
+        for x in [&w, &plain] {
+            x.submit(job(1, 32, 24, 2));
+            frames_until_last_of(x, 1);
+        }
+        let mut old = vec![7u8; 32 * 24 * 4];
+        old.reserve(100);
+        let ptr = old.as_ptr();
+        w.recycle(old);
+        w.submit(job(2, 32, 24, 2));
+        plain.submit(job(2, 32, 24, 2));
+        let (got, want) = (frames_until_last_of(&w, 2), frames_until_last_of(&plain, 2));
+        assert_eq!(got[0].rgba.as_ptr(), ptr, "the buffer was not reused");
+        assert_eq!(got.len(), want.len());
+        for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+            assert!(a.rgba == b.rgba, "frame {i} ({}) differs", b.stage.label());
+        }
     }
 
     #[test]

@@ -129,9 +129,16 @@ impl Refine {
         }));
         let over = self.stages.len().saturating_sub(MAX_STAGES);
         self.stages.drain(..over);
-        match frames.pop() {
+        let newest = frames.pop();
+        // The buffers of frames replaced go back to the render thread.
+        for f in frames {
+            self.worker.recycle(f.rgba);
+        }
+        match newest {
             Some(f) => {
-                self.frame = Some(f);
+                if let Some(old) = self.frame.replace(f) {
+                    self.worker.recycle(old.rgba);
+                }
                 true
             }
             None => false,
