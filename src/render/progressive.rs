@@ -12,7 +12,7 @@
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, sample_packet};
 use crate::camera::Camera;
-use crate::color::Rgb;
+use crate::color::{Rgb, Srgb8};
 use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
 use crate::scene::Scene;
@@ -442,18 +442,15 @@ impl Progressive {
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
-        let write = |o: &mut [u8], c: Rgb| {
-            o[0] = crate::color::to_srgb8_fast(c.x);
-            o[1] = crate::color::to_srgb8_fast(c.y);
-            o[2] = crate::color::to_srgb8_fast(c.z);
-            o[3] = 255;
-        };
+        let srgb = Srgb8::table();
         if self.spp == 0 {
             return out
                 .par_chunks_mut(4 * CHUNK)
                 .zip(self.preview.par_chunks(CHUNK))
                 .for_each(|(o, cs)| {
-                    o.chunks_exact_mut(4).zip(cs).for_each(|(o, c)| write(o, *c));
+                    for (o, c) in o.chunks_exact_mut(4).zip(cs) {
+                        o.copy_from_slice(&srgb.rgba(*c));
+                    }
                 });
         }
         out.par_chunks_mut(4 * CHUNK)
@@ -461,7 +458,7 @@ impl Progressive {
             .zip(self.count.par_chunks(CHUNK))
             .for_each(|((o, cs), ns)| {
                 for ((o, c), &n) in o.chunks_exact_mut(4).zip(cs).zip(ns) {
-                    write(o, mean(*c, n));
+                    o.copy_from_slice(&srgb.rgba(mean(*c, n)));
                 }
             });
     }
@@ -485,13 +482,7 @@ impl Progressive {
             .for_each(|(o, src)| {
                 let row0 = &mut o[..4 * w];
                 for bx in 0..w.div_ceil(n) {
-                    let c = src[bx * n];
-                    let px = [
-                        crate::color::to_srgb8_fast(c.x),
-                        crate::color::to_srgb8_fast(c.y),
-                        crate::color::to_srgb8_fast(c.z),
-                        255,
-                    ];
+                    let px = Srgb8::table().rgba(src[bx * n]);
                     for x in bx * n..((bx + 1) * n).min(w) {
                         row0[4 * x..4 * x + 4].copy_from_slice(&px);
                     }
