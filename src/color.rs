@@ -39,14 +39,36 @@ pub fn to_srgb8(c: Rgb) -> [u8; 3] {
 /// [`to_srgb8`] (tested).
 #[inline]
 pub fn to_srgb8_fast(x: f64) -> u8 {
-    static LUT: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
-    let lut = LUT.get_or_init(|| {
-        (0..=65535u32)
-            .map(|i| (linear_to_srgb(i as f64 / 65535.0) * 255.0 + 0.5).floor() as u8)
-            .collect()
-    });
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-    lut[(x * 65535.0 + 0.5) as usize]
+    Srgb8::table().channel(x)
+}
+
+/// The table of [`to_srgb8_fast`], fetched once for a whole frame.
+#[derive(Clone, Copy)]
+pub struct Srgb8(&'static [u8; 1 << 16]);
+
+impl Srgb8 {
+    pub fn table() -> Srgb8 {
+        static LUT: std::sync::OnceLock<Box<[u8; 1 << 16]>> = std::sync::OnceLock::new();
+        Srgb8(LUT.get_or_init(|| {
+            Box::new(std::array::from_fn(|i| {
+                (linear_to_srgb(i as f64 / 65535.0) * 255.0 + 0.5).floor() as u8
+            }))
+        }))
+    }
+
+    /// One channel ([`to_srgb8_fast`]): NaN is 0, [0, 1] clamped. The
+    /// index, at most 65535.5 before the cast, fits `u16` (no bounds check).
+    #[inline]
+    pub fn channel(self, x: f64) -> u8 {
+        let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        self.0[(x * 65535.0 + 0.5) as u16 as usize]
+    }
+
+    /// An opaque RGBA pixel.
+    #[inline]
+    pub fn rgba(self, c: Rgb) -> [u8; 4] {
+        [self.channel(c.x), self.channel(c.y), self.channel(c.z), 255]
+    }
 }
 
 /// Approximate linear RGB of a black body at `kelvin` (1000–40000 K),

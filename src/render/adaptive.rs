@@ -43,8 +43,30 @@ impl Default for Adaptive {
 /// of their squares and their count.
 pub(super) struct Sums<'a> {
     pub sum: &'a [Rgb],
-    pub sq: &'a [[f32; 3]],
+    /// `None` while every pixel has one sample: each square is then the
+    /// square of the sum ([`square`]), left for the wave that reads it to
+    /// compute, so that the first sample stage writes no squares.
+    pub sq: Option<&'a [[f32; 3]]>,
     pub count: &'a [u32],
+}
+
+/// The square of one sample, as the sums of squares hold it.
+#[inline]
+pub(super) fn square(c: Rgb) -> [f32; 3] {
+    (c * c).as_vec3().to_array()
+}
+
+/// Copies the squares of `sq` into `dst`, or with `None` (one sample per
+/// pixel) writes the squares of the sums `sum` (as long as `dst`).
+pub(super) fn copy_squares(dst: &mut [[f32; 3]], sq: Option<&[[f32; 3]]>, sum: &[Rgb]) {
+    match sq {
+        Some(sq) => dst.copy_from_slice(sq),
+        None => {
+            for (q, c) in dst.iter_mut().zip(sum) {
+                *q = square(*c);
+            }
+        }
+    }
 }
 
 /// The means a wave compares, clamped to [0, 1], as `f32` (computed once
@@ -87,7 +109,9 @@ impl Adaptive {
         }
         if n >= 2 {
             let nf = n as f64;
-            let sq = Rgb::new(s.sq[i][0] as f64, s.sq[i][1] as f64, s.sq[i][2] as f64);
+            debug_assert!(s.sq.is_some(), "squares of sums stand for one sample only");
+            let q = s.sq.map_or_else(|| square(s.sum[i]), |sq| sq[i]);
+            let sq = Rgb::new(q[0] as f64, q[1] as f64, q[2] as f64);
             let mean = s.sum[i] / nf;
             let var = ((sq / nf - mean * mean) * (nf / (nf - 1.0))).max(Rgb::ZERO);
             if (var / nf).max_element() > self.error * self.error {
@@ -134,7 +158,8 @@ impl Adaptive {
                 }
                 let start = b * band;
                 sum.copy_from_slice(&old.sum[start..start + sum.len()]);
-                sq.copy_from_slice(&old.sq[start..start + sq.len()]);
+                let end = start + sq.len();
+                copy_squares(sq, old.sq.map(|q| &q[start..end]), &old.sum[start..end]);
                 count.copy_from_slice(&old.count[start..start + count.len()]);
                 let mut sink = |dst: u32, c: Rgb, _: &dyn Fn() -> FirstHit| {
                     let d = dst as usize;

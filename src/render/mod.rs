@@ -145,9 +145,12 @@ pub fn add_band_samples(
         );
         for r in 0..count {
             if let Some(first) = first.as_deref_mut() {
-                for (l, f) in first[r * w + x0..r * w + x0 + n].iter_mut().enumerate() {
-                    *f = FirstHit::of(scene, &tile.packets[r], &tile.hits[r], l);
-                }
+                FirstHit::lanes(
+                    scene,
+                    &tile.packets[r],
+                    &tile.hits[r],
+                    &mut first[r * w + x0..r * w + x0 + n],
+                );
             }
             let row = &mut rows[r * w + x0..r * w + x0 + n];
             // A whole packet's first sample is written in place.

@@ -9,10 +9,10 @@
 //! image refined to `N` samples is the same whatever the thread count, and
 //! (uniform waves) the same whether it got there in one wave or many.
 
-use super::adaptive::{Sums, SumsMut};
+use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, sample_packet};
 use crate::camera::Camera;
-use crate::color::Rgb;
+use crate::color::{Rgb, Srgb8};
 use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
 use crate::scene::Scene;
@@ -129,6 +129,10 @@ pub struct Progressive {
     sum: Vec<Rgb>,
     /// Per pixel: the sum of its samples' squares, and their count.
     sq: Vec<[f32; 3]>,
+    /// `sq` is not written: every pixel has its one sample and its square
+    /// is the square of its sum (after the first sample stage alone, which
+    /// thus writes no squares; the next wave computes them as it copies).
+    sq_of_sum: bool,
     count: Vec<u32>,
     /// The buffers a sample stage writes before they replace `sum`, `sq`
     /// and `count` (the previous ones, kept so that no frame allocates).
@@ -167,6 +171,7 @@ impl Progressive {
             samples_cast: 0,
             sum: vec![Rgb::ZERO; n],
             sq: vec![[0.0; 3]; n],
+            sq_of_sum: false,
             count: vec![0; n],
             next: vec![Rgb::ZERO; n],
             next_sq: vec![[0.0; 3]; n],
@@ -317,7 +322,7 @@ impl Progressive {
             Some(a) if from > 0 => {
                 let old = Sums {
                     sum: &self.sum,
-                    sq: &self.sq,
+                    sq: (!self.sq_of_sum).then_some(&self.sq[..]),
                     count: &self.count,
                 };
                 let new = SumsMut {
@@ -345,6 +350,7 @@ impl Progressive {
                 std::mem::swap(&mut self.first, &mut self.next_first);
             }
             self.spp = target;
+            self.sq_of_sum = from == 0 && target == 1;
             self.reprojected = false;
             self.samples_cast += cast.unwrap_or(0);
         }
@@ -354,10 +360,11 @@ impl Progressive {
 
     /// Samples `from .. target` of every pixel into `next` (sample 0
     /// overwrites what it held; a later wave starts each band from a copy
-    /// of the sums). Sample 0 also records each pixel's first hit and
-    /// starts the sums of squares; later samples of this path leave those
-    /// as they were (only adaptive waves read them). Returns the samples
-    /// cast, or `None` if cancelled.
+    /// of the sums). Sample 0 also records each pixel's first hit and,
+    /// when more samples follow, starts the sums of squares (a stage of one
+    /// sample leaves them to the next wave: [`Progressive::sq_of_sum`]);
+    /// later samples of this path leave those as they were (only adaptive
+    /// waves read them). Returns the samples cast, or `None` if cancelled.
     fn every_pixel(
         &mut self,
         scene: &Scene,
@@ -373,7 +380,8 @@ impl Progressive {
             spp: target,
             seed: self.seed,
         };
-        let (sum, sq, pattern) = (&self.sum, &self.sq, self.sampling.pattern);
+        let (sum, pattern) = (&self.sum, self.sampling.pattern);
+        let sq = (!self.sq_of_sum).then_some(&self.sq[..]);
         let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
         let ok = bands
             .zip(next_count.par_chunks_mut(w * BAND))
@@ -385,18 +393,17 @@ impl Progressive {
                 }
                 let start = band * BAND * w;
                 if from > 0 {
-                    rows.copy_from_slice(&sum[start..start + rows.len()]);
-                    sq_rows.copy_from_slice(&sq[start..start + rows.len()]);
+                    let end = start + rows.len();
+                    rows.copy_from_slice(&sum[start..end]);
+                    copy_squares(sq_rows, sq.map(|q| &q[start..end]), &sum[start..end]);
                 }
                 let mut memory = BandMemory::default();
                 let y0 = (band * BAND) as u32;
                 for s in from..target {
                     let first = (s == 0).then_some(&mut *first);
                     add_band_samples(scene, y0, (s, pattern), &settings, &mut memory, rows, first);
-                    if s == 0 {
-                        for (q, c) in sq_rows.iter_mut().zip(rows.iter()) {
-                            *q = (*c * *c).as_vec3().to_array();
-                        }
+                    if s == 0 && target > 1 {
+                        copy_squares(sq_rows, None, rows);
                     }
                 }
                 counts.fill(target);
@@ -435,18 +442,15 @@ impl Progressive {
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
-        let write = |o: &mut [u8], c: Rgb| {
-            o[0] = crate::color::to_srgb8_fast(c.x);
-            o[1] = crate::color::to_srgb8_fast(c.y);
-            o[2] = crate::color::to_srgb8_fast(c.z);
-            o[3] = 255;
-        };
+        let srgb = Srgb8::table();
         if self.spp == 0 {
             return out
                 .par_chunks_mut(4 * CHUNK)
                 .zip(self.preview.par_chunks(CHUNK))
                 .for_each(|(o, cs)| {
-                    o.chunks_exact_mut(4).zip(cs).for_each(|(o, c)| write(o, *c));
+                    for (o, c) in o.chunks_exact_mut(4).zip(cs) {
+                        o.copy_from_slice(&srgb.rgba(*c));
+                    }
                 });
         }
         out.par_chunks_mut(4 * CHUNK)
@@ -454,7 +458,7 @@ impl Progressive {
             .zip(self.count.par_chunks(CHUNK))
             .for_each(|((o, cs), ns)| {
                 for ((o, c), &n) in o.chunks_exact_mut(4).zip(cs).zip(ns) {
-                    write(o, mean(*c, n));
+                    o.copy_from_slice(&srgb.rgba(mean(*c, n)));
                 }
             });
     }
@@ -478,13 +482,7 @@ impl Progressive {
             .for_each(|(o, src)| {
                 let row0 = &mut o[..4 * w];
                 for bx in 0..w.div_ceil(n) {
-                    let c = src[bx * n];
-                    let px = [
-                        crate::color::to_srgb8_fast(c.x),
-                        crate::color::to_srgb8_fast(c.y),
-                        crate::color::to_srgb8_fast(c.z),
-                        255,
-                    ];
+                    let px = Srgb8::table().rgba(src[bx * n]);
                     for x in bx * n..((bx + 1) * n).min(w) {
                         row0[4 * x..4 * x + 4].copy_from_slice(&px);
                     }

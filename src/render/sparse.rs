@@ -8,7 +8,8 @@ use super::{BandMemory, shade_camera_packet};
 use crate::color::Rgb;
 use crate::scene::Scene;
 use crate::simd::LANES;
-use crate::trace::{Packet, PacketHits, TILE, camera_tile_hits};
+use crate::simd::Lanes;
+use crate::trace::{NO_OBJECT, Packet, PacketHits, TILE, camera_tile_hits};
 
 /// What the ray through a pixel's centre met first, kept for reprojection.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -38,24 +39,37 @@ impl FirstHit {
     /// Lane `l` of a camera packet and its closest hits.
     #[inline]
     pub(crate) fn of(scene: &Scene, p: &Packet, hits: &PacketHits, l: usize) -> FirstHit {
-        let d = p.ray(l).dir;
-        match hits.get(l) {
-            None => FirstHit {
-                offset: d.as_vec3().to_array(),
-                seen: Seen::Sky,
-            },
-            Some((o, hit)) => {
-                let m = &scene.objects[o].material;
-                let seen = if m.transparency > 0.0 || m.reflectivity > 0.0 {
-                    Seen::Specular
-                } else {
-                    Seen::Surface
-                };
-                FirstHit {
-                    offset: (d * hit.t).as_vec3().to_array(),
-                    seen,
-                }
+        FirstHit::at(scene, p.dirs(), hits, l)
+    }
+
+    /// [`FirstHit::of`] for lanes `0 .. out.len()` of a camera packet (the
+    /// first sample stage records one per pixel, in the pass that shades
+    /// them).
+    #[inline]
+    pub(crate) fn lanes(scene: &Scene, p: &Packet, hits: &PacketHits, out: &mut [FirstHit]) {
+        let d = p.dirs();
+        for (l, f) in out.iter_mut().enumerate() {
+            *f = FirstHit::at(scene, d, hits, l);
+        }
+    }
+
+    /// Lane `l`: the direction (a point at infinity) when it met nothing,
+    /// else the direction times the hit's distance, and what was met. The
+    /// directions stay in lanes (no ray is built per pixel).
+    #[inline(always)]
+    fn at(scene: &Scene, d: &[Lanes<f64>; 3], hits: &PacketHits, l: usize) -> FirstHit {
+        let (t, seen) = match hits.object[l] {
+            NO_OBJECT => (1.0, Seen::Sky),
+            o => {
+                let m = &scene.objects[o as usize].material;
+                let specular = m.transparency > 0.0 || m.reflectivity > 0.0;
+                (hits.t[l], if specular { Seen::Specular } else { Seen::Surface })
             }
+        };
+        // `x * 1.0` is `x`: a sky pixel's offset is its direction's bits.
+        FirstHit {
+            offset: [(d[0][l] * t) as f32, (d[1][l] * t) as f32, (d[2][l] * t) as f32],
+            seen,
         }
     }
 }

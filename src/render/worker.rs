@@ -4,17 +4,19 @@
 //! draw it. A newer job cancels the current one between row bands, and
 //! [`Worker::cancel`] stops it without starting another (the viewer's
 //! pause). [`Worker::frames`] hands out only frames of the job that
-//! is still wanted.
+//! is still wanted. Where presenting takes the tracer's cores, the thread
+//! can hold after the first frame of each job until the window reports it
+//! on screen ([`Worker::hold_first_frames`]).
 
 use super::caustics::Interleaved;
 use super::progressive::{Progressive, Stage, first_stage, schedule};
 use super::reproject::same_but_camera;
 use crate::scene::Scene;
 use crossbeam_channel::{Receiver, Sender, unbounded};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Time the first frame after an input may take (a 60 Hz frame less the
 /// viewer's own share).
@@ -70,7 +72,46 @@ pub struct Worker {
     /// or [`NOTHING`] after [`Worker::cancel`]. The thread polls it between
     /// row bands, so one atomic both cancels and tells frames apart.
     wanted: Arc<AtomicU64>,
+    shown: Arc<Shown>,
+    /// Pixel buffers of frames the window is done with, for the render
+    /// thread to write the next frames into (a frame's buffer is megabytes,
+    /// mapped afresh and faulted in page by page when allocated).
+    spare: Sender<Vec<u8>>,
     handle: Option<JoinHandle<()>>,
+}
+
+/// Buffers kept for reuse at most: the frame being drawn, one on its way.
+const SPARE_BUFFERS: usize = 2;
+
+/// What the window has on screen, for the render thread's hold after the
+/// first frame of a job: the newest generation shown, and how long to wait
+/// for it (0: never).
+#[derive(Default)]
+struct Shown {
+    generation: Mutex<u64>,
+    changed: Condvar,
+    hold_ms: AtomicU64,
+}
+
+impl Shown {
+    /// Wakes a hold to look again (at `wanted`, or at what is shown). The
+    /// lock is taken first, so a hold that is about to wait cannot miss it.
+    fn wake(&self) {
+        drop(self.generation.lock());
+        self.changed.notify_all();
+    }
+
+    /// After the first frame of job `generation`: waits until the window
+    /// shows it, the job is no longer wanted, or the hold's limit passed.
+    fn hold(&self, generation: u64, cancelled: &dyn Fn() -> bool) {
+        let ms = self.hold_ms.load(Ordering::Relaxed);
+        if ms == 0 {
+            return;
+        }
+        let shown = self.generation.lock().unwrap_or_else(|e| e.into_inner());
+        let wait = |g: &mut u64| *g < generation && !cancelled();
+        let _ = self.changed.wait_timeout_while(shown, Duration::from_millis(ms), wait);
+    }
 }
 
 impl Worker {
@@ -79,17 +120,48 @@ impl Worker {
         let (job_tx, job_rx) = unbounded::<Job>();
         let (frame_tx, frame_rx) = unbounded::<Frame>();
         let wanted = Arc::new(AtomicU64::new(NOTHING));
-        let w = wanted.clone();
+        let shown = Arc::new(Shown::default());
+        let (spare, spare_rx) = crossbeam_channel::bounded(SPARE_BUFFERS);
+        let (w, s) = (wanted.clone(), shown.clone());
         let handle = std::thread::Builder::new()
             .name("lensview-render".into())
-            .spawn(move || run(job_rx, frame_tx, w, wake))
+            .spawn(move || run(job_rx, frame_tx, (w, s, spare_rx), wake))
             .ok();
         Worker {
             jobs: Some(job_tx),
             frames: frame_rx,
             wanted,
+            shown,
+            spare,
             handle,
         }
+    }
+
+    /// From now on, after sending the first frame of a job, the render
+    /// thread waits until [`Self::shown`] reports that frame on screen (or
+    /// a newer job comes, or `max` passed) before it renders the next
+    /// stage. For a window whose presents take the tracer's cores (a CPU
+    /// rasterizer): the frame that answers an input is presented with the
+    /// whole machine, and the stages after it are traced without a present
+    /// in their midst. Zero: no hold (the default).
+    pub fn hold_first_frames(&self, max: Duration) {
+        let ms = max.as_millis().min(u64::MAX as u128) as u64;
+        self.shown.hold_ms.store(ms, Ordering::Relaxed);
+        self.shown.wake();
+    }
+
+    /// Hands back the pixels of a frame no longer needed: the render thread
+    /// writes a later frame into them (dropped when enough are kept).
+    pub fn recycle(&self, rgba: Vec<u8>) {
+        let _ = self.spare.try_send(rgba);
+    }
+
+    /// Reports that the frames of `generation` sent so far are on screen.
+    pub fn shown(&self, generation: u64) {
+        let mut g = self.shown.generation.lock().unwrap_or_else(|e| e.into_inner());
+        *g = (*g).max(generation);
+        drop(g);
+        self.shown.changed.notify_all();
     }
 
     /// Replaces whatever is being rendered by `job`. Generations must grow
@@ -97,6 +169,7 @@ impl Worker {
     pub fn submit(&self, job: Job) {
         debug_assert!(job.generation != NOTHING);
         self.wanted.store(job.generation, Ordering::SeqCst);
+        self.shown.wake();
         if let Some(tx) = &self.jobs {
             let _ = tx.send(job);
         }
@@ -107,6 +180,7 @@ impl Worker {
     /// dropped by [`Self::frames`].
     pub fn cancel(&self) {
         self.wanted.store(NOTHING, Ordering::SeqCst);
+        self.shown.wake();
     }
 
     /// Takes every frame sent so far and returns those of the job still
@@ -197,8 +271,15 @@ struct Timing {
 
 impl Frame {
     /// The frame showing `prog` after `stage` of `job`.
-    fn of(prog: &Progressive, job: &Job, stage: Stage, t: Timing, last: bool, photons: (u32, usize)) -> Frame {
-        let mut rgba = Vec::new();
+    /// `rgba`: a buffer to write the pixels into (a recycled one, or empty).
+    fn of(
+        prog: &Progressive,
+        job: &Job,
+        (stage, mut rgba): (Stage, Vec<u8>),
+        t: Timing,
+        last: bool,
+        photons: (u32, usize),
+    ) -> Frame {
         prog.write_rgba8(&mut rgba);
         Frame {
             generation: job.generation,
@@ -230,7 +311,12 @@ fn update_rate(seconds_per_sample: &mut Option<f64>, dt: f64, cost: u64) {
     }
 }
 
-fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake: impl Fn()) {
+fn run(
+    jobs: Receiver<Job>,
+    frames: Sender<Frame>,
+    (wanted, screen, spare): (Arc<AtomicU64>, Arc<Shown>, Receiver<Vec<u8>>),
+    wake: impl Fn(),
+) {
     let mut seconds_per_sample: Option<f64> = None;
     // Reused across jobs of the same size: allocating and zeroing two
     // full-resolution buffers per keypress costs milliseconds.
@@ -251,10 +337,15 @@ fn run(jobs: Receiver<Job>, frames: Sender<Frame>, wanted: Arc<AtomicU64>, wake:
         let generation = job.generation;
         let cancelled = || wanted.load(Ordering::Relaxed) != generation;
         caustics.follow(&job.scene);
+        let first_sent = std::cell::Cell::new(false);
         let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
-            let frame = Frame::of(prog, &job, stage, Timing { dt, cast, queued_ms }, last, photons);
+            let rgba = spare.try_recv().unwrap_or_default();
+            let frame = Frame::of(prog, &job, (stage, rgba), Timing { dt, cast, queued_ms }, last, photons);
             let ok = frames.send(frame).is_ok();
             wake();
+            if ok && !last && !first_sent.replace(true) {
+                screen.hold(generation, &cancelled);
+            }
             ok
         };
         let traced = caustics.scene(&job.scene);
@@ -509,6 +600,59 @@ mod tests {
         let shadow = mean(frames_until_last_of(&w, 3).last().unwrap());
         assert!(last > 1.3 * shadow, "no spot to see: {last} vs the shadow's {shadow}");
         assert!(first > 0.8 * last, "reprojected {first}, then {last} (shadow {shadow})");
+    }
+
+    /// Holding: after the first frame of a job nothing more comes until
+    /// the window reports it shown (the limit here is far longer than the
+    /// test), then the job refines to its cap; a newer job ends a hold.
+    #[test]
+    fn a_held_job_goes_on_once_its_first_frame_is_shown() {
+        let w = Worker::spawn(|| {});
+        w.hold_first_frames(Duration::from_secs(600));
+        w.submit(job(1, 32, 24, 4));
+        let first = w.frames.recv_timeout(Duration::from_secs(30)).unwrap();
+        assert!(!first.last);
+        // Without the hold the whole job (a few milliseconds) would be here.
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(w.frames.is_empty(), "frames came before the first was shown");
+        w.shown(1);
+        let rest = frames_until_last_of(&w, 1);
+        assert_eq!(rest.last().map(|f| f.spp), Some(4));
+        // Job 2 is held after its first frame; job 3 replaces it unshown.
+        w.submit(job(2, 32, 24, 4));
+        assert_eq!(w.frames.recv_timeout(Duration::from_secs(30)).unwrap().generation, 2);
+        w.submit(job(3, 32, 24, 1));
+        w.shown(3);
+        let after = frames_until_last_of(&w, 3);
+        assert!(after.iter().all(|f| f.generation == 3), "job 2 went on");
+        // Off again: a job runs through unshown.
+        w.hold_first_frames(Duration::ZERO);
+        w.submit(job(4, 32, 24, 4));
+        assert_eq!(frames_until_last_of(&w, 4).last().map(|f| f.spp), Some(4));
+    }
+
+    /// A frame's buffer handed back is written again: the next frame's
+    /// pixels are in it (the same allocation), and they are what a worker
+    /// given no buffers sends for the same jobs.
+    #[test]
+    fn recycled_buffers_carry_the_next_frames() {
+        let (w, plain) = (Worker::spawn(|| {}), Worker::spawn(|| {}));
+        for x in [&w, &plain] {
+            x.submit(job(1, 32, 24, 2));
+            frames_until_last_of(x, 1);
+        }
+        let mut old = vec![7u8; 32 * 24 * 4];
+        old.reserve(100);
+        let ptr = old.as_ptr();
+        w.recycle(old);
+        w.submit(job(2, 32, 24, 2));
+        plain.submit(job(2, 32, 24, 2));
+        let (got, want) = (frames_until_last_of(&w, 2), frames_until_last_of(&plain, 2));
+        assert_eq!(got[0].rgba.as_ptr(), ptr, "the buffer was not reused");
+        assert_eq!(got.len(), want.len());
+        for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+            assert!(a.rgba == b.rgba, "frame {i} ({}) differs", b.stage.label());
+        }
     }
 
     #[test]

@@ -383,6 +383,7 @@ impl Viewer {
             self.session.message = format!("present failed: {e}");
         }
         self.pacer.presented(Instant::now(), t0.elapsed());
+        self.refine.shown();
         // Taken only with a frame to log: a line without one is not written.
         let stages = match self.refine.frame() {
             Some(_) => self.refine.take_stages(),
@@ -460,6 +461,9 @@ impl ApplicationHandler<UserEvent> for Viewer {
             Ok(s) => {
                 let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
                 self.pacer = Pacer::new(s.cpu_adapter(), Pacer::refresh_period(s.refresh_millihertz()), cores);
+                if s.cpu_adapter() {
+                    self.refine.hold_first_frames();
+                }
                 self.screen = Some(s);
             }
             Err(e) => {

@@ -12,7 +12,7 @@ use lensview::render::worker::{Frame, Job, Worker};
 use lensview::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// A stage the render thread finished: its generation, level and time.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,6 +21,11 @@ pub struct StageTime {
     pub level: String,
     pub render_ms: f64,
 }
+
+/// The longest the render thread waits for the first frame of a
+/// generation to be shown (a present on lavapipe at 1280×720 takes 12–45 ms,
+/// and waits up to a display refresh for its turn).
+pub const HOLD_LIMIT: Duration = Duration::from_millis(60);
 
 /// Stages kept for the frame log while nothing is presented (a hidden
 /// window): the oldest go first.
@@ -98,6 +103,21 @@ impl Refine {
         changed
     }
 
+    /// Has the render thread wait, after the first frame of each
+    /// generation, until [`Self::shown`] reports it on screen (at most
+    /// [`HOLD_LIMIT`]): for a CPU rasterizer, whose presents take the
+    /// tracer's cores.
+    pub fn hold_first_frames(&self) {
+        self.worker.hold_first_frames(HOLD_LIMIT);
+    }
+
+    /// Tells the render thread that the newest frame is on screen.
+    pub fn shown(&self) {
+        if let Some(f) = &self.frame {
+            self.worker.shown(f.generation);
+        }
+    }
+
     /// Takes the frames the render thread sent; true when a newer frame of
     /// the current generation arrived (draw it).
     pub fn receive(&mut self) -> bool {
@@ -109,9 +129,16 @@ impl Refine {
         }));
         let over = self.stages.len().saturating_sub(MAX_STAGES);
         self.stages.drain(..over);
-        match frames.pop() {
+        let newest = frames.pop();
+        // The buffers of frames replaced go back to the render thread.
+        for f in frames {
+            self.worker.recycle(f.rgba);
+        }
+        match newest {
             Some(f) => {
-                self.frame = Some(f);
+                if let Some(old) = self.frame.replace(f) {
+                    self.worker.recycle(old.rgba);
+                }
                 true
             }
             None => false,
@@ -174,7 +201,6 @@ impl Refine {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::Duration;
 
     /// Waits up to 30 s for `refine` to receive a frame that passes `pred`.
     fn wait(refine: &mut Refine, pred: impl Fn(&Frame) -> bool) -> bool {

@@ -145,6 +145,40 @@ fn refinement_converges_to_the_same_image_as_a_direct_render() {
     }
 }
 
+/// The sums of squares after a wave are those of the samples each pixel
+/// holds, although the first sample stage leaves them unwritten (the wave
+/// computes them from the sums as it copies): pixel for pixel, against
+/// each sample traced alone.
+#[test]
+fn squares_after_a_wave_are_the_squares_of_the_samples() {
+    use super::super::adaptive::square;
+    use crate::sampling::pixel_offset;
+    let s = scene();
+    let (w, h, seed) = (40, 30, 3);
+    let mut p = Progressive::new(w, h, seed);
+    // Squares of another picture: a wave that copied them would show it.
+    assert!(p.run(&s, Stage::Samples(3), &|| false));
+    p.reset(w, h, seed);
+    assert!(p.run(&s, Stage::Samples(1), &|| false));
+    assert!(p.sq_of_sum, "the first sample stage stored squares");
+    assert!(p.run(&s, Stage::Samples(2), &|| false));
+    let mut refined = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            let mut q = [0.0f32; 3];
+            for k in 0..p.count[i] {
+                let (jx, jy) = pixel_offset(Pattern::R2, seed, i as u64, k);
+                let c = square(crate::render::sample(&s, x as f64 + jx, y as f64 + jy, w, h));
+                q = [q[0] + c[0], q[1] + c[1], q[2] + c[2]];
+            }
+            assert_eq!(p.sq[i], q, "pixel {x},{y} with {} samples", p.count[i]);
+            refined += usize::from(p.count[i] == 2);
+        }
+    }
+    assert!(refined > 0 && refined < (w * h) as usize, "{refined} refined");
+}
+
 #[test]
 fn cancellation_stops_a_stage_and_keeps_the_previous_image() {
     let s = scene();

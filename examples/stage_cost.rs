@@ -1,0 +1,139 @@
+//! What one full-resolution 1-spp frame costs on each path, for counting
+//! instructions (callgrind) or timing alternately: the `bench --frame-only`
+//! frame (`render_into`), the progressive renderer's first sample stage
+//! (what the viewer's render thread runs), and that stage followed by the
+//! frame the render thread sends (the 8-bit conversion into a new buffer).
+//!
+//!     cargo build --release --example stage_cost
+//!     target/release/examples/stage_cost MODE SCENE WIDTH HEIGHT RUNS
+//!
+//! MODE: `bench`, `stage` or `send`: the median time of RUNS runs (after
+//! one warm-up); `alt`: `bench` and `stage` frames in turn, both medians;
+//! `hash`: a hash of every stage's picture, sample counts and first hits
+//! through the schedule to 16 spp, a camera step (reprojection) and the
+//! schedule again (to check that a change keeps every bit). Under callgrind, the difference between two RUNS
+//! counts is the cost of that many frames (the scene's setup cancels).
+
+use lensview::render::progressive::{Progressive, Stage};
+use lensview::render::{Image, RenderSettings, render_into};
+use lensview::scene::Scene;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let [_, mode, scene, w, h, runs] = &args[..] else {
+        eprintln!("usage: stage_cost bench|stage|send SCENE WIDTH HEIGHT RUNS");
+        std::process::exit(2);
+    };
+    let number = |s: &str| -> u32 {
+        s.parse().unwrap_or_else(|_| {
+            eprintln!("not a number: {s}");
+            std::process::exit(2)
+        })
+    };
+    let (w, h, runs) = (number(w), number(h), number(runs));
+    let scene = match Scene::load(std::path::Path::new(scene)) {
+        Ok((_, s)) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(1)
+        }
+    };
+    if mode == "hash" {
+        return hash_schedule(&scene, w, h);
+    }
+    let mut img = Image::new(w, h);
+    let mut prog = Progressive::new(w, h, 0);
+    let mut frame = |mode: &str| match mode {
+        "bench" => {
+            let s = RenderSettings {
+                width: w,
+                height: h,
+                spp: 1,
+                seed: 0,
+            };
+            render_into(&scene, &s, None, &mut img);
+            std::hint::black_box(&img.pixels);
+        }
+        "stage" | "send" => {
+            prog.reset(w, h, 0);
+            prog.run(&scene, Stage::Samples(1), &|| false);
+            if mode == "send" {
+                let mut rgba = Vec::new();
+                prog.write_rgba8(&mut rgba);
+                std::hint::black_box(rgba);
+            }
+        }
+        _ => {
+            eprintln!("unknown mode {mode}");
+            std::process::exit(2)
+        }
+    };
+    if mode == "alt" {
+        let (mut b, mut st) = (Vec::new(), Vec::new());
+        for _ in 0..=runs {
+            for (m, v) in [("bench", &mut b), ("stage", &mut st)] {
+                let t = Instant::now();
+                frame(m);
+                v.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let med = |v: &mut Vec<f64>| {
+            v.remove(0);
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let (mb, ms) = (med(&mut b), med(&mut st));
+        println!(
+            "{w}x{h}: bench {mb:.2} ms, stage {ms:.2} ms (medians of {runs}): bench/stage {:.1} %",
+            100.0 * mb / ms
+        );
+        return;
+    }
+    frame(mode);
+    let mut times: Vec<f64> = (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            frame(mode);
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    if let Some(m) = times.get(times.len() / 2) {
+        println!("{mode} {w}x{h}: median {m:.2} ms of {runs}");
+    }
+}
+
+fn hash_schedule(scene: &Scene, w: u32, h: u32) {
+    use lensview::render::progressive::schedule;
+    use std::hash::{DefaultHasher, Hash, Hasher};
+    let mut prog = Progressive::new(w, h, 0);
+    let mut moved = scene.clone();
+    let c = &scene.camera;
+    moved.camera = lensview::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+    let print = |prog: &Progressive, label: &str| {
+        let mut hs = DefaultHasher::new();
+        for p in &prog.image().pixels {
+            [p.x, p.y, p.z].map(f64::to_bits).hash(&mut hs);
+        }
+        prog.counts().hash(&mut hs);
+        for f in prog.first_hits() {
+            f.offset.map(f32::to_bits).hash(&mut hs);
+            (f.seen as u8).hash(&mut hs);
+        }
+        let mut rgba = Vec::new();
+        prog.write_rgba8(&mut rgba);
+        rgba.hash(&mut hs);
+        println!("{label}: {:016x}", hs.finish());
+    };
+    for st in schedule(16) {
+        prog.run(scene, st, &|| false);
+        print(&prog, &st.label());
+    }
+    prog.reproject(&moved, &scene.camera, |_| 2);
+    print(&prog, "reprojected");
+    for st in schedule(16).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
+        prog.run(&moved, st, &|| false);
+        print(&prog, &format!("moved {}", st.label()));
+    }
+}
