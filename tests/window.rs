@@ -422,11 +422,8 @@ fn the_window_shows_the_scene_answers_keys_and_exits_cleanly() {
         None,
     );
     // F1 twice: the overlay from compact (the default) to full to off.
-    for _ in 0..2 {
-        let n = s.frames().len();
-        s.key("F1");
-        s.wait_present(n, "F1");
-    }
+    s.overlay_to("full");
+    s.overlay_to("off");
     let shot = s.screenshot("start.png");
     assert_eq!((shot.width, shot.height), (W, H), "window size");
     assert!(spread(&shot) > 20.0, "the window is blank");
@@ -560,11 +557,8 @@ fn the_panel_adds_a_sphere_undoes_saves_and_asks_before_quitting() {
     let title = s.title();
     assert!(title.contains("cubes.toml") && !title.ends_with('*'), "{title}");
     // Overlay off (compact → full → off), so pictures compare exactly.
-    for _ in 0..2 {
-        let n = s.frames().len();
-        s.chord("F1");
-        s.wait_present(n, "F1");
-    }
+    s.overlay_to("full");
+    s.overlay_to("off");
     let before = s.screenshot("editor-start.png");
     assert_eq!((before.width, before.height), (ew, eh));
     assert!(spread(&before) > 20.0, "the window is blank");
@@ -695,10 +689,23 @@ impl Session<'_> {
     }
 
     /// Presses `key` and waits until the window presented again.
-    fn key_and_present(&self, key: &str) {
+    /// Presses F1 until a frame presented after the press shows the
+    /// overlay in form `mode` (the frame log's `overlay`): a present that
+    /// was already due before the key (a repaint, a refinement) is not
+    /// taken for the key's.
+    fn overlay_to(&self, mode: &str) {
         let n = self.frames().len();
-        self.key(key);
-        self.wait_present(n, key);
+        self.key("F1");
+        let shows = |f: &serde_json::Value| f["overlay"] == mode;
+        assert!(
+            wait_until(Duration::from_secs(30), || self.frames()[n..].iter().any(shows)),
+            "F1 never brought the overlay to {mode}"
+        );
+        // The newest line is what is on screen.
+        assert!(
+            wait_until(Duration::from_secs(10), || self.frames().last().is_some_and(shows)),
+            "the overlay left {mode} by itself"
+        );
     }
 }
 
@@ -728,9 +735,9 @@ fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
 
     // The overlay: compact (the default), full, off.
     let compact = s.screenshot("small-compact.png");
-    s.key_and_present("F1");
+    s.overlay_to("full");
     let full = s.screenshot("small-full.png");
-    s.key_and_present("F1");
+    s.overlay_to("off");
     let off = s.screenshot("small-off.png");
     let cb = changed_box(&compact, &off, 40).expect("no compact overlay");
     let fb = changed_box(&full, &off, 40).expect("no full overlay");
@@ -741,7 +748,7 @@ fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
         assert!(b.2 < W - 4 && b.3 < H - 4, "{name} overlay clipped: {b:?}");
     }
     assert!(fb.3 > cb.3 + 40, "full {fb:?} is not taller than compact {cb:?}");
-    s.key_and_present("F1");
+    s.overlay_to("compact");
     let again = changed_box(&s.screenshot("small-again.png"), &off, 40).expect("F1 did not come back to compact");
     assert!(again.3.abs_diff(cb.3) <= 4, "compact again {again:?}, first {cb:?}");
 
@@ -852,9 +859,8 @@ fn optics_overlay_draws_f_prime_where_lens_info_puts_it_without_restarting() {
         n >= 40.0 && (sx / n - px).hypot(sy / n - py) < 1.0
     };
     // The text overlay off; then the optics on.
-    let n = s.frames().len();
-    s.key("F1");
-    s.wait_present(n, "F1");
+    s.overlay_to("full");
+    s.overlay_to("off");
     assert!(
         !magenta_near(&s.screenshot("before.png")),
         "magenta at F′ before the overlay"

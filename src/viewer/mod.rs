@@ -394,6 +394,7 @@ impl Viewer {
             x0,
             input_time: self.refine.input_time(),
             stages: &stages,
+            overlay: self.display.overlay.label(),
         };
         self.stats.presented(t0, p);
     }

@@ -30,6 +30,8 @@ pub struct Presented<'a> {
     /// The stages the render thread finished since the last line, drawn or
     /// not (the log's `stages`: throughput counts every one).
     pub stages: &'a [StageTime],
+    /// The overlay's form on screen (`OverlayMode::label`).
+    pub overlay: &'static str,
 }
 
 impl Stats {
@@ -65,6 +67,7 @@ impl Stats {
                 "width": f.width,
                 "height": f.height,
                 "x0": p.x0,
+                "overlay": p.overlay,
                 "ms_since_input": (now - p.input_time).as_secs_f64() * 1e3,
                 "render_ms": f.render_ms,
                 "queued_ms": f.queued_ms,
@@ -254,6 +257,7 @@ mod tests {
                 x0: 360,
                 input_time,
                 stages: &stages,
+                overlay: "compact",
             },
         );
         // A redraw with no frame writes no line; a second frame does.
@@ -264,6 +268,7 @@ mod tests {
                 x0: 0,
                 input_time,
                 stages: &[],
+                overlay: "off",
             },
         );
         let g = frame(8, 0);
@@ -278,6 +283,7 @@ mod tests {
                 x0: 0,
                 input_time,
                 stages: &[],
+                overlay: "off",
             },
         );
         let text = std::fs::read_to_string(&path).unwrap();
@@ -286,7 +292,11 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 14, "{keys:?}");
+        assert_eq!(keys.len(), 15, "{keys:?}");
+        assert_eq!(
+            (l["overlay"].as_str(), lines[1]["overlay"].as_str()),
+            (Some("compact"), Some("off"))
+        );
         let st = l["stages"].as_array().unwrap();
         let got: Vec<_> = st
             .iter()
