@@ -45,6 +45,7 @@ macro_rules! with_features {
 }
 
 mod lens_pass;
+mod lens_send;
 mod packet;
 mod photons;
 mod scalar;
