@@ -8,6 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::cap::span;
+use super::trace::ExitStep;
 use super::{Lens, near_point};
 use crate::simd::{lane, set_lane};
 
@@ -127,8 +128,10 @@ impl Lens {
         out: &mut LaneExits<N>,
     ) {
         let caps = self.caps;
-        for l in 0..N {
-            let e = self.exit_step(caps, lane(x, l), lane(u, l), n);
+        // Both halves of the lanes in one pass: two SIMD registers' long
+        // chains of square roots and divisions side by side, not one after
+        // the other.
+        let mut put = |l: usize, e: ExitStep| {
             set_lane(&mut out.y, l, self.center + e.y);
             set_lane(&mut out.local, l, e.y);
             set_lane(&mut out.out, l, e.crossing.dir);
@@ -136,6 +139,15 @@ impl Lens {
             out.reflectance[l] = e.crossing.reflectance;
             out.part[l] = e.face as u64;
             out.ok[l] = e.found & !e.crossing.total;
+        };
+        for l in 0..N / 2 {
+            let h = l + N / 2;
+            let (a, b) = (
+                self.exit_step(caps, lane(x, l), lane(u, l), n),
+                self.exit_step(caps, lane(x, h), lane(u, h), n),
+            );
+            put(l, a);
+            put(h, b);
         }
     }
 }
