@@ -156,13 +156,15 @@ impl Onward {
             }
             return;
         }
+        // Every lane's inverse direction first (all lanes at once): the
+        // escape test takes them too.
+        self.rays.fill_unused(self.live);
         if self.all_escape(scene) {
             for l in live_lanes(self.live) {
                 back[l] = scene.background;
             }
             return;
         }
-        self.rays.fill_unused(self.live);
         // Lanes that sent nothing hold what an earlier packet left; they
         // never hit (`fill_unused`), and skip nothing.
         for l in 0..LANES {
@@ -192,8 +194,7 @@ impl Onward {
                 return false;
             };
             if let Some(b) = bounds {
-                let ray = self.rays.ray(l);
-                if b.hit(&ray, ray.dir.recip(), 0.0, f64::INFINITY) {
+                if b.hit(&self.rays.ray(l), self.rays.inv_dir(l), 0.0, f64::INFINITY) {
                     return false;
                 }
             }
