@@ -370,11 +370,20 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             scene, paths, surfaces, lens, lambda_um, onward, extra,
         );
     }
+    // One sink for every lane, moved from lane to lane.
+    let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+        scene,
+        lambda_um,
+        l: 0,
+        onward,
+        extra,
+    };
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         if traced >> l & 1 != 0 {
             continue;
         }
+        gather.l = l;
         let dir = p.dir(l);
         shade_onward::<GLASS, MIRROR>(
             scene,
@@ -384,17 +393,11 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             lambda_um,
             paths.weight[l],
             &Alone(p.ray(l)),
-            &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
-                scene,
-                lambda_um,
-                l,
-                onward,
-                extra,
-            },
+            &mut gather,
             &mut out[l],
         );
     }
-    onward.iter().any(|o| o.live != 0)
+    gather.onward.iter().any(|o| o.live != 0)
 }
 
 /// A lane's further ray out of a lens, traced at once by the scalar
