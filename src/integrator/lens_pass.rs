@@ -429,8 +429,14 @@ fn lens_lanes_impl(
         exits: [first, second],
         ..
     } = out;
-    lens.exit_lanes_into(x, inside, ior, &mut first.exit);
-    first.rays(lens);
+    let mut local = [[0.0; LANES]; 3];
+    for l in 0..LANES {
+        set_lane(&mut local, l, lane(x, l) - lens.center);
+    }
+    // The first exit's point, then the reflection on from its normal, so
+    // that the second exit runs beside the first exit's crossing (the two
+    // longest chains of square roots side by side).
+    lens.exit_points_local_into(&local, inside, &mut first.exit);
     // `Lens::reflect_inside`'s new direction.
     for l in 0..LANES {
         set_lane(
@@ -439,7 +445,10 @@ fn lens_lanes_impl(
             Lens::reflected_inside(lane(inside, l), lane(&first.exit.normal, l)),
         );
     }
-    lens.exit_lanes_local_into(&first.exit.local, on, ior, &mut second.exit);
+    Lens::exit_crossings_into(inside, ior, &mut first.exit);
+    lens.exit_points_local_into(&first.exit.local, on, &mut second.exit);
+    Lens::exit_crossings_into(on, ior, &mut second.exit);
+    first.rays(lens);
     second.rays(lens);
     for l in 0..LANES {
         first.exit.ok[l] &= !reflected[l];
