@@ -109,7 +109,10 @@ impl Onward {
         self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
         self.depth[l] = sec.depth;
         self.weight[l] = sec.weight;
-        set_lane(&mut self.tint, l, sec.tint.unwrap_or(Rgb::ZERO));
+        // Untinted rays (the reflected packet's) leave the tints unread.
+        if let Some(t) = sec.tint {
+            set_lane(&mut self.tint, l, t);
+        }
         self.factor[l] = sec.factor;
     }
 
