@@ -468,6 +468,17 @@ with_avx2! {
     ) -> ()
 }
 
+/// The first lens of `scene` and its object's index (for tests).
+#[cfg(test)]
+pub(super) fn first_lens(scene: &crate::scene::Scene) -> (usize, &Lens) {
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .find_map(|(i, o)| o.lens().map(|l| (i, l)))
+        .expect("the scene has a lens")
+}
+
 /// The ray out of `lens` from the exit point `y` along `out`, spawned off
 /// the face of outward normal `normal`: one ray's or one lane's.
 #[inline(always)]
@@ -489,12 +500,7 @@ mod tests {
     /// Lanes of rays that enter the default scene's lens at random points
     /// from random directions: entry points, facing normals, directions.
     fn entries(scene: &Scene, seed: u64) -> Vec<(V, V, V)> {
-        let (index, lens) = scene
-            .objects
-            .iter()
-            .enumerate()
-            .find_map(|(i, o)| o.lens().map(|l| (i, l)))
-            .expect("the default scene has a lens");
+        let (index, lens) = first_lens(scene);
         let mut s = Sampler::new(seed, 0, 0);
         let mut out = Vec::new();
         let mut lanes = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);

@@ -225,12 +225,7 @@ mod tests {
         for (text, max_depth) in [1, 2, 3, 4, 8].into_iter().flat_map(|m| [(cubes, m), (&steep, m)]) {
             let mut scene = Scene::parse("cubes", text).expect("a valid scene").1;
             scene.max_depth = max_depth;
-            let (index, lens) = scene
-                .objects
-                .iter()
-                .enumerate()
-                .find_map(|(i, o)| o.lens().map(|l| (i, l)))
-                .expect("the default scene has a lens");
+            let (index, lens) = super::super::lens_pass::first_lens(&scene);
             let (center, axis, d) = (lens.center, lens.axis, lens.d);
             let mut scratch = PacketScratch::default();
             for _ in 0..200 {
