@@ -109,6 +109,25 @@ pub(super) struct LensPasses {
     pub(super) lanes: u32,
     /// The first two exits of each traced lane.
     pub(super) pass: LensLanes,
+    /// Each lane's entry point, facing normal and direction there (lanes
+    /// not traced repeat a traced one).
+    pub(super) x: [Lanes<f64>; 3],
+    pub(super) nf: [Lanes<f64>; 3],
+    pub(super) dir: [Lanes<f64>; 3],
+}
+
+/// What a pass's first two exits do with traced lane `l`'s light, from the
+/// lanes ([`LensPasses::finished`]).
+pub(super) struct Finished {
+    /// The lanes end the lane's tree: no reflection at the entry, the first
+    /// exit a refraction, and the light reflected on there either dropped
+    /// or leaving by refraction at the second exit and dropped after it.
+    /// Where not, [`LensPasses::walk`] and the scalar [`chain`] take it.
+    pub(super) done: bool,
+    /// The weight of the ray out at each exit.
+    pub(super) out: [f64; 2],
+    /// Whether it is kept (the second: the light reflected on to it too).
+    pub(super) kept: [bool; 2],
 }
 
 impl LensPasses {
@@ -121,7 +140,56 @@ impl LensPasses {
             on: [[0.0; LANES]; 3],
             exits: [LaneExit::EMPTY; 2],
         },
+        x: [[0.0; LANES]; 3],
+        nf: [[0.0; LANES]; 3],
+        dir: [[0.0; LANES]; 3],
     };
+
+    /// [`LensPasses::walk`]'s weights for traced lane `l` where the lanes
+    /// end its tree (`done`), with no branch on the lane's values: the
+    /// steps of the walk ([`Inside::out_weight`], [`Pruning::keeps`],
+    /// [`Inside::on_weight`], [`Pruning::keeps_on`]) at both exits.
+    #[inline(always)]
+    pub(super) fn finished(&self, l: usize, prune: &Pruning) -> Finished {
+        let [first, second] = &self.pass.exits;
+        let start = Inside {
+            x: DVec3::ZERO,
+            u: DVec3::ZERO,
+            weight: 1.0,
+            reflections: 0,
+        };
+        let r = [first.exit.reflectance[l], second.exit.reflectance[l]];
+        let on = Inside {
+            weight: start.on_weight(r[0]),
+            reflections: 1,
+            ..start
+        };
+        let on_kept = prune.keeps_on(on.weight, start.reflections);
+        let beyond = prune.keeps_on(on.on_weight(r[1]), on.reflections);
+        let out = [start.out_weight(r[0]), on.out_weight(r[1])];
+        // `ok` at the first exit holds no reflection at the entry; at the
+        // second, the first's `ok`.
+        Finished {
+            done: first.exit.ok[l] & (!on_kept | (second.exit.ok[l] & !beyond)),
+            out,
+            kept: [prune.keeps(out[0]), on_kept & prune.keeps(out[1])],
+        }
+    }
+
+    /// Traced lane `l`'s ray out at exit `k` (0 or 1), and the bounces it
+    /// uses ([`Transmitted::bounces`]: `k` reflections inside).
+    #[inline(always)]
+    pub(super) fn ray_out(&self, k: usize, l: usize, factor: f64) -> Transmitted {
+        let ex = &self.pass.exits[k];
+        Transmitted {
+            ray: Ray {
+                origin: lane(&ex.origin, l),
+                dir: lane(&ex.dir, l),
+            },
+            bounces: 2 + k as u32,
+            factor,
+        }
+    }
 
     /// [`transmitted_rays`] for traced lane `l` (into `lens` at `p`, index
     /// `ior`): [`Lens::branches_inside`]'s loop, its first two exits taken
@@ -171,16 +239,9 @@ impl LensPasses {
             if !ex.exit.ok[l] {
                 return Some(on);
             }
-            let out = on.weight * (1.0 - ex.exit.reflectance[l]);
+            let out = on.out_weight(ex.exit.reflectance[l]);
             if prune.keeps(out) {
-                emit.send(Transmitted {
-                    ray: Ray {
-                        origin: lane(&ex.origin, l),
-                        dir: lane(&ex.dir, l),
-                    },
-                    bounces: 2 + on.reflections,
-                    factor: out,
-                });
+                emit.send(self.ray_out(k, l, out));
             }
             // After the first exit, the direction on is the lanes' own.
             let (y, u) = (lane(&ex.exit.local, l), on.u);
@@ -229,8 +290,7 @@ pub(super) fn lens_passes(
     // The lens (its object index, shape and index of refraction there).
     let mut which: Option<(usize, &Lens, f64)> = None;
     let mut lanes = 0u32;
-    let mut x = [[0.0; LANES]; 3];
-    let mut nf = [[0.0; LANES]; 3];
+    let LensPasses { x, nf, dir, .. } = out;
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         let Some(lens) = s.object.lens() else { continue };
@@ -256,7 +316,7 @@ pub(super) fn lens_passes(
     // Lanes outside `lanes` repeat a traced lane, so that every lane holds
     // numbers (their results are not read).
     let first = lanes.trailing_zeros() as usize;
-    let mut dir = *rays.dirs();
+    *dir = *rays.dirs();
     for l in 0..LANES {
         if lanes >> l & 1 == 0 {
             for k in 0..3 {
@@ -266,7 +326,7 @@ pub(super) fn lens_passes(
             }
         }
     }
-    lens_lanes(lens, ior, &x, &dir, &nf, &mut out.pass);
+    lens_lanes(lens, ior, x, dir, nf, &mut out.pass);
     out.lanes = lanes;
     true
 }
@@ -369,8 +429,14 @@ fn lens_lanes_impl(
         exits: [first, second],
         ..
     } = out;
-    lens.exit_lanes_into(x, inside, ior, &mut first.exit);
-    first.rays(lens);
+    let mut local = [[0.0; LANES]; 3];
+    for l in 0..LANES {
+        set_lane(&mut local, l, lane(x, l) - lens.center);
+    }
+    // The first exit's point, then the reflection on from its normal, so
+    // that the second exit runs beside the first exit's crossing (the two
+    // longest chains of square roots side by side).
+    lens.exit_points_local_into(&local, inside, &mut first.exit);
     // `Lens::reflect_inside`'s new direction.
     for l in 0..LANES {
         set_lane(
@@ -379,7 +445,10 @@ fn lens_lanes_impl(
             Lens::reflected_inside(lane(inside, l), lane(&first.exit.normal, l)),
         );
     }
-    lens.exit_lanes_local_into(&first.exit.local, on, ior, &mut second.exit);
+    Lens::exit_crossings_into(inside, ior, &mut first.exit);
+    lens.exit_points_local_into(&first.exit.local, on, &mut second.exit);
+    Lens::exit_crossings_into(on, ior, &mut second.exit);
+    first.rays(lens);
     second.rays(lens);
     for l in 0..LANES {
         first.exit.ok[l] &= !reflected[l];
@@ -397,6 +466,17 @@ with_avx2! {
         nf: &[Lanes<f64>; 3],
         out: &mut LensLanes
     ) -> ()
+}
+
+/// The first lens of `scene` and its object's index (for tests).
+#[cfg(test)]
+pub(super) fn first_lens(scene: &crate::scene::Scene) -> (usize, &Lens) {
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .find_map(|(i, o)| o.lens().map(|l| (i, l)))
+        .expect("the scene has a lens")
 }
 
 /// The ray out of `lens` from the exit point `y` along `out`, spawned off
@@ -420,12 +500,7 @@ mod tests {
     /// Lanes of rays that enter the default scene's lens at random points
     /// from random directions: entry points, facing normals, directions.
     fn entries(scene: &Scene, seed: u64) -> Vec<(V, V, V)> {
-        let (index, lens) = scene
-            .objects
-            .iter()
-            .enumerate()
-            .find_map(|(i, o)| o.lens().map(|l| (i, l)))
-            .expect("the default scene has a lens");
+        let (index, lens) = first_lens(scene);
         let mut s = Sampler::new(seed, 0, 0);
         let mut out = Vec::new();
         let mut lanes = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[0.0; LANES]; 3]);

@@ -23,6 +23,9 @@
 //! - `lens_pass.rs`: the pass through a lens of one ray
 //!   ([`transmitted_rays`]: every ray out of the lens's Whitted tree) or of
 //!   a packet's lanes at once, from the same per-ray steps;
+//! - `lens_send.rs`: what the lanes entering a lens together send on (the
+//!   rays out at the first two exits and the reflected rays), written into
+//!   the packets as lane arrays;
 //! - `photons.rs`: caustic photons from the lights through the glass and
 //!   off the mirrors to the diffuse surfaces ([`photon_pass`]).
 //!
@@ -45,6 +48,7 @@ macro_rules! with_features {
 }
 
 mod lens_pass;
+mod lens_send;
 mod local;
 mod packet;
 mod photons;

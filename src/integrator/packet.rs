@@ -11,15 +11,14 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::PacketPaths;
-use super::lens_pass::{LensPasses, Transmitted, chain, lens_passes};
+use super::lens_pass::{LensPasses, lens_passes};
 use super::local::{SurfaceLanes, add_light_lanes, local_shading};
 use super::scalar::{Alone, kernel};
-use super::shade::{Secondary, Tracer, followed, glass_shares, join, lens_pruning, reflected, refracted, shade_onward};
+use super::shade::{Secondary, Tracer, join, shade_onward};
 use super::surface::Surface;
 use crate::color::Rgb;
-use crate::geometry::{Inside, Lens, Pruning};
 use crate::scene::Scene;
-use crate::simd::{LANES, Lanes, live_lanes};
+use crate::simd::{LANES, Lanes, lane, live_lanes, set_lane};
 use crate::trace::{NO_OBJECT, Packet, closest_hits};
 
 /// The packet kernel's working memory for one depth of its recursion, and
@@ -43,7 +42,7 @@ pub struct PacketScratch {
 /// A lane's further ray out of a lens (after its first two, which go in
 /// the refracted packets), traced at once by the scalar kernel: what it brought
 /// back and how it joins.
-struct Extra {
+pub(super) struct Extra {
     lane: usize,
     tint: Option<Rgb>,
     factor: f64,
@@ -56,7 +55,7 @@ impl Default for PacketScratch {
             shadow: Packet::EMPTY,
             surfaces: SurfaceLanes::EMPTY,
             lens: LensPasses::EMPTY,
-            onward: [Onward::EMPTY, Onward::EMPTY, Onward::EMPTY],
+            onward: [Onward::REFRACTED, Onward::REFRACTED, Onward::REFLECTED],
             back: [[Rgb::ZERO; LANES]; 3],
             extra: Vec::new(),
             deeper: None,
@@ -69,36 +68,63 @@ const MIN_PACKET: u32 = 3;
 
 /// The refracted (slots 0 and 1) or reflected (slot 2) rays a packet's lanes send
 /// on, gathered as a packet, with what [`Secondary`] holds for each lane.
-struct Onward {
+pub(super) struct Onward {
     rays: Packet,
-    live: u32,
+    pub(super) live: u32,
     skip: [u32; LANES],
     depth: [u32; LANES],
     weight: [f64; LANES],
-    tint: [Option<Rgb>; LANES],
+    /// Whether the rays have a tint (the refracted ones), and each lane's
+    /// (structure of arrays).
+    tinted: bool,
+    tint: [Lanes<f64>; 3],
     factor: [f64; LANES],
 }
 
 impl Onward {
-    const EMPTY: Onward = Onward {
-        rays: Packet::EMPTY,
-        live: 0,
-        skip: [NO_OBJECT; LANES],
-        depth: [0; LANES],
-        weight: [0.0; LANES],
-        tint: [None; LANES],
-        factor: [0.0; LANES],
-    };
+    const REFRACTED: Onward = Onward::empty(true);
+    const REFLECTED: Onward = Onward::empty(false);
+
+    const fn empty(tinted: bool) -> Onward {
+        Onward {
+            rays: Packet::EMPTY,
+            live: 0,
+            skip: [NO_OBJECT; LANES],
+            depth: [0; LANES],
+            weight: [0.0; LANES],
+            tinted,
+            tint: [[0.0; LANES]; 3],
+            factor: [0.0; LANES],
+        }
+    }
 
     #[inline(always)]
-    fn push(&mut self, l: usize, sec: &Secondary) {
-        self.rays.set(l, &sec.ray, f64::INFINITY);
+    pub(super) fn push(&mut self, l: usize, sec: &Secondary) {
+        self.write(l, sec);
         self.live |= 1 << l;
+    }
+
+    /// Writes `sec` into lane `l`, which stays as live as it was: the
+    /// lane loops of `send_through_lens` write every lane and set `live`
+    /// after.
+    #[inline(always)]
+    pub(super) fn write(&mut self, l: usize, sec: &Secondary) {
+        debug_assert_eq!(sec.tint.is_some(), self.tinted);
+        self.rays.set(l, &sec.ray, f64::INFINITY);
         self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
         self.depth[l] = sec.depth;
         self.weight[l] = sec.weight;
-        self.tint[l] = sec.tint;
+        // Untinted rays (the reflected packet's) leave the tints unread.
+        if let Some(t) = sec.tint {
+            set_lane(&mut self.tint, l, t);
+        }
         self.factor[l] = sec.factor;
+    }
+
+    /// Lane `l`'s tint.
+    #[inline(always)]
+    fn tint(&self, l: usize) -> Option<Rgb> {
+        self.tinted.then(|| lane(&self.tint, l))
     }
 
     /// Lane `l`'s ray as shading sent it.
@@ -113,7 +139,7 @@ impl Onward {
             },
             depth: self.depth[l],
             weight: self.weight[l],
-            tint: self.tint[l],
+            tint: self.tint(l),
             factor: self.factor[l],
         }
     }
@@ -138,13 +164,15 @@ impl Onward {
             }
             return;
         }
+        // Every lane's inverse direction first (all lanes at once): the
+        // escape test takes them too.
+        self.rays.fill_unused(self.live);
         if self.all_escape(scene) {
             for l in live_lanes(self.live) {
                 back[l] = scene.background;
             }
             return;
         }
-        self.rays.fill_unused(self.live);
         // Lanes that sent nothing hold what an earlier packet left; they
         // never hit (`fill_unused`), and skip nothing.
         for l in 0..LANES {
@@ -174,8 +202,7 @@ impl Onward {
                 return false;
             };
             if let Some(b) = bounds {
-                let ray = self.rays.ray(l);
-                if b.hit(&ray, ray.dir.recip(), 0.0, f64::INFINITY) {
+                if b.hit(&self.rays.ray(l), self.rays.inv_dir(l), 0.0, f64::INFINITY) {
                     return false;
                 }
             }
@@ -187,7 +214,7 @@ impl Onward {
     /// [`Secondary::join`] does.
     #[inline(always)]
     fn join(&self, l: usize, color: &mut Rgb, back: Rgb) {
-        join(color, self.tint[l], self.factor[l], back);
+        join(color, self.tint(l), self.factor[l], back);
     }
 }
 
@@ -328,13 +355,24 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
     let mut traced = 0;
     if GLASS && lens_passes(p, surfaces, lambda_um, lens) {
         traced = lens.lanes;
-        send_through_lens::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, surfaces, lens, lambda_um, onward, extra);
+        super::lens_send::send_through_lens::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            scene, paths, surfaces, lens, lambda_um, onward, extra,
+        );
     }
+    // One sink for every lane, moved from lane to lane.
+    let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
+        scene,
+        lambda_um,
+        l: 0,
+        onward,
+        extra,
+    };
     for l in 0..LANES {
         let Some(s) = &surfaces[l] else { continue };
         if traced >> l & 1 != 0 {
             continue;
         }
+        gather.l = l;
         let dir = p.dir(l);
         shade_onward::<GLASS, MIRROR>(
             scene,
@@ -344,129 +382,17 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             lambda_um,
             paths.weight[l],
             &Alone(p.ray(l)),
-            &mut Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
-                scene,
-                lambda_um,
-                l,
-                onward,
-                extra,
-            },
+            &mut gather,
             &mut out[l],
         );
     }
-    onward.iter().any(|o| o.live != 0)
-}
-
-/// [`send_onward`] for the lanes whose passes through a lens `passes`
-/// traced together: [`shade_onward`]'s steps for a lane entering a lens
-/// ([`glass_shares`], [`lens_pruning`], [`refracted`], [`reflected`]), the
-/// rays out at its first two exits taken from the lanes
-/// ([`LensPasses::walk`]) straight into the refracted packets, the rest of
-/// the tree from the scalar [`chain`] ([`chain_on`], out of line). Out of
-/// line, so that the common path stays small. The lanes' colours take
-/// nothing until the rays come back.
-#[inline(never)]
-fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Scene,
-    paths: &PacketPaths,
-    surfaces: &[Option<Surface>; LANES],
-    passes: &LensPasses,
-    lambda_um: f64,
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    for l in live_lanes(passes.lanes) {
-        let (depth, weight) = (paths.depth[l], paths.weight[l]);
-        let Some(s) = &surfaces[l] else { continue };
-        let Some(lens) = s.object.lens() else { continue };
-        if depth >= scene.max_depth {
-            continue;
-        }
-        let m = &s.object.material;
-        let (kr, kt) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
-        if followed(kt, weight) {
-            let prune = lens_pruning(scene, depth, weight, kt);
-            let lane = LensLane {
-                scene,
-                s,
-                depth,
-                weight,
-                kt,
-                l,
-            };
-            // A lane's rays out of a lens take the refracted slots in order
-            // (`Gather` would find them free: the lane sent nothing yet).
-            let mut slot = 0;
-            let mut send = |tr: Transmitted| {
-                if let Some(sec) = lane.refracted(tr) {
-                    if slot < 2 {
-                        onward[slot].push(l, &sec);
-                    } else {
-                        extra.push(further::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, l, &sec, lambda_um));
-                    }
-                    slot += 1;
-                }
-            };
-            if let Some(on) = passes.walk(l, lens, s.p, &prune, &mut send) {
-                chain_on::<SHADOWS, GLASS, MIRROR, SPECULAR>(&lane, lambda_um, (lens, on, &prune), onward, extra);
-            }
-        }
-        if followed(kr, weight) {
-            onward[2].push(l, &reflected(s, paths.rays.dir(l), depth, weight, kr));
-        }
-    }
-}
-
-/// A lane of [`send_through_lens`] entering a lens at its surface `s`
-/// (transmitted share `kt`).
-struct LensLane<'a, 's> {
-    scene: &'a Scene,
-    s: &'a Surface<'s>,
-    depth: u32,
-    weight: f64,
-    kt: f64,
-    l: usize,
-}
-
-impl LensLane<'_, '_> {
-    /// [`refracted`] for a ray out of the lens.
-    #[inline(always)]
-    fn refracted(&self, tr: Transmitted) -> Option<Secondary> {
-        refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr)
-    }
-}
-
-/// The rays out of a lens past the first two exits of lane `lane` (the
-/// light inside `on` in `lens`, pruned by `prune`), by the scalar
-/// [`chain`], gathered as [`Gather`] does. Rare: out of line, so that
-/// the lanes' common path keeps its values in registers.
-#[inline(never)]
-fn chain_on<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    lane: &LensLane,
-    lambda_um: f64,
-    (lens, on, prune): (&Lens, Inside, &Pruning),
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
-        scene: lane.scene,
-        lambda_um,
-        l: lane.l,
-        onward,
-        extra,
-    };
-    let ior = lane.s.object.material.ior.at(lambda_um);
-    chain(lens, on, ior, prune, |tr| {
-        if let Some(sec) = lane.refracted(tr) {
-            gather.trace(sec, &mut Rgb::default());
-        }
-    });
+    gather.onward.iter().any(|o| o.live != 0)
 }
 
 /// A lane's further ray out of a lens, traced at once by the scalar
 /// kernel (rare: out of line, so that the common path stays small).
 #[inline(never)]
-fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+pub(super) fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
     scene: &Scene,
     lane: usize,
     sec: &Secondary,
@@ -485,12 +411,12 @@ fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPE
 /// one in the reflected packet (2), to be traced after the local shading of
 /// every lane; a third refracted ray (out of a lens) is traced at once by
 /// the scalar kernel (into `extra`).
-struct Gather<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
-    scene: &'a Scene,
-    lambda_um: f64,
-    l: usize,
-    onward: &'a mut [Onward; 3],
-    extra: &'a mut Vec<Extra>,
+pub(super) struct Gather<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
+    pub(super) scene: &'a Scene,
+    pub(super) lambda_um: f64,
+    pub(super) l: usize,
+    pub(super) onward: &'a mut [Onward; 3],
+    pub(super) extra: &'a mut Vec<Extra>,
 }
 
 impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> Tracer

@@ -290,7 +290,8 @@ pub(super) fn lens_pruning(scene: &Scene, depth: u32, weight: f64, kt: f64) -> P
 }
 
 /// The ray `tr` that carries on through the surface `s` (transmitted share
-/// `kt`) as shading sends it on; `None` past the scene's `max_depth`.
+/// `kt`) as shading sends it on; `None` past the scene's `max_depth`
+/// ([`within_depth`], then [`carried_on`]).
 #[inline(always)]
 pub(super) fn refracted(
     scene: &Scene,
@@ -300,9 +301,19 @@ pub(super) fn refracted(
     kt: f64,
     tr: Transmitted,
 ) -> Option<Secondary> {
-    if depth + tr.bounces > scene.max_depth {
-        return None;
-    }
+    within_depth(scene, depth, tr.bounces).then(|| carried_on(s, depth, weight, kt, tr))
+}
+
+/// Whether a ray that uses `bounces` more than `depth` stays within the
+/// scene's `max_depth`.
+#[inline(always)]
+pub(super) fn within_depth(scene: &Scene, depth: u32, bounces: u32) -> bool {
+    depth + bounces <= scene.max_depth
+}
+
+/// [`refracted`] for a ray within the depth.
+#[inline(always)]
+pub(super) fn carried_on(s: &Surface, depth: u32, weight: f64, kt: f64, tr: Transmitted) -> Secondary {
     let w = kt * tr.factor;
     // Out of a lens, or out of a solid: the ray has left the object.
     let skip = if s.object.lens().is_some() || s.outward(tr.ray.dir) {
@@ -310,14 +321,14 @@ pub(super) fn refracted(
     } else {
         usize::MAX
     };
-    Some(Secondary {
+    Secondary {
         ray: tr.ray,
         skip,
         depth: depth + tr.bounces,
         weight: weight * w,
         tint: Some(s.object.material.color),
         factor: w,
-    })
+    }
 }
 
 /// The mirror ray at the surface `s` for a ray along `dir` (reflected share

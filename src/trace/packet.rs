@@ -141,6 +141,13 @@ impl Packet {
         DVec3::new(self.d[0][l], self.d[1][l], self.d[2][l])
     }
 
+    /// Lane `l`'s inverse direction (`DVec3::recip` of its direction), once
+    /// [`Packet::fill_unused`] has computed every lane's.
+    #[inline]
+    pub fn inv_dir(&self, l: usize) -> DVec3 {
+        DVec3::new(self.inv[0][l], self.inv[1][l], self.inv[2][l])
+    }
+
     /// Lane `l`'s ray.
     #[inline]
     pub fn ray(&self, l: usize) -> Ray {

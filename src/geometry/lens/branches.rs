@@ -47,6 +47,21 @@ pub struct Inside {
     pub reflections: u32,
 }
 
+impl Inside {
+    /// The weight that leaves as a ray out at a crossing of reflectance `r`
+    /// (not a total reflection).
+    #[inline(always)]
+    pub fn out_weight(&self, r: f64) -> f64 {
+        self.weight * (1.0 - r)
+    }
+
+    /// The weight that a crossing of reflectance `r` reflects on inside.
+    #[inline(always)]
+    pub fn on_weight(&self, r: f64) -> f64 {
+        self.weight * r
+    }
+}
+
 /// When a branch is dropped: a ray out or the light reflected on is kept
 /// while `scale · weight > min`, and the chain stops after
 /// `max_reflections` reflections inside (at most
@@ -71,6 +86,13 @@ impl Pruning {
     #[inline(always)]
     pub fn keeps(&self, w: f64) -> bool {
         self.scale * w > self.min
+    }
+
+    /// Whether the light reflected on inside with weight `w`, after
+    /// `reflections` reflections before this one, is followed.
+    #[inline(always)]
+    pub fn keeps_on(&self, w: f64, reflections: u32) -> bool {
+        self.keeps(w) && reflections < self.max_reflections.min(MAX_INTERNAL_REFLECTIONS)
     }
 }
 
@@ -110,7 +132,7 @@ impl Lens {
             let reflectance = if c.total {
                 1.0
             } else {
-                let out = s.weight * (1.0 - c.reflectance);
+                let out = s.out_weight(c.reflectance);
                 if prune.keeps(out) {
                     emit(LensBranch {
                         face: LensSurface::from_part(e.face as u8),
@@ -158,8 +180,8 @@ impl Lens {
         prune: &Pruning,
         on: impl FnOnce() -> DVec3,
     ) -> Result<(), f64> {
-        let w = s.weight * r;
-        if !prune.keeps(w) || s.reflections >= prune.max_reflections.min(MAX_INTERNAL_REFLECTIONS) {
+        let w = s.on_weight(r);
+        if !prune.keeps_on(w, s.reflections) {
             return Err(w);
         }
         s.weight = w;

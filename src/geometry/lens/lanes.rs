@@ -9,7 +9,9 @@
 
 use super::cap::span;
 use super::{Lens, near_point};
+use crate::optics::Crossing;
 use crate::simd::{lane, set_lane};
+use glam::DVec3;
 
 /// Hits of a packet's lanes ([`Lens::intersect_lanes`]).
 #[derive(Clone, Copy, Debug)]
@@ -101,6 +103,7 @@ impl Lens {
 
     /// [`Lens::exit_lanes`] written into `out` (every field of every lane:
     /// working memory kept by the caller, with nothing to clear first).
+    #[cfg(test)]
     #[inline(always)]
     pub(crate) fn exit_lanes_into<const N: usize>(
         &self,
@@ -118,6 +121,7 @@ impl Lens {
 
     /// [`Lens::exit_lanes_into`] from local points `x` (from the centre), as
     /// [`Lens::branch_chain`] goes on from one exit to the next.
+    #[cfg(test)]
     #[inline(always)]
     pub(crate) fn exit_lanes_local_into<const N: usize>(
         &self,
@@ -126,16 +130,61 @@ impl Lens {
         n: f64,
         out: &mut LaneExits<N>,
     ) {
+        self.exit_points_local_into(x, u, out);
+        Self::exit_crossings_into(u, n, out);
+    }
+
+    /// [`Lens::exit_lanes_local_into`]'s exit points ([`Lens::exit_point`]):
+    /// `y`, `local`, `part` and `normal`, with `ok` holding whether the
+    /// point is found until [`Lens::exit_crossings_into`].
+    #[inline(always)]
+    pub(crate) fn exit_points_local_into<const N: usize>(
+        &self,
+        x: &[[f64; N]; 3],
+        u: &[[f64; N]; 3],
+        out: &mut LaneExits<N>,
+    ) {
         let caps = self.caps;
-        for l in 0..N {
-            let e = self.exit_step(caps, lane(x, l), lane(u, l), n);
-            set_lane(&mut out.y, l, self.center + e.y);
-            set_lane(&mut out.local, l, e.y);
-            set_lane(&mut out.out, l, e.crossing.dir);
-            set_lane(&mut out.normal, l, e.normal);
-            out.reflectance[l] = e.crossing.reflectance;
-            out.part[l] = e.face as u64;
-            out.ok[l] = e.found & !e.crossing.total;
+        // Both halves of the lanes in one pass: two SIMD registers' long
+        // chains of square roots and divisions side by side, not one after
+        // the other.
+        let mut put = |l: usize, (found, y, face, normal): (bool, DVec3, usize, DVec3)| {
+            set_lane(&mut out.y, l, self.center + y);
+            set_lane(&mut out.local, l, y);
+            set_lane(&mut out.normal, l, normal);
+            out.part[l] = face as u64;
+            out.ok[l] = found;
+        };
+        for l in 0..N / 2 {
+            let h = l + N / 2;
+            let (a, b) = (
+                self.exit_point(caps, lane(x, l), lane(u, l)),
+                self.exit_point(caps, lane(x, h), lane(u, h)),
+            );
+            put(l, a);
+            put(h, b);
+        }
+    }
+
+    /// [`Lens::exit_lanes_local_into`]'s crossings out ([`Lens::exit_crossing`])
+    /// along `u` (index `n`) at the points [`Lens::exit_points_local_into`]
+    /// wrote: `out` and `reflectance`, and `ok` where the point was found
+    /// and the lane leaves by refraction.
+    #[inline(always)]
+    pub(crate) fn exit_crossings_into<const N: usize>(u: &[[f64; N]; 3], n: f64, out: &mut LaneExits<N>) {
+        let mut put = |l: usize, c: Crossing| {
+            set_lane(&mut out.out, l, c.dir);
+            out.reflectance[l] = c.reflectance;
+            out.ok[l] &= !c.total;
+        };
+        for l in 0..N / 2 {
+            let h = l + N / 2;
+            let (a, b) = (
+                Self::exit_crossing(lane(u, l), lane(&out.normal, l), n),
+                Self::exit_crossing(lane(u, h), lane(&out.normal, h), n),
+            );
+            put(l, a);
+            put(h, b);
         }
     }
 }

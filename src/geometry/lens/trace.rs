@@ -217,21 +217,38 @@ impl Lens {
     /// they would be gathered lane by lane.
     #[inline(always)]
     pub(super) fn exit_step(&self, caps: [Cap; 2], x: DVec3, u: DVec3, n: f64) -> ExitStep {
+        let (found, y, face, normal) = self.exit_point(caps, x, u);
+        ExitStep {
+            found,
+            y,
+            face,
+            normal,
+            crossing: Self::exit_crossing(u, normal, n),
+        }
+    }
+
+    /// [`Lens::exit_step`]'s exit point: whether it is found, the point, the
+    /// face and its outward unit normal there. Apart from the crossing, so
+    /// that the lanes can go on from the normal (the reflection on inside)
+    /// while the crossing's square roots run.
+    #[inline(always)]
+    pub(super) fn exit_point(&self, caps: [Cap; 2], x: DVec3, u: DVec3) -> (bool, DVec3, usize, DVec3) {
         let sp = span(&caps, x, u);
         let t = sp.t_out;
         let y = x + t * u;
         let face = self.face(y, sp.face_out);
         let [c0, c1] = caps;
         let normal = if face == 0 { c0 } else { c1 }.normal(y);
-        ExitStep {
-            found: sp.real & (t >= 0.0),
-            y,
-            face,
-            normal,
-            // Inside, the face's outward normal points away from the
-            // incident side, so Snell's law takes −normal.
-            crossing: optics::crossing(u, -normal, n, 1.0),
-        }
+        (sp.real & (t >= 0.0), y, face, normal)
+    }
+
+    /// [`Lens::exit_step`]'s crossing out along `u` through a face of outward
+    /// unit `normal`, from glass of index `n` into air.
+    #[inline(always)]
+    pub(super) fn exit_crossing(u: DVec3, normal: DVec3, n: f64) -> Crossing {
+        // Inside, the face's outward normal points away from the incident
+        // side, so Snell's law takes −normal.
+        optics::crossing(u, -normal, n, 1.0)
     }
 
     /// [`Lens::propagate_inside`] in local coordinates.
