@@ -7,7 +7,8 @@
 //!     cargo build --release --example stage_cost
 //!     target/release/examples/stage_cost MODE SCENE WIDTH HEIGHT RUNS
 //!
-//! MODE: `bench`, `stage` or `send`: the median time of RUNS runs (after
+//! MODE: `bench`, `stage`, `send` or `warp` (a reprojection after a step):
+//! the median time of RUNS runs (after
 //! one warm-up); `alt`: `bench` and `stage` frames in turn, both medians;
 //! `hash`: a hash of every stage's picture, sample counts and first hits
 //! through the schedule to 16 spp, a camera step (reprojection) and the
@@ -41,6 +42,9 @@ fn main() {
     };
     if mode == "hash" {
         return hash_schedule(&scene, w, h);
+    }
+    if mode == "warp" {
+        return time_warp(&scene, w, h, runs);
     }
     let mut img = Image::new(w, h);
     let mut prog = Progressive::new(w, h, 0);
@@ -135,5 +139,28 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
     for st in schedule(16).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
         prog.run(&moved, st, &|| false);
         print(&prog, &format!("moved {}", st.label()));
+    }
+}
+
+/// `warp`: the median time of a reprojection (warp and holes at 2×2) of a
+/// 1-spp picture after W held for 1/30 s.
+fn time_warp(scene: &Scene, w: u32, h: u32, runs: u32) {
+    let mut moved = scene.clone();
+    let c = &scene.camera;
+    moved.camera = lensview::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+    let mut prog = Progressive::new(w, h, 0);
+    let mut times: Vec<f64> = (0..=runs)
+        .map(|_| {
+            prog.reset(w, h, 0);
+            prog.run(scene, Stage::Samples(1), &|| false);
+            let t = Instant::now();
+            prog.reproject(&moved, &scene.camera, |_| 2);
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.remove(0);
+    times.sort_by(f64::total_cmp);
+    if let Some(m) = times.get(times.len() / 2) {
+        println!("warp {w}x{h}: median {m:.2} ms of {runs}");
     }
 }
