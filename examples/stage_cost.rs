@@ -112,9 +112,7 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
     use lensview::render::progressive::schedule;
     use std::hash::{DefaultHasher, Hash, Hasher};
     let mut prog = Progressive::new(w, h, 0);
-    let mut moved = scene.clone();
-    let c = &scene.camera;
-    moved.camera = lensview::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+    let moved = stepped(scene);
     let print = |prog: &Progressive, label: &str| {
         let mut hs = DefaultHasher::new();
         for p in &prog.image().pixels {
@@ -145,9 +143,7 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
 /// `warp`: the median time of a reprojection (warp and holes at 2×2) of a
 /// 1-spp picture after W held for 1/30 s.
 fn time_warp(scene: &Scene, w: u32, h: u32, runs: u32) {
-    let mut moved = scene.clone();
-    let c = &scene.camera;
-    moved.camera = lensview::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+    let moved = stepped(scene);
     let mut prog = Progressive::new(w, h, 0);
     let mut times: Vec<f64> = (0..=runs)
         .map(|_| {
@@ -163,4 +159,12 @@ fn time_warp(scene: &Scene, w: u32, h: u32, runs: u32) {
     if let Some(m) = times.get(times.len() / 2) {
         println!("warp {w}x{h}: median {m:.2} ms of {runs}");
     }
+}
+
+/// `scene` after W held for 1/30 s at the default flight speed (0.1 forward).
+fn stepped(scene: &Scene) -> Scene {
+    let mut moved = scene.clone();
+    let c = &scene.camera;
+    moved.camera = lensview::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
+    moved
 }

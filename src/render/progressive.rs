@@ -477,12 +477,13 @@ impl Progressive {
     /// not spend its budget converting 64 equal pixels 64 times).
     fn write_blocks_rgba8(&self, out: &mut [u8]) {
         let (w, n) = (self.width as usize, self.block);
+        let srgb = Srgb8::table();
         out.par_chunks_mut(4 * w * n)
             .zip(self.preview.par_chunks(w * n))
             .for_each(|(o, src)| {
                 let row0 = &mut o[..4 * w];
                 for bx in 0..w.div_ceil(n) {
-                    let px = Srgb8::table().rgba(src[bx * n]);
+                    let px = srgb.rgba(src[bx * n]);
                     for x in bx * n..((bx + 1) * n).min(w) {
                         row0[4 * x..4 * x + 4].copy_from_slice(&px);
                     }

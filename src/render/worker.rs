@@ -101,6 +101,14 @@ impl Shown {
         self.changed.notify_all();
     }
 
+    /// Records that `generation` is on screen, and wakes a hold.
+    fn show(&self, generation: u64) {
+        let mut g = self.generation.lock().unwrap_or_else(|e| e.into_inner());
+        *g = (*g).max(generation);
+        drop(g);
+        self.changed.notify_all();
+    }
+
     /// After the first frame of job `generation`: waits until the window
     /// shows it, the job is no longer wanted, or the hold's limit passed.
     fn hold(&self, generation: u64, cancelled: &dyn Fn() -> bool) {
@@ -158,10 +166,7 @@ impl Worker {
 
     /// Reports that the frames of `generation` sent so far are on screen.
     pub fn shown(&self, generation: u64) {
-        let mut g = self.shown.generation.lock().unwrap_or_else(|e| e.into_inner());
-        *g = (*g).max(generation);
-        drop(g);
-        self.shown.changed.notify_all();
+        self.shown.show(generation);
     }
 
     /// Replaces whatever is being rendered by `job`. Generations must grow
