@@ -119,10 +119,7 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
             [p.x, p.y, p.z].map(f64::to_bits).hash(&mut hs);
         }
         prog.counts().hash(&mut hs);
-        for f in prog.first_hits() {
-            f.offset.map(f32::to_bits).hash(&mut hs);
-            (f.seen as u8).hash(&mut hs);
-        }
+        prog.first_hits().hash(&mut hs);
         let mut rgba = Vec::new();
         prog.write_rgba8(&mut rgba);
         rgba.hash(&mut hs);

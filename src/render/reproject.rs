@@ -243,18 +243,14 @@ impl Back<'_> {
                 first[x] = match taken {
                     Some(c) => {
                         row[x] = c;
-                        let (offset, seen) = match class {
-                            SKY => (rel[l].normalize(), Seen::Sky),
-                            _ => (rel[l], Seen::Surface),
-                        };
-                        FirstHit {
-                            offset: offset.to_array(),
-                            seen,
+                        match class {
+                            SKY => FirstHit::new(Seen::Sky, 0.0),
+                            _ => FirstHit::new(Seen::Surface, f32::from_bits(k[l] & !3)),
                         }
                     }
                     None => {
                         holes += 1;
-                        FirstHit::default()
+                        FirstHit::UNKNOWN
                     }
                 };
             }
@@ -276,39 +272,46 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
         .for_each(|c| c.iter_mut().for_each(|s| *s.get_mut() = EMPTY));
     let splat = &scratch.splat[..n];
     let to_new = Projector::new(cam, (w, h));
-    let fwd_old = src.camera.forward().as_vec3();
     let shift = (src.camera.position - cam.position).as_vec3();
     let (wf, hf) = (w as f32, h as f32);
-    scratch.old.par_chunks_mut(CHUNK).enumerate().for_each(|(c, olds)| {
-        for (j, old) in olds.iter_mut().enumerate() {
-            let i = c * CHUNK + j;
-            let f = &src.first[i];
-            let colour = match src.count {
-                Some(count) => mean(src.colour[i], count[i]),
-                None => src.colour[i],
-            };
-            let o = Vec3::from(f.offset);
-            let (class, v, depth) = match f.seen {
-                Seen::Unknown => {
-                    *old = colour.as_vec3().extend(f32::NAN);
+    // The old pixels' centre rays, scaled to depth 1 in the old view.
+    let from_old = Projector::new(src.camera, src.size);
+    let old_w = src.size.0 as usize;
+    scratch
+        .old
+        .par_chunks_mut(old_w.max(1))
+        .enumerate()
+        .for_each(|(y, olds)| {
+            for (x, old) in olds.iter_mut().enumerate() {
+                let i = y * old_w + x;
+                let f = src.first[i];
+                let colour = match src.count {
+                    Some(count) => mean(src.colour[i], count[i]),
+                    None => src.colour[i],
+                };
+                let dir = from_old.direction(x as f32 + 0.5, y as f32 + 0.5);
+                let z = f.depth();
+                let (class, v, depth) = match f.seen() {
+                    Seen::Unknown => {
+                        *old = colour.as_vec3().extend(f32::NAN);
+                        continue;
+                    }
+                    Seen::Sky => (SKY, dir, f32::INFINITY),
+                    Seen::Surface => (SURFACE, dir * z + shift, z),
+                    Seen::Specular => (SPECULAR, dir * z + shift, f32::NAN),
+                };
+                *old = colour.as_vec3().extend(depth);
+                let Some((x, y, z)) = to_new.project(v) else { continue };
+                if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
                     continue;
                 }
-                Seen::Sky => (SKY, o, f32::INFINITY),
-                Seen::Surface => (SURFACE, o + shift, o.dot(fwd_old)),
-                Seen::Specular => (SPECULAR, o + shift, f32::NAN),
-            };
-            *old = colour.as_vec3().extend(depth);
-            let Some((x, y, z)) = to_new.project(v) else { continue };
-            if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
-                continue;
+                let k = key(if class == SKY { f32::MAX } else { z }, class);
+                let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
+                if k < cell.load(Ordering::Relaxed) {
+                    cell.fetch_min(k, Ordering::Relaxed);
+                }
             }
-            let k = key(if class == SKY { f32::MAX } else { z }, class);
-            let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
-            if k < cell.load(Ordering::Relaxed) {
-                cell.fetch_min(k, Ordering::Relaxed);
-            }
-        }
-    });
+        });
 }
 
 /// For row `y`: per column `x` (at `x + 1`; the ends stay [`EMPTY`]) the
@@ -435,7 +438,7 @@ mod tests {
         let mut out = vec![Rgb::ZERO; w * h];
         let mut first = vec![FirstHit::default(); w * h];
         let holes = warp(&src, &b.camera, size, &mut Scratch::default(), &mut out, &mut first);
-        let left: Vec<bool> = first.iter().map(|f| f.seen == Seen::Unknown).collect();
+        let left: Vec<bool> = first.iter().map(|f| f.seen() == Seen::Unknown).collect();
         assert_eq!(left.iter().filter(|&&l| l).count(), holes);
         assert_eq!(fill(&b, size, 1, &mut out, &mut first) as usize, holes);
         let (mut moved, mut compared, mut traced) = (0, 0, 0);
@@ -443,7 +446,7 @@ mod tests {
             for x in 0..w {
                 let i = y * w + x;
                 let want = new_img.pixels[i];
-                if fresh.first_hits()[i].seen == Seen::Specular {
+                if fresh.first_hits()[i].seen() == Seen::Specular {
                     assert!(left[i], "pixel {x},{y} seen through glass was moved");
                 }
                 if left[i] {
@@ -511,23 +514,22 @@ mod tests {
     }
 
     /// Of two points splatted on one pixel the nearer wins, though it comes
-    /// first: here the nearer (pixel 0's, moved onto pixel `p`'s ray) is
-    /// not what `p` saw, so `p`'s taps refuse it and `p` is left to step 3,
-    /// while its neighbours move.
+    /// first: after a step to the left, old pixel `a` (near, red) and its
+    /// right neighbour `b` (far, blue) land on the same new pixel `p`,
+    /// which shows `a` (a plain store would keep `b`, splatted after it).
     #[test]
     fn the_nearest_splat_wins_whatever_comes_first() {
         let cam = Scene::default_scene().1.camera;
         let size = (8, 8);
-        let ray = |x: usize, y: usize| cam.ray(x as f64 + 0.5, y as f64 + 0.5, 8, 8).dir.as_vec3();
-        let p = 4 * 8 + 4;
-        let mut first: Vec<FirstHit> = (0..64)
-            .map(|i| FirstHit {
-                offset: (ray(i % 8, i / 8) * 5.0).to_array(),
-                seen: Seen::Surface,
-            })
-            .collect();
-        first[0].offset = (ray(4, 4) * 2.0).to_array();
-        let colour = vec![Rgb::splat(0.5); 64];
+        // Pixels per unit of screen coordinate (Projector::new's `sy`).
+        let s = 4.0 / (0.5 * cam.fov_y_deg.to_radians()).tan();
+        let (a, b) = (4 * 8 + 3, 4 * 8 + 4);
+        let mut first = vec![FirstHit::new(Seen::Surface, 5.0); 64];
+        first[a] = FirstHit::new(Seen::Surface, 2.0);
+        first[b] = FirstHit::new(Seen::Surface, 1000.0);
+        let mut colour = vec![Rgb::splat(0.5); 64];
+        colour[a] = Rgb::new(1.0, 0.0, 0.0);
+        colour[b] = Rgb::new(0.0, 0.0, 1.0);
         let src = Source {
             camera: &cam,
             size,
@@ -535,13 +537,15 @@ mod tests {
             count: None,
             first: &first,
         };
+        // Two pixels' parallax at depth 2 moves `a` one pixel right, onto
+        // `b`'s place; `b`, far, stays.
+        let to = Camera::new(cam.position - cam.right() * (2.0 / s), cam.rotation_deg, cam.fov_y_deg);
         let (mut out, mut got) = (vec![Rgb::ZERO; 64], vec![FirstHit::default(); 64]);
-        warp(&src, &cam, size, &mut Scratch::default(), &mut out, &mut got);
-        assert_eq!(got[p].seen, Seen::Unknown);
-        for q in [p - 1, p + 1, p - 8, p + 8] {
-            assert_eq!(got[q].seen, Seen::Surface, "pixel {q}");
-            assert!((out[q] - Rgb::splat(0.5)).abs().max_element() < 1e-6);
-        }
+        warp(&src, &to, size, &mut Scratch::default(), &mut out, &mut got);
+        let p = b;
+        assert_eq!(got[p].seen(), Seen::Surface);
+        assert!((got[p].depth() - 2.0).abs() < 1e-3, "depth {}", got[p].depth());
+        assert!((out[p] - colour[a]).abs().max_element() < 1e-6, "{:?}", out[p]);
     }
 
     /// Projecting a camera ray's point gives back its pixel position, and

@@ -32,7 +32,7 @@ pub fn fill(scene: &Scene, (w, h): (u32, u32), block: u32, out: &mut [Rgb], firs
                 rows.chunks(wu).any(|r| {
                     r[bx * n..((bx + 1) * n).min(wu)]
                         .iter()
-                        .any(|f| f.seen == Seen::Unknown)
+                        .any(|f| f.seen() == Seen::Unknown)
                 })
             };
             let mut sink = |bx: u32, c: Rgb, _: &dyn Fn() -> FirstHit| coarse[bx as usize] = Some(c);
@@ -53,7 +53,7 @@ pub fn fill(scene: &Scene, (w, h): (u32, u32), block: u32, out: &mut [Rgb], firs
         .enumerate()
         .for_each(|(y, (row, first))| {
             for (x, (o, f)) in row.iter_mut().zip(first).enumerate() {
-                if f.seen == Seen::Unknown {
+                if f.seen() == Seen::Unknown {
                     *o = interpolate(&coarse, (bw, bh), n, (x, y));
                 }
             }
@@ -103,7 +103,7 @@ fn pixels(scene: &Scene, (w, h): (u32, u32), out: &mut [Rgb], first: &mut [First
             let dst: Vec<u32> = (0..wu)
                 .step_by(LANES)
                 .flat_map(per_column)
-                .filter(|&i| first[i].seen == Seen::Unknown)
+                .filter(|&i| first[i].seen() == Seen::Unknown)
                 .map(|i| i as u32)
                 .collect();
             let mut sink = |d: u32, c: Rgb, f: &dyn Fn() -> FirstHit| (rows[d as usize], first[d as usize]) = (c, f());
