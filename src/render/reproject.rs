@@ -112,6 +112,15 @@ impl Projector {
     fn direction(&self, x: f32, y: f32) -> Vec3 {
         self.forward + self.right * ((x - self.cx) * self.isx) - self.up * ((y - self.cy) * self.isy)
     }
+
+    /// The centre rays of row `y`'s pixels, as [`Self::direction`] scales
+    /// them: pixel `x`'s is `start + step * x` (a pass over a row adds
+    /// instead of working each one out: measured, the splat took three
+    /// times as long with a [`Self::direction`] per pixel).
+    #[inline]
+    fn row_rays(&self, y: usize) -> (Vec3, Vec3) {
+        (self.direction(0.5, y as f32 + 0.5), self.right * self.isx)
+    }
 }
 
 /// The picture before the move: its camera, colours and first hits. With
@@ -214,6 +223,7 @@ impl Back<'_> {
     fn row(&self, y: usize, (near, spec): (&[u32], &[u32]), row: &mut [Rgb], first: &mut [FirstHit]) -> usize {
         let w = self.size.0;
         let mut holes = 0;
+        let (row0, dx) = self.to_new.row_rays(y);
         for x0 in (0..w).step_by(LANES) {
             let m = (w - x0).min(LANES);
             let mut k = [SPECULAR; LANES];
@@ -230,7 +240,7 @@ impl Back<'_> {
             let (mut rel, mut at) = ([Vec3::ZERO; LANES], [(0.0, 0.0, 0.0); LANES]);
             for l in 0..LANES {
                 let sky = k[l] & 3 == SKY;
-                let d = self.to_new.direction((x0 + l) as f32 + 0.5, y as f32 + 0.5);
+                let d = row0 + dx * (x0 + l) as f32;
                 rel[l] = d * if sky { 1.0 } else { f32::from_bits(k[l] & !3) };
                 at[l] = self.to_old.project_any(if sky { d } else { self.shift + rel[l] });
             }
@@ -282,6 +292,7 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
         .par_chunks_mut(old_w.max(1))
         .enumerate()
         .for_each(|(y, olds)| {
+            let (row0, dx) = from_old.row_rays(y);
             for (x, old) in olds.iter_mut().enumerate() {
                 let i = y * old_w + x;
                 let f = src.first[i];
@@ -289,7 +300,7 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
                     Some(count) => mean(src.colour[i], count[i]),
                     None => src.colour[i],
                 };
-                let dir = from_old.direction(x as f32 + 0.5, y as f32 + 0.5);
+                let dir = row0 + dx * x as f32;
                 let z = f.depth();
                 let (class, v, depth) = match f.seen() {
                     Seen::Unknown => {
