@@ -113,27 +113,34 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
     use std::hash::{DefaultHasher, Hash, Hasher};
     let mut prog = Progressive::new(w, h, 0);
     let moved = stepped(scene);
-    let print = |prog: &Progressive, label: &str| {
+    // Two hashes: the picture (means, counts, 8-bit frame) and the first
+    // hits (recorded where a picture of samples has none yet; block
+    // previews have none).
+    let print = |prog: &mut Progressive, scene: &Scene, label: &str| {
         let mut hs = DefaultHasher::new();
         for p in &prog.image().pixels {
             [p.x, p.y, p.z].map(f64::to_bits).hash(&mut hs);
         }
         prog.counts().hash(&mut hs);
-        prog.first_hits().hash(&mut hs);
         let mut rgba = Vec::new();
         prog.write_rgba8(&mut rgba);
         rgba.hash(&mut hs);
-        println!("{label}: {:016x}", hs.finish());
+        let mut hf = DefaultHasher::new();
+        if prog.spp > 0 {
+            prog.record_first_hits(scene, &|| false);
+        }
+        prog.first_hits().hash(&mut hf);
+        println!("{label}: {:016x} {:016x}", hs.finish(), hf.finish());
     };
     for st in schedule(16) {
         prog.run(scene, st, &|| false);
-        print(&prog, &st.label());
+        print(&mut prog, scene, &st.label());
     }
-    prog.reproject(&moved, &scene.camera, |_| 2);
-    print(&prog, "reprojected");
+    prog.reproject(&moved, scene, |_| 2);
+    print(&mut prog, &moved, "reprojected");
     for st in schedule(16).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
         prog.run(&moved, st, &|| false);
-        print(&prog, &format!("moved {}", st.label()));
+        print(&mut prog, &moved, &format!("moved {}", st.label()));
     }
 }
 
@@ -147,7 +154,7 @@ fn time_warp(scene: &Scene, w: u32, h: u32, runs: u32) {
             prog.reset(w, h, 0);
             prog.run(scene, Stage::Samples(1), &|| false);
             let t = Instant::now();
-            prog.reproject(&moved, &scene.camera, |_| 2);
+            prog.reproject(&moved, scene, |_| 2);
             t.elapsed().as_secs_f64() * 1e3
         })
         .collect();

@@ -123,7 +123,7 @@ pub fn converge_step(
     let pixels = (w as f64 * h as f64).max(1.0);
     let mut rows = Vec::new();
     let t0 = std::time::Instant::now();
-    p.reproject(after, &before.camera, |_| block);
+    p.reproject(after, before, |_| block);
     let mut elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
     let mut push = |p: &Progressive, stage: Stage, stage_ms: f64, elapsed_ms: f64| {
         let e = rmse(&p.image(), reference);

@@ -112,7 +112,6 @@ pub fn add_band_samples(
     s: &RenderSettings,
     memory: &mut BandMemory,
     rows: &mut [Rgb],
-    mut first: Option<&mut [FirstHit]>,
 ) {
     let BandMemory { tile, scratch } = memory;
     let w = s.width as usize;
@@ -121,37 +120,9 @@ pub fn add_band_samples(
     }
     let count = rows.len() / w;
     debug_assert!(count <= TILE && count * w == rows.len());
-    let mut xs = [[0.0; LANES]; TILE];
-    let mut ys = [[0.0; LANES]; TILE];
     for x0 in (0..w).step_by(LANES) {
-        let n = (w - x0).min(LANES);
+        let n = cast_band_tile(scene, (x0, y0, count), (i, pattern), s, tile);
         for r in 0..count {
-            let y = y0 + r as u32;
-            for l in 0..n {
-                let px = (x0 + l) as u32;
-                let (jx, jy) = pixel_offset(pattern, s.seed, y as u64 * s.width as u64 + px as u64, i);
-                xs[r][l] = px as f64 + jx;
-                ys[r][l] = y as f64 + jy;
-            }
-        }
-        camera_tile_hits(
-            scene,
-            &xs[..count],
-            &ys[..count],
-            &[n; TILE][..count],
-            s.width,
-            s.height,
-            tile,
-        );
-        for r in 0..count {
-            if let Some(first) = first.as_deref_mut() {
-                FirstHit::lanes(
-                    scene,
-                    &tile.packets[r],
-                    &tile.hits[r],
-                    &mut first[r * w + x0..r * w + x0 + n],
-                );
-            }
             let row = &mut rows[r * w + x0..r * w + x0 + n];
             // A whole packet's first sample is written in place.
             if i == 0
@@ -171,6 +142,59 @@ pub fn add_band_samples(
             }
         }
     }
+}
+
+/// What the centre rays of the rows `y0 ..` held in `first` (up to
+/// [`TILE`] whole rows) meet first: sample 0's camera rays of
+/// [`add_band_samples`], cast the same way but not shaded.
+pub fn band_first_hits(scene: &Scene, y0: u32, s: &RenderSettings, memory: &mut BandMemory, first: &mut [FirstHit]) {
+    let w = s.width as usize;
+    if w == 0 {
+        return;
+    }
+    let count = first.len() / w;
+    debug_assert!(count <= TILE && count * w == first.len());
+    for x0 in (0..w).step_by(LANES) {
+        let n = cast_band_tile(scene, (x0, y0, count), (0, Pattern::R2), s, &mut memory.tile);
+        for r in 0..count {
+            let (p, hits) = (&memory.tile.packets[r], &memory.tile.hits[r]);
+            FirstHit::lanes(scene, p, hits, &mut first[r * w + x0..r * w + x0 + n]);
+        }
+    }
+}
+
+/// Casts sample `i` of the pixels `x0 ..` (a packet's width) of `count`
+/// rows from `y0`, each row a packet of `tile`; returns the pixels per row.
+fn cast_band_tile(
+    scene: &Scene,
+    (x0, y0, count): (usize, u32, usize),
+    (i, pattern): (u32, Pattern),
+    s: &RenderSettings,
+    tile: &mut CameraTile,
+) -> usize {
+    let w = s.width as usize;
+    let n = (w - x0).min(LANES);
+    let mut xs = [[0.0; LANES]; TILE];
+    let mut ys = [[0.0; LANES]; TILE];
+    for r in 0..count {
+        let y = y0 + r as u32;
+        for l in 0..n {
+            let px = (x0 + l) as u32;
+            let (jx, jy) = pixel_offset(pattern, s.seed, y as u64 * s.width as u64 + px as u64, i);
+            xs[r][l] = px as f64 + jx;
+            ys[r][l] = y as f64 + jy;
+        }
+    }
+    camera_tile_hits(
+        scene,
+        &xs[..count],
+        &ys[..count],
+        &[n; TILE][..count],
+        s.width,
+        s.height,
+        tile,
+    );
+    n
 }
 
 /// The working memory of [`add_band_samples`], kept from call to call by
@@ -224,15 +248,7 @@ pub fn render_into(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(
             // pixel adds its samples in the order `render_pixel` does.
             let mut memory = BandMemory::default();
             for i in 0..s.spp.max(1) {
-                add_band_samples(
-                    scene,
-                    (band * TILE) as u32,
-                    (i, Pattern::R2),
-                    s,
-                    &mut memory,
-                    rows,
-                    None,
-                );
+                add_band_samples(scene, (band * TILE) as u32, (i, Pattern::R2), s, &mut memory, rows);
             }
             if s.spp > 1 {
                 for px in rows.iter_mut() {

@@ -10,8 +10,7 @@
 //! (uniform waves) the same whether it got there in one wave or many.
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
-use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, sample_packet};
-use crate::camera::Camera;
+use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits, sample_packet};
 use crate::color::{Rgb, Srgb8};
 use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
@@ -143,10 +142,16 @@ pub struct Progressive {
     /// reprojection (the nearest splat per pixel).
     means: Vec<[f32; 3]>,
     splat: super::reproject::Scratch,
-    /// What each pixel's centre ray met (written with sample 0, or by a
-    /// reprojection), and the buffer a first sample stage writes.
+    /// What each pixel's centre ray met (written by a reprojection, or
+    /// by [`Self::record_first_hits`]), and the buffer a reprojection
+    /// writes.
     first: Vec<FirstHit>,
     next_first: Vec<FirstHit>,
+    /// `first` belongs to the picture held. A sample stage does not write
+    /// first hits (in the first stage, every move's cost, they cost a
+    /// few percent against a plain frame): the render thread records them
+    /// when it has nothing else to do, or the next reprojection does.
+    first_ok: bool,
     /// The preview holds a reprojected picture (with `first`), which may
     /// itself be reprojected.
     reprojected: bool,
@@ -178,6 +183,7 @@ impl Progressive {
             next_count: vec![0; n],
             first: vec![FirstHit::default(); n],
             next_first: vec![FirstHit::default(); n],
+            first_ok: false,
             reprojected: false,
             means: Vec::new(),
             splat: Default::default(),
@@ -206,6 +212,7 @@ impl Progressive {
             self.block = 1;
             self.samples_cast = 0;
             self.reprojected = false;
+            self.first_ok = false;
         }
     }
 
@@ -216,12 +223,13 @@ impl Progressive {
     /// is traced at the block size `level(pixels left)` picks (1: each
     /// pixel's centre). Returns `false`, changing nothing, when there is no
     /// picture to move (nothing refined yet, or only block levels).
-    pub fn reproject(&mut self, scene: &Scene, from: &Camera, level: impl Fn(usize) -> u32) -> bool {
+    pub fn reproject(&mut self, scene: &Scene, from: &Scene, level: impl Fn(usize) -> u32) -> bool {
         use super::reproject::{Source, fill, warp};
         let n = self.width as usize * self.height as usize;
         if !(self.spp > 0 || self.reprojected) || n == 0 {
             return false;
         }
+        self.record_first_hits(from, &|| false);
         let size = (self.width, self.height);
         // The source colours: the means of the samples, or the preview.
         let (colour, count) = if self.spp > 0 {
@@ -230,7 +238,7 @@ impl Progressive {
             (&self.preview, None)
         };
         let src = Source {
-            camera: from,
+            camera: &from.camera,
             size,
             colour,
             count,
@@ -248,12 +256,40 @@ impl Progressive {
         std::mem::swap(&mut self.preview, &mut self.next);
         std::mem::swap(&mut self.first, &mut self.next_first);
         (self.spp, self.block, self.reprojected, self.samples_cast) = (0, 1, true, cast);
+        self.first_ok = true;
         true
     }
 
-    /// What each pixel's centre ray met (row-major; see [`FirstHit`]).
-    pub fn first_hits(&self) -> &[FirstHit] {
-        &self.first
+    /// What each pixel's centre ray met (row-major; see [`FirstHit`]), once
+    /// recorded for the picture held ([`Self::record_first_hits`]).
+    pub fn first_hits(&self) -> Option<&[FirstHit]> {
+        self.first_ok.then_some(&self.first[..])
+    }
+
+    /// Records what each pixel's centre ray meets in `scene` (the scene of
+    /// the picture held), unless recorded: sample 0's camera rays, not
+    /// shaded (about a sixth of a frame's time). Returns `false`, leaving
+    /// them unrecorded, if `cancelled()` turned true.
+    pub fn record_first_hits(&mut self, scene: &Scene, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+        let w = self.width as usize;
+        if self.first_ok || w == 0 {
+            return true;
+        }
+        let settings = RenderSettings {
+            width: self.width,
+            height: self.height,
+            spp: 1,
+            seed: self.seed,
+        };
+        self.first_ok = self.first.par_chunks_mut(w * BAND).enumerate().all(|(band, first)| {
+            if cancelled() {
+                return false;
+            }
+            let mut memory = BandMemory::default();
+            band_first_hits(scene, (band * BAND) as u32, &settings, &mut memory, first);
+            true
+        });
+        self.first_ok
     }
 
     /// Samples each pixel holds (row-major).
@@ -272,7 +308,7 @@ impl Progressive {
             Stage::Blocks(n) => {
                 let n = n.max(1) as usize;
                 self.block = n;
-                self.reprojected = false;
+                (self.reprojected, self.first_ok) = (false, false);
                 self.samples_cast += stage.cost(self.width, self.height, 0);
                 self.preview.par_chunks_mut(w * n).enumerate().all(|(by, rows)| {
                     if cancelled() {
@@ -347,7 +383,8 @@ impl Progressive {
             std::mem::swap(&mut self.sq, &mut next_sq);
             std::mem::swap(&mut self.count, &mut next_count);
             if from == 0 {
-                std::mem::swap(&mut self.first, &mut self.next_first);
+                // A new picture: its first hits are recorded apart.
+                self.first_ok = false;
             }
             self.spp = target;
             self.sq_of_sum = from == 0 && target == 1;
@@ -360,8 +397,8 @@ impl Progressive {
 
     /// Samples `from .. target` of every pixel into `next` (sample 0
     /// overwrites what it held; a later wave starts each band from a copy
-    /// of the sums). Sample 0 also records each pixel's first hit and,
-    /// when more samples follow, starts the sums of squares (a stage of one
+    /// of the sums). Sample 0, when more samples follow, starts the sums of
+    /// squares (a stage of one
     /// sample leaves them to the next wave: [`Progressive::sq_of_sum`]);
     /// later samples of this path leave those as they were (only adaptive
     /// waves read them). Returns the samples cast, or `None` if cancelled.
@@ -385,9 +422,8 @@ impl Progressive {
         let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
         let ok = bands
             .zip(next_count.par_chunks_mut(w * BAND))
-            .zip(self.next_first.par_chunks_mut(w * BAND))
             .enumerate()
-            .all(|(band, (((rows, sq_rows), counts), first))| {
+            .all(|(band, ((rows, sq_rows), counts))| {
                 if cancelled() {
                     return false;
                 }
@@ -400,8 +436,7 @@ impl Progressive {
                 let mut memory = BandMemory::default();
                 let y0 = (band * BAND) as u32;
                 for s in from..target {
-                    let first = (s == 0).then_some(&mut *first);
-                    add_band_samples(scene, y0, (s, pattern), &settings, &mut memory, rows, first);
+                    add_band_samples(scene, y0, (s, pattern), &settings, &mut memory, rows);
                     if s == 0 && target > 1 {
                         copy_squares(sq_rows, None, rows);
                     }

@@ -420,13 +420,15 @@ mod tests {
             size,
             colour: &img.pixels,
             count: None,
-            first: old.first_hits(),
+            first: old.first_hits().expect("first hits recorded"),
         }
     }
 
     fn one_sample(scene: &Scene, (w, h): (u32, u32)) -> Progressive {
         let mut p = Progressive::new(w, h, 0).with_sampling(Sampling::UNIFORM);
         assert!(p.run(scene, Stage::Samples(1), &|| false));
+        assert!(p.first_hits().is_none(), "a sample stage recorded first hits");
+        assert!(p.record_first_hits(scene, &|| false));
         p
     }
 
@@ -445,6 +447,7 @@ mod tests {
         let old = one_sample(&a, size);
         let fresh = one_sample(&b, size);
         let (old_img, new_img) = (old.image(), fresh.image());
+        let fresh_first = fresh.first_hits().expect("first hits recorded");
         let src = source(&a.camera, size, &old_img, &old);
         let mut out = vec![Rgb::ZERO; w * h];
         let mut first = vec![FirstHit::default(); w * h];
@@ -457,12 +460,12 @@ mod tests {
             for x in 0..w {
                 let i = y * w + x;
                 let want = new_img.pixels[i];
-                if fresh.first_hits()[i].seen() == Seen::Specular {
+                if fresh_first[i].seen() == Seen::Specular {
                     assert!(left[i], "pixel {x},{y} seen through glass was moved");
                 }
                 if left[i] {
                     assert_eq!(out[i], want, "traced pixel {x},{y}");
-                    assert_eq!(first[i], fresh.first_hits()[i]);
+                    assert_eq!(first[i], fresh_first[i]);
                     traced += 1;
                     continue;
                 }

@@ -251,7 +251,7 @@ fn start(
             && same_but_camera(s, &job.scene)
     });
     if let Some(old) = moved
-        && prog.reproject(traced, &old.camera, |holes| hole_level(holes, seconds_per_sample))
+        && prog.reproject(traced, old, |holes| hole_level(holes, seconds_per_sample))
     {
         prog.seed = job.seed;
         *shown = Some(job.scene.clone());
@@ -390,6 +390,10 @@ fn run(
                 return;
             }
         }
+        // Refined (or cancelled): with nothing else to do, record the
+        // picture's first hits for the next move's reprojection (which
+        // otherwise records them itself, on the input's time).
+        prog.record_first_hits(&job.scene, &cancelled);
     }
 }
 

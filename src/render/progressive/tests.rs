@@ -1,7 +1,7 @@
 //! Tests of the progressive schedule, adaptive waves and cancellation.
 
 use super::*;
-use crate::render::{RenderSettings, render};
+use crate::render::{RenderSettings, Seen, render};
 
 fn scene() -> Scene {
     Scene::default_scene().1
@@ -266,4 +266,34 @@ fn block_preview_fills_every_pixel() {
         })
         .collect();
     assert_eq!(rgba, per_pixel);
+}
+
+/// A sample stage records no first hits; a reprojection records the ones
+/// it needs first, so what it shows does not depend on whether the render
+/// thread had the time to record them (the same picture, bit for bit); a
+/// cancelled recording leaves them unrecorded.
+#[test]
+fn a_reprojection_records_the_first_hits_it_needs() {
+    use crate::camera::Camera;
+    let a = scene();
+    let c = &a.camera;
+    let b = Scene {
+        camera: Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg),
+        ..a.clone()
+    };
+    let (w, h) = (48, 32);
+    let mut late = Progressive::new(w, h, 0);
+    assert!(late.run(&a, Stage::Samples(1), &|| false));
+    assert!(late.first_hits().is_none());
+    assert!(!late.record_first_hits(&a, &|| true));
+    assert!(late.first_hits().is_none());
+    let mut early = Progressive::new(w, h, 0);
+    assert!(early.run(&a, Stage::Samples(1), &|| false));
+    assert!(early.record_first_hits(&a, &|| false));
+    let first = early.first_hits().expect("recorded");
+    assert!(first.iter().any(|f| f.seen() == Seen::Surface) && first.iter().any(|f| f.seen() == Seen::Specular));
+    assert!(late.reproject(&b, &a, |_| 1));
+    assert!(early.reproject(&b, &a, |_| 1));
+    assert_eq!(late.image().pixels, early.image().pixels);
+    assert_eq!(late.first_hits(), early.first_hits());
 }
