@@ -114,12 +114,9 @@ pub fn add_band_samples(
     rows: &mut [Rgb],
 ) {
     let BandMemory { tile, scratch } = memory;
-    let w = s.width as usize;
-    if w == 0 {
+    let Some((w, count)) = band_shape(rows.len(), s) else {
         return;
-    }
-    let count = rows.len() / w;
-    debug_assert!(count <= TILE && count * w == rows.len());
+    };
     for x0 in (0..w).step_by(LANES) {
         let n = cast_band_tile(scene, (x0, y0, count), (i, pattern), s, tile);
         for r in 0..count {
@@ -148,12 +145,9 @@ pub fn add_band_samples(
 /// [`TILE`] whole rows) meet first: sample 0's camera rays of
 /// [`add_band_samples`], cast the same way but not shaded.
 pub fn band_first_hits(scene: &Scene, y0: u32, s: &RenderSettings, memory: &mut BandMemory, first: &mut [FirstHit]) {
-    let w = s.width as usize;
-    if w == 0 {
+    let Some((w, count)) = band_shape(first.len(), s) else {
         return;
-    }
-    let count = first.len() / w;
-    debug_assert!(count <= TILE && count * w == first.len());
+    };
     for x0 in (0..w).step_by(LANES) {
         let n = cast_band_tile(scene, (x0, y0, count), (0, Pattern::R2), s, &mut memory.tile);
         for r in 0..count {
@@ -161,6 +155,17 @@ pub fn band_first_hits(scene: &Scene, y0: u32, s: &RenderSettings, memory: &mut 
             FirstHit::lanes(scene, p, hits, &mut first[r * w + x0..r * w + x0 + n]);
         }
     }
+}
+
+/// The image's width and the rows a band's buffer of `len` pixels holds
+/// (whole rows, at most [`TILE`]); `None` for an empty image.
+fn band_shape(len: usize, s: &RenderSettings) -> Option<(usize, usize)> {
+    let w = s.width as usize;
+    (w > 0).then(|| {
+        let count = len / w;
+        debug_assert!(count <= TILE && count * w == len);
+        (w, count)
+    })
 }
 
 /// Casts sample `i` of the pixels `x0 ..` (a packet's width) of `count`
