@@ -398,10 +398,11 @@ impl Progressive {
     /// Samples `from .. target` of every pixel into `next` (sample 0
     /// overwrites what it held; a later wave starts each band from a copy
     /// of the sums). Sample 0, when more samples follow, starts the sums of
-    /// squares (a stage of one
-    /// sample leaves them to the next wave: [`Progressive::sq_of_sum`]);
-    /// later samples of this path leave those as they were (only adaptive
-    /// waves read them). Returns the samples cast, or `None` if cancelled.
+    /// squares (a stage of one sample leaves them to the next wave:
+    /// [`Progressive::sq_of_sum`]); later samples of this path leave those
+    /// as they were (only adaptive waves read them). No first hits are
+    /// written ([`Progressive::record_first_hits`]). Returns the samples
+    /// cast, or `None` if cancelled.
     fn every_pixel(
         &mut self,
         scene: &Scene,
