@@ -10,7 +10,8 @@
 //! MODE: `bench`, `stage`, `send` or `warp` (a reprojection after a step):
 //! the median time of RUNS runs (after
 //! one warm-up); `alt`: `bench` and `stage` frames in turn, both medians;
-//! `hash`: a hash of every stage's picture, sample counts and first hits
+//! `hash`: two hashes per stage, of its picture (means, sample counts,
+//! 8-bit frame) and of its first hits (recorded for a picture of samples)
 //! through the schedule to 16 spp, a camera step (reprojection) and the
 //! schedule again (to check that a change keeps every bit). Under callgrind, the difference between two RUNS
 //! counts is the cost of that many frames (the scene's setup cancels).

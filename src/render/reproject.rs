@@ -144,10 +144,11 @@ pub struct Scratch {
     old: Vec<Vec4>,
 }
 
-/// What a splat key says besides depth (its two low bits).
-const SURFACE: u32 = 0;
-const SKY: u32 = 1;
-const SPECULAR: u32 = 2;
+/// What a splat key says besides depth (its two low bits): the classes of
+/// [`FirstHit`]'s own two low bits, so the two packings stay one.
+const SURFACE: u32 = Seen::Surface as u32;
+const SKY: u32 = Seen::Sky as u32;
+const SPECULAR: u32 = Seen::Specular as u32;
 /// No splat.
 const EMPTY: u32 = u32::MAX;
 

@@ -16,9 +16,9 @@ use glam::DVec3;
 /// what it was ([`Seen`]) and, for a point, its depth along the camera's
 /// axis (the point is the centre ray's direction scaled to depth 1 times
 /// it; for the background, the direction alone). Packed in four bytes, the
-/// depth's `f32` bits (positive) with the class in the two low bits: the
-/// first sample stage writes one per pixel beside the sums, and at sixteen
-/// bytes (the point itself) that traffic cost about a tenth of the stage.
+/// depth's `f32` bits (positive) with the class in the two low bits (at
+/// sixteen bytes, the point itself, the traffic cost about a tenth of a
+/// first sample stage when that stage wrote them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct FirstHit(u32);
 
@@ -84,9 +84,8 @@ impl FirstHit {
         FirstHit::at(scene, scene.camera.forward(), p.dirs(), hits, l)
     }
 
-    /// [`FirstHit::of`] for lanes `0 .. out.len()` of a camera packet (the
-    /// first sample stage records one per pixel, in the pass that shades
-    /// them).
+    /// [`FirstHit::of`] for lanes `0 .. out.len()` of a camera packet (what
+    /// [`super::band_first_hits`] records, the rays cast but not shaded).
     #[inline]
     pub(crate) fn lanes(scene: &Scene, p: &Packet, hits: &PacketHits, out: &mut [FirstHit]) {
         let (axis, d) = (scene.camera.forward(), p.dirs());
