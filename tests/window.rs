@@ -877,3 +877,70 @@ fn optics_overlay_draws_f_prime_where_lens_info_puts_it_without_restarting() {
         "toggling the optics restarted refinement: {gens:?} after {g1}"
     );
 }
+
+/// Holding W for 2 s at 1280×720 shows the flight: the window presents
+/// new pictures during the hold (steps coalesced, one per frame shown, not
+/// one per event, which cancelled every picture before it was drawn), each
+/// further along the way than the last; after the release the last pose
+/// refines to the sample cap. The rate this reaches is measured by
+/// `benches/viewer-flight.sh`, not asserted here.
+#[test]
+fn holding_a_key_shows_the_flight_and_converges_after_it() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, _) = test_dir("held-key");
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let args = [
+        "--no-panel",
+        "--width",
+        "1280",
+        "--height",
+        "720",
+        "--max-spp",
+        "4",
+        "--exit-after",
+        "600",
+    ];
+    let s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let g0 = s.wait_frame(0, 4, "start");
+    let start = s.frames().last().unwrap()["camera"][0].clone();
+    let pos = |f: &serde_json::Value| -> [f64; 3] {
+        let p = &f["camera"][0];
+        [0, 1, 2].map(|i| p[i].as_f64().unwrap())
+    };
+    let p0 = [0, 1, 2].map(|i| start[i].as_f64().unwrap());
+    let dist = |p: [f64; 3]| ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
+
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    let before = s.frames().len();
+    s.hold("w", 2000);
+    let during: Vec<serde_json::Value> = s.frames()[before..].to_vec();
+    let moved: Vec<&serde_json::Value> = during
+        .iter()
+        .filter(|f| f["generation"].as_u64().unwrap() > g0)
+        .collect();
+    let gens: std::collections::BTreeSet<u64> = moved.iter().map(|f| f["generation"].as_u64().unwrap()).collect();
+    eprintln!(
+        "held W 2 s: {} presents, {} generations shown, levels {:?}",
+        during.len(),
+        gens.len(),
+        moved
+            .iter()
+            .map(|f| f["level"].as_str().unwrap_or(""))
+            .collect::<Vec<_>>()
+    );
+    assert!(
+        gens.len() >= 4,
+        "holding W for 2 s showed {} pictures of the flight: {during:?}",
+        gens.len()
+    );
+    // Each picture shown is further along the flight than the one before.
+    let ds: Vec<f64> = moved.iter().map(|f| dist(pos(f))).collect();
+    assert!(ds[0] > 0.0 && ds.windows(2).all(|w| w[1] >= w[0]), "{ds:?}");
+
+    // Released: the last pose refines to the cap.
+    let g = gens.iter().max().copied().unwrap();
+    let last = s.wait_frame(g - 1, 4, "releasing W");
+    let end = s.frames().into_iter().rev().find(|f| f["generation"] == last).unwrap();
+    assert!(dist(pos(&end)) >= *ds.last().unwrap(), "{end}");
+}

@@ -60,6 +60,8 @@ pub struct Frame {
     /// without caustics).
     pub photons: usize,
     pub photon_passes: u32,
+    /// The camera's position and rotation (degrees) in this picture.
+    pub camera: (glam::DVec3, glam::DVec3),
 }
 
 /// The value of `Worker::wanted` that no job has: nothing is to be rendered.
@@ -300,6 +302,7 @@ impl Frame {
             last,
             photons: photons.1,
             photon_passes: photons.0,
+            camera: (job.scene.camera.position, job.scene.camera.rotation_deg),
         }
     }
 }

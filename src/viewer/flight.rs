@@ -1,14 +1,17 @@
 //! Camera flight: the held keys, mouse-look and the flight speed. The
 //! motion itself is two pure functions of the pose, [`step`] (keys held for
 //! a time) and [`look`] (a mouse drag), tested below; [`Flight`] keeps the
-//! input state around them. The new pose goes to the document as a merged
-//! edit (`Document::fly_camera`), one undo step per gesture.
+//! input state around them. Input is coalesced: a drag accumulates and the
+//! held keys' time runs on until the viewer takes one step for all of it
+//! ([`Flight::tick`], once per frame shown: [`step_due`]). The new pose goes
+//! to the document as a merged edit (`Document::fly_camera`), one undo step
+//! per gesture.
 
 use super::keys::{self, Action};
 use glam::DVec3;
 use lensview::camera::Camera;
 use std::collections::HashSet;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use winit::keyboard::KeyCode;
 
 /// A camera pose: position, and rotation in degrees (pitch x, yaw y, roll z).
@@ -19,8 +22,13 @@ const TURN_RATE: f64 = 60.0;
 const DRAG_RATE: f64 = 0.15;
 /// Shift flies this much faster.
 const FAST: f64 = 4.0;
-/// Longest step in seconds: after a stall the camera does not leap.
-const MAX_DT: f64 = 0.1;
+/// Longest step in seconds: after a stall the camera does not leap. Steps
+/// are taken once per frame shown, so this is also the slowest frame rate
+/// (4 a second) at which the flight still keeps its speed.
+const MAX_DT: f64 = 0.25;
+/// Longest wait for the frame of the last step before the next step goes
+/// anyway (a frame that never comes: the window minimised, resized).
+pub const STEP_WAIT_LIMIT: Duration = Duration::from_secs(1);
 /// Pitch stops short of straight up and down, where yaw is undefined.
 const MAX_PITCH: f64 = 89.0;
 
@@ -32,6 +40,8 @@ pub struct Flight {
     /// Where the left button went down or the drag last moved to.
     dragging: Option<(f64, f64)>,
     cursor: (f64, f64),
+    /// Drag (pixels) not yet applied: it goes with the next step.
+    look: (f64, f64),
 }
 
 impl Flight {
@@ -42,6 +52,7 @@ impl Flight {
             last_step: Instant::now(),
             dragging: None,
             cursor: (0.0, 0.0),
+            look: (0.0, 0.0),
         }
     }
 
@@ -60,21 +71,32 @@ impl Flight {
         self.held.clear();
     }
 
-    /// One step for the keys held since the last step: the new pose, or
-    /// `None` when no flight key is held.
+    fn held_actions(&self) -> Vec<Action> {
+        self.held
+            .iter()
+            .filter_map(|k| keys::action_for(*k, false, false))
+            .filter(|a| a.is_held())
+            .collect()
+    }
+
+    /// Whether a step is waiting: a flight key held or a drag not applied.
+    pub fn wants_step(&self) -> bool {
+        self.look != (0.0, 0.0) || !self.held_actions().is_empty()
+    }
+
+    /// One step for all the input since the last step: the drag made
+    /// meanwhile and the keys held for the time since (at most
+    /// [`MAX_DT`]). The new pose, or `None` when there is nothing to do.
     pub fn tick(&mut self, fast: bool, pose: Pose) -> Option<Pose> {
         let now = Instant::now();
         let dt = (now - self.last_step).as_secs_f64().min(MAX_DT);
         self.last_step = now;
-        let held: Vec<Action> = self
-            .held
-            .iter()
-            .filter_map(|k| keys::action_for(*k, false, false))
-            .filter(|a| a.is_held())
-            .collect();
-        if held.is_empty() {
+        let (dx, dy) = std::mem::take(&mut self.look);
+        let held = self.held_actions();
+        if held.is_empty() && (dx, dy) == (0.0, 0.0) {
             return None;
         }
+        let pose = look(pose, dx, dy);
         let speed = self.speed * if fast { FAST } else { 1.0 };
         Some(step(&held, dt, speed, pose))
     }
@@ -96,13 +118,15 @@ impl Flight {
         self.dragging = None;
     }
 
-    /// The cursor moved to `to`; while dragging, returns the pose `pose()`
-    /// turned by the drag.
-    pub fn cursor_moved(&mut self, to: (f64, f64), pose: impl FnOnce() -> Pose) -> Option<Pose> {
+    /// The cursor moved to `to`; while dragging, the move is kept for the
+    /// next step (true).
+    pub fn cursor_moved(&mut self, to: (f64, f64)) -> bool {
         self.cursor = to;
-        let (x0, y0) = self.dragging?;
+        let Some((x0, y0)) = self.dragging else { return false };
         self.dragging = Some(to);
-        Some(look(pose(), to.0 - x0, to.1 - y0))
+        self.look.0 += to.0 - x0;
+        self.look.1 += to.1 - y0;
+        true
     }
 
     /// The mouse wheel turned by `steps` notches: 20 % faster or slower
@@ -111,6 +135,17 @@ impl Flight {
         self.speed = (self.speed * 1.2f64.powf(steps)).clamp(0.05, 500.0);
         self.speed
     }
+}
+
+/// Whether the next flight step may go at `now`: once per frame shown.
+/// `last`: when the last step went; `answered`: whether a frame of the
+/// picture it asked for has arrived. A step waits at least one display
+/// `refresh` and for that frame (at most [`STEP_WAIT_LIMIT`]): a step per
+/// input event would cancel every picture before it is drawn.
+pub fn step_due(now: Instant, last: Option<Instant>, answered: bool, refresh: Duration) -> bool {
+    let Some(last) = last else { return true };
+    let since = now.saturating_duration_since(last);
+    since >= refresh && (answered || since >= STEP_WAIT_LIMIT)
 }
 
 /// The pose after the `held` flight actions for `dt` seconds at `speed`
@@ -204,14 +239,42 @@ mod tests {
         f.release_keys();
         assert_eq!(f.tick(false, START), None);
 
-        assert_eq!(f.cursor_moved((10.0, 10.0), || unreachable!()), None);
+        assert!(!f.cursor_moved((10.0, 10.0)) && !f.wants_step());
         f.start_drag();
-        let turned = f.cursor_moved((30.0, 10.0), || START).unwrap();
-        assert_eq!(turned, look(START, 20.0, 0.0));
+        // Two moves before a step: one step turns by both.
+        assert!(f.cursor_moved((30.0, 10.0)) && f.cursor_moved((50.0, 4.0)));
+        assert!(f.wants_step());
+        assert_eq!(f.tick(false, START), Some(look(START, 40.0, -6.0)));
+        assert!(!f.wants_step() && f.tick(false, START).is_none(), "the drag was taken");
         f.end_drag();
-        assert!(!f.is_dragging() && f.cursor() == (30.0, 10.0));
+        assert!(!f.is_dragging() && f.cursor() == (50.0, 4.0));
 
         assert!((f.wheel(1.0) - 3.6).abs() < 1e-12);
         assert_eq!(f.wheel(-100.0), 0.05);
+    }
+
+    #[test]
+    fn a_held_key_steps_once_per_frame_for_the_time_it_was_held() {
+        let mut f = Flight::new();
+        f.key(KeyCode::KeyW, true);
+        assert!(f.wants_step());
+        // No step for 60 ms (the frame was being drawn): the next step
+        // covers all of it.
+        std::thread::sleep(Duration::from_millis(60));
+        let (p, _) = f.tick(false, START).unwrap();
+        let moved = (START.0 - p).length();
+        assert!(moved >= f.speed * 0.06 - 1e-12 && moved <= f.speed * MAX_DT, "{moved}");
+    }
+
+    #[test]
+    fn a_step_waits_a_refresh_and_the_frame_of_the_last_step() {
+        let t = Instant::now();
+        let ms = |n: u64| t + Duration::from_millis(n);
+        let hz60 = Duration::from_micros(16_667);
+        assert!(step_due(t, None, false, hz60), "the first step goes at once");
+        assert!(!step_due(ms(10), Some(t), true, hz60), "within one refresh");
+        assert!(step_due(ms(17), Some(t), true, hz60));
+        assert!(!step_due(ms(400), Some(t), false, hz60), "its frame has not come");
+        assert!(step_due(ms(1000), Some(t), false, hz60), "a frame that never comes");
     }
 }

@@ -165,11 +165,9 @@ impl Viewer {
         }
     }
 
+    /// A drag is applied by the next flight step (once per frame shown).
     pub(super) fn cursor_moved(&mut self, x: f64, y: f64) {
-        let doc = &self.session.doc;
-        if let Some((pos, rot)) = self.flight.cursor_moved((x, y), || doc.camera_pose()) {
-            self.move_camera(pos, rot);
-        }
+        self.flight.cursor_moved((x, y));
     }
 
     /// The wheel (over the picture) changes the flight speed.

@@ -90,6 +90,8 @@ struct Viewer {
     session: Session,
     display: Display,
     flight: flight::Flight,
+    /// When the last flight step went (see [`flight::step_due`]).
+    last_step: Option<Instant>,
     modifiers: ModifiersState,
     refine: Refine,
     stats: Stats,
@@ -156,6 +158,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         opts,
         screen: None,
         flight: flight::Flight::new(),
+        last_step: None,
         modifiers: ModifiersState::empty(),
         stats: Stats::new(log),
         minimised: false,
@@ -399,13 +402,22 @@ impl Viewer {
         self.stats.presented(t0, p);
     }
 
-    /// One flight step for the held keys; false when none is held.
+    /// One flight step for the held keys and the drag, once per frame
+    /// shown (the frame of the last step has arrived: [`flight::step_due`]);
+    /// false when nothing is held or dragged.
     fn fly(&mut self) -> bool {
-        let pose = self.session.doc.camera_pose();
-        let Some((pos, rot)) = self.flight.tick(self.modifiers.shift_key(), pose) else {
+        if !self.flight.wants_step() {
             return false;
-        };
-        self.move_camera(pos, rot);
+        }
+        let now = Instant::now();
+        if !flight::step_due(now, self.last_step, self.refine.answered(), self.pacer.refresh()) {
+            return true;
+        }
+        let pose = self.session.doc.camera_pose();
+        if let Some((pos, rot)) = self.flight.tick(self.modifiers.shift_key(), pose) {
+            self.last_step = Some(now);
+            self.move_camera(pos, rot);
+        }
         true
     }
 
@@ -423,8 +435,9 @@ impl Viewer {
     fn next_wake(&mut self, flying: bool) -> Option<Instant> {
         let mut wake: Option<Instant> = None;
         if flying {
-            // Keep stepping while a key is held: about one 60 Hz frame.
-            wake = Some(Instant::now() + Duration::from_millis(16));
+            // Keep stepping while a key is held: the frame of the last step
+            // wakes the loop when it comes; this, a refresh after it.
+            wake = Some(Instant::now() + self.pacer.refresh().min(Duration::from_millis(16)));
         }
         if due(&mut self.repaint_at, &mut wake) {
             self.request_redraw();

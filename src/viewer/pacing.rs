@@ -81,6 +81,11 @@ impl Pacer {
         Duration::from_secs_f64(1.0 / hz)
     }
 
+    /// The display's refresh period.
+    pub fn refresh(&self) -> Duration {
+        self.refresh
+    }
+
     /// A new generation was submitted (an input changed the picture).
     pub fn submitted(&mut self, now: Instant) {
         self.awaiting = Some(now);

@@ -151,6 +151,11 @@ impl Refine {
         std::mem::take(&mut self.stages)
     }
 
+    /// Whether a frame of the newest generation has arrived.
+    pub fn answered(&self) -> bool {
+        self.frame.as_ref().is_some_and(|f| f.generation == self.generation)
+    }
+
     pub fn frame(&self) -> Option<&Frame> {
         self.frame.as_ref()
     }

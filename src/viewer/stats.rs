@@ -74,6 +74,7 @@ impl Stats {
                 "sent_ms_since_input": f.since_input_ms,
                 "present_ms": self.present_ms,
                 "photons": f.photons,
+                "camera": [f.camera.0.to_array(), f.camera.1.to_array()],
                 "t": (now - self.started).as_secs_f64(),
                 "stages": p.stages.iter().map(|s| serde_json::json!({
                     "generation": s.generation,
@@ -239,6 +240,7 @@ mod tests {
             last: false,
             photons: 4096,
             photon_passes: 2,
+            camera: (glam::DVec3::new(1.0, 2.0, 3.0), glam::DVec3::new(0.0, 90.0, 0.0)),
         };
         let input_time = Instant::now() - Duration::from_millis(80);
         let t0 = Instant::now();
@@ -292,7 +294,8 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 15, "{keys:?}");
+        assert_eq!(keys.len(), 16, "{keys:?}");
+        assert_eq!(l["camera"], serde_json::json!([[1.0, 2.0, 3.0], [0.0, 90.0, 0.0]]));
         assert_eq!(
             (l["overlay"].as_str(), lines[1]["overlay"].as_str()),
             (Some("compact"), Some("off"))
