@@ -150,20 +150,31 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
 fn time_warp(scene: &Scene, w: u32, h: u32, runs: u32) {
     let moved = stepped(scene);
     let mut prog = Progressive::new(w, h, 0);
-    let mut times: Vec<f64> = (0..=runs)
+    let mut runs: Vec<[f64; 4]> = (0..=runs)
         .map(|_| {
             prog.reset(w, h, 0);
             prog.run(scene, Stage::Samples(1), &|| false);
             let t = Instant::now();
             prog.reproject(&moved, scene, |_| 2);
-            t.elapsed().as_secs_f64() * 1e3
+            let r = prog.reprojection;
+            [t.elapsed().as_secs_f64(), r.first_hits_s, r.warp_s, r.fill_s].map(|s| s * 1e3)
         })
         .collect();
-    times.remove(0);
-    times.sort_by(f64::total_cmp);
-    if let Some(m) = times.get(times.len() / 2) {
-        println!("warp {w}x{h}: median {m:.2} ms of {runs}");
-    }
+    runs.remove(0);
+    let median = |i: usize| {
+        let mut v: Vec<f64> = runs.iter().map(|r| r[i]).collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    println!(
+        "warp {w}x{h}: median {:.2} ms of {} (first hits {:.2}, splat and look back {:.2}, holes traced at 2x2 {:.2}; {} holes)",
+        median(0),
+        runs.len(),
+        median(1),
+        median(2),
+        median(3),
+        prog.reprojection.holes
+    );
 }
 
 /// `scene` after W held for 1/30 s at the default flight speed (0.1 forward).

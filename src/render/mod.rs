@@ -7,6 +7,7 @@
 mod adaptive;
 pub mod caustics;
 pub mod exr;
+pub mod first_frame;
 mod image;
 pub mod progressive;
 pub mod reproject;

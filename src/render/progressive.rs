@@ -112,6 +112,20 @@ pub fn first_stage(stages: &[Stage], width: u32, height: u32, seconds_per_sample
     pick
 }
 
+/// Where the last reprojection's time went ([`Progressive::reproject`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReprojectTimes {
+    /// Recording the old picture's first hits (0 when it had them).
+    pub first_hits_s: f64,
+    /// Steps 1 and 2: the splat and the look back.
+    pub warp_s: f64,
+    /// Step 3: tracing what was left.
+    pub fill_s: f64,
+    /// Pixels left to step 3, and the block size they were traced at.
+    pub holes: usize,
+    pub level: u32,
+}
+
 /// The image being refined: a preview for block levels, and the running
 /// sums of full-resolution samples.
 #[derive(Debug)]
@@ -158,6 +172,8 @@ pub struct Progressive {
     preview: Vec<Rgb>,
     /// Block size of the last block stage drawn into `preview`.
     block: usize,
+    /// Where the last reprojection's time went.
+    pub reprojection: ReprojectTimes,
 }
 
 /// Rows per band: the unit of parallel work and of cancellation, and the
@@ -189,6 +205,7 @@ impl Progressive {
             splat: Default::default(),
             preview: vec![Rgb::ZERO; n],
             block: 1,
+            reprojection: ReprojectTimes::default(),
         }
     }
 
@@ -229,7 +246,9 @@ impl Progressive {
         if !(self.spp > 0 || self.reprojected) || n == 0 {
             return false;
         }
+        let t0 = std::time::Instant::now();
         self.record_first_hits(from, &|| false);
+        let t1 = std::time::Instant::now();
         let size = (self.width, self.height);
         // The source colours: the means of the samples, or the preview.
         let (colour, count) = if self.spp > 0 {
@@ -252,7 +271,15 @@ impl Progressive {
             &mut self.next,
             &mut self.next_first,
         );
-        let cast = fill(scene, size, level(holes), &mut self.next, &mut self.next_first);
+        let (t2, level) = (std::time::Instant::now(), level(holes));
+        let cast = fill(scene, size, level, &mut self.next, &mut self.next_first);
+        self.reprojection = ReprojectTimes {
+            first_hits_s: (t1 - t0).as_secs_f64(),
+            warp_s: (t2 - t1).as_secs_f64(),
+            fill_s: t2.elapsed().as_secs_f64(),
+            holes,
+            level,
+        };
         std::mem::swap(&mut self.preview, &mut self.next);
         std::mem::swap(&mut self.first, &mut self.next_first);
         (self.spp, self.block, self.reprojected, self.samples_cast) = (0, 1, true, cast);
@@ -290,6 +317,16 @@ impl Progressive {
             true
         });
         self.first_ok
+    }
+
+    /// The share of the picture's pixels seen through glass or in a mirror,
+    /// or not known (a reprojection traces them all), once its first hits
+    /// are recorded.
+    pub fn specular_share(&self) -> Option<f64> {
+        use super::Seen::{Specular, Unknown};
+        let first = self.first_hits()?;
+        let n = first.iter().filter(|f| matches!(f.seen(), Specular | Unknown)).count();
+        Some(n as f64 / first.len().max(1) as f64)
     }
 
     /// Samples each pixel holds (row-major).

@@ -9,7 +9,8 @@
 //! on screen ([`Worker::hold_first_frames`]).
 
 use super::caustics::Interleaved;
-use super::progressive::{Progressive, Stage, first_stage, schedule};
+use super::first_frame::{Costs, First};
+use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
 use crate::scene::Scene;
 use crossbeam_channel::{Receiver, Sender, unbounded};
@@ -18,9 +19,7 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// Time the first frame after an input may take (a 60 Hz frame less the
-/// viewer's own share).
-pub const FIRST_FRAME_BUDGET_S: f64 = 0.012;
+pub use super::first_frame::{FIRST_FRAME_BUDGET_S, hole_level};
 
 #[derive(Clone, Debug)]
 pub struct Job {
@@ -62,6 +61,8 @@ pub struct Frame {
     pub photon_passes: u32,
     /// The camera's position and rotation (degrees) in this picture.
     pub camera: (glam::DVec3, glam::DVec3),
+    /// Where a [`Stage::Reprojected`] frame's time went.
+    pub reprojection: Option<ReprojectTimes>,
 }
 
 /// The value of `Worker::wanted` that no job has: nothing is to be rendered.
@@ -210,22 +211,6 @@ impl Drop for Worker {
     }
 }
 
-/// How much more a pixel left by a reprojection costs to trace than the
-/// average camera sample: most are seen through the lens (measured on
-/// cubes.toml at 1280×720, docs/performance.md: about 4.5).
-const HOLE_COST: f64 = 4.0;
-
-/// The block size at which a reprojection traces the `holes` pixels it
-/// could not move: the finest whose predicted time fits the first frame's
-/// budget (2×2 blocks, ≥ 45 dB on cubes.toml, when nothing is measured).
-pub fn hole_level(holes: usize, seconds_per_sample: Option<f64>) -> u32 {
-    let Some(sps) = seconds_per_sample else { return 2 };
-    [1, 2, 4, 8]
-        .into_iter()
-        .find(|&n| holes as f64 / (n * n) as f64 * sps * HOLE_COST <= FIRST_FRAME_BUDGET_S)
-        .unwrap_or(8)
-}
-
 /// How a job starts: with the reprojected picture (after this many
 /// seconds), or afresh at this stage of the schedule.
 enum Start {
@@ -235,38 +220,39 @@ enum Start {
 
 /// A camera move with a picture to move: the previous picture reprojected
 /// into the new view (refinement then goes on from the first
-/// full-resolution sample); otherwise a fresh start at the first stage
-/// that fits the budget. `shown` is the scene whose picture `prog` holds;
-/// the holes are traced in `traced` (the job's scene with its photon map).
+/// full-resolution sample) where [`Costs::choose`] finds that sharper
+/// within the budget; otherwise a fresh start at the first stage that fits
+/// the budget. `shown` is the scene whose picture `prog` holds; the holes
+/// are traced in `traced` (the job's scene with its photon map).
 fn start(
     prog: &mut Progressive,
     shown: &mut Option<Arc<Scene>>,
     job: &Job,
     traced: &Scene,
     stages: &[Stage],
-    seconds_per_sample: Option<f64>,
+    costs: &mut Costs,
 ) -> Start {
     let t0 = Instant::now();
+    let size = (job.width, job.height);
     let moved = shown.as_ref().filter(|s| {
-        (prog.width, prog.height) == (job.width, job.height)
-            && s.camera != job.scene.camera
-            && same_but_camera(s, &job.scene)
+        (prog.width, prog.height) == size && s.camera != job.scene.camera && same_but_camera(s, &job.scene)
     });
+    let chosen = costs.choose(stages, size);
     if let Some(old) = moved
-        && prog.reproject(traced, old, |holes| hole_level(holes, seconds_per_sample))
+        && chosen == First::Reproject
+        && prog.reproject(traced, old, |holes| costs.hole_level(holes))
     {
+        costs.reprojected(&prog.reprojection, size.0 as usize * size.1 as usize);
         prog.seed = job.seed;
         *shown = Some(job.scene.clone());
         return Start::Moved(t0.elapsed().as_secs_f64());
     }
     prog.reset(job.width, job.height, job.seed);
-    Start::At(first_stage(
-        stages,
-        job.width,
-        job.height,
-        seconds_per_sample,
-        FIRST_FRAME_BUDGET_S,
-    ))
+    Start::At(match (moved.is_some(), chosen) {
+        (true, First::Fresh(i)) => i,
+        // Not a move (an edit, a new size): the first frame's budget.
+        _ => costs.first_stage(stages, size, FIRST_FRAME_BUDGET_S),
+    })
 }
 
 /// A stage's time, the camera samples it cast, and its job's wait.
@@ -303,19 +289,8 @@ impl Frame {
             photons: photons.1,
             photon_passes: photons.0,
             camera: (job.scene.camera.position, job.scene.camera.rotation_deg),
+            reprojection: (stage == Stage::Reprojected).then_some(prog.reprojection),
         }
-    }
-}
-
-/// The running estimate of seconds per camera sample, from a stage of
-/// `cost` samples that took `dt` s (stages under 1000 samples say little).
-fn update_rate(seconds_per_sample: &mut Option<f64>, dt: f64, cost: u64) {
-    if cost >= 1000 {
-        let sps = dt / cost as f64;
-        *seconds_per_sample = Some(match *seconds_per_sample {
-            Some(old) => 0.5 * old + 0.5 * sps,
-            None => sps,
-        });
     }
 }
 
@@ -325,7 +300,7 @@ fn run(
     (wanted, screen, spare): (Arc<AtomicU64>, Arc<Shown>, Receiver<Vec<u8>>),
     wake: impl Fn(),
 ) {
-    let mut seconds_per_sample: Option<f64> = None;
+    let mut costs = Costs::default();
     // Reused across jobs of the same size: allocating and zeroing two
     // full-resolution buffers per keypress costs milliseconds.
     let mut prog = Progressive::new(0, 0, 0);
@@ -357,7 +332,7 @@ fn run(
             ok
         };
         let traced = caustics.scene(&job.scene);
-        let first = match start(&mut prog, &mut shown, &job, traced, &stages, seconds_per_sample) {
+        let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
             Start::Moved(dt) => {
                 if !send(
                     &prog,
@@ -382,13 +357,17 @@ fn run(
             if let Stage::Samples(n) = stage {
                 caustics.refine(n.saturating_sub(prog.spp), &cancelled);
             }
+            let traced = Instant::now();
             if !prog.run(caustics.scene(&job.scene), stage, &cancelled) {
                 break;
             }
             shown = Some(job.scene.clone());
             let dt = t0.elapsed().as_secs_f64();
             let cost = prog.samples_cast - before;
-            update_rate(&mut seconds_per_sample, dt, cost);
+            // The camera samples' own time (photon passes left out), in
+            // the stages that sample every pixel alike (an adaptive wave's
+            // time is not proportional to its samples).
+            costs.sampled(stage, traced.elapsed().as_secs_f64(), cost);
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
                 return;
             }
@@ -396,7 +375,12 @@ fn run(
         // Refined (or cancelled): with nothing else to do, record the
         // picture's first hits for the next move's reprojection (which
         // otherwise records them itself, on the input's time).
-        prog.record_first_hits(&job.scene, &cancelled);
+        if prog.record_first_hits(&job.scene, &cancelled)
+            && let Some(share) = prog.specular_share()
+        {
+            // What the next move's reprojection will have to trace, at least.
+            costs.holes = share;
+        }
     }
 }
 

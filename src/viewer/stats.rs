@@ -75,6 +75,13 @@ impl Stats {
                 "present_ms": self.present_ms,
                 "photons": f.photons,
                 "camera": [f.camera.0.to_array(), f.camera.1.to_array()],
+                "reprojection": f.reprojection.map(|r| serde_json::json!({
+                    "first_hits_ms": r.first_hits_s * 1e3,
+                    "warp_ms": r.warp_s * 1e3,
+                    "fill_ms": r.fill_s * 1e3,
+                    "holes": r.holes,
+                    "level": r.level,
+                })),
                 "t": (now - self.started).as_secs_f64(),
                 "stages": p.stages.iter().map(|s| serde_json::json!({
                     "generation": s.generation,
@@ -118,9 +125,22 @@ impl Stats {
 
 /// `"64 spp (done) (paused)"`: the frame's stage and state.
 pub fn stage_text(f: &Frame, paused: bool) -> String {
+    // A reprojection says where its time went: the warp, and the pixels
+    // it traced (and at which block size).
+    let label = match f.reprojection {
+        Some(r) => format!(
+            "{} (warp {:.0} ms, {:.0}% traced at {}×{})",
+            f.stage.label(),
+            (r.first_hits_s + r.warp_s) * 1e3,
+            100.0 * r.holes as f64 / (f.width as f64 * f.height as f64).max(1.0),
+            r.level,
+            r.level
+        ),
+        None => f.stage.label(),
+    };
     format!(
         "{}{}{}",
-        f.stage.label(),
+        label,
         if f.last { " (done)" } else { "" },
         if paused { " (paused)" } else { "" }
     )
@@ -241,6 +261,7 @@ mod tests {
             photons: 4096,
             photon_passes: 2,
             camera: (glam::DVec3::new(1.0, 2.0, 3.0), glam::DVec3::new(0.0, 90.0, 0.0)),
+            reprojection: None,
         };
         let input_time = Instant::now() - Duration::from_millis(80);
         let t0 = Instant::now();
@@ -294,7 +315,7 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 16, "{keys:?}");
+        assert_eq!(keys.len(), 17, "{keys:?}");
         assert_eq!(l["camera"], serde_json::json!([[1.0, 2.0, 3.0], [0.0, 90.0, 0.0]]));
         assert_eq!(
             (l["overlay"].as_str(), lines[1]["overlay"].as_str()),
