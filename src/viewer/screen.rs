@@ -6,7 +6,7 @@
 use super::gui::Gui;
 use super::overlay::OverlayMode;
 use super::panel::{NARROW, PANEL_WIDTH, STRIP_WIDTH};
-use super::settle::{Gate, SurfaceGate};
+use super::settle::{Gate, SurfaceGate, Try, acquire};
 use anyhow::{Result, anyhow};
 use lensview::render::worker::Frame;
 use pixels::{Pixels, SurfaceTexture};
@@ -72,6 +72,9 @@ pub struct Screen {
     /// When a new window size reaches the surface.
     gate: SurfaceGate,
 }
+
+/// How soon a present that got no surface texture is tried again.
+const RETRY: std::time::Duration = std::time::Duration::from_millis(50);
 
 /// What [`Screen::present`] did.
 pub enum Shown {
@@ -238,8 +241,26 @@ impl Screen {
             Ok(Gate::Wait(t)) => return Shown::Settling(t),
             Ok(Gate::Ready | Gate::Configure) => {}
         }
+        use pixels::wgpu::CurrentSurfaceTexture as C;
+        let pixels = &self.pixels;
+        let texture = acquire(
+            || match pixels.current_texture() {
+                C::Success(t) => Try::Got(t),
+                C::Suboptimal(t) => Try::Stale(Some(t)),
+                C::Outdated | C::Lost => Try::Stale(None),
+                C::Occluded | C::Timeout => Try::Skip,
+                C::Validation => Try::Fail("wgpu validation error".into()),
+            },
+            || pixels.reconfigure(),
+        );
+        let texture = match texture {
+            Ok(Some(t)) => t,
+            // No texture now: the next present tries again shortly.
+            Ok(None) => return Shown::Settling(Some(Instant::now() + RETRY)),
+            Err(e) => return Shown::Presented(x0, Err(e)),
+        };
         let gui = &mut self.gui;
-        let result = self.pixels.render_with(|encoder, target, context| {
+        let result = pixels.render_to(texture, |encoder, target, context| {
             context.scaling_renderer.render(encoder, target);
             gui.paint(encoder, target, context);
             Ok(())

@@ -65,9 +65,65 @@ impl SurfaceGate {
     }
 }
 
+/// Tries at the surface's next texture per present: a surface still out
+/// of date after this many reconfigurations is left for the next present.
+pub const ACQUIRE_TRIES: u32 = 3;
+
+/// What one try at the surface's next texture gave.
+pub enum Try<T> {
+    Got(T),
+    /// Out of date, lost or suboptimal (with the texture, dropped before
+    /// reconfiguring): configure the surface again and retry.
+    Stale(Option<T>),
+    /// Nothing to draw on now (occluded, timed out): skip this present.
+    Skip,
+    Fail(String),
+}
+
+/// The surface's next texture, with at most [`ACQUIRE_TRIES`] tries
+/// (`reconfigure` between them): `Ok(None)` when none came, and the
+/// present is skipped (the caller asks again shortly). pixels' own loop
+/// retried without bound, and a resize during a present could spin there.
+pub fn acquire<T>(mut get: impl FnMut() -> Try<T>, mut reconfigure: impl FnMut()) -> Result<Option<T>, String> {
+    for _ in 0..ACQUIRE_TRIES {
+        match get() {
+            Try::Got(t) => return Ok(Some(t)),
+            Try::Stale(t) => {
+                drop(t);
+                reconfigure();
+            }
+            Try::Skip => return Ok(None),
+            Try::Fail(e) => return Err(e),
+        }
+    }
+    Ok(None)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A surface that stays out of date is tried a bounded number of
+    /// times, reconfigured between tries, and the present skipped; one that
+    /// comes back on the second try is used; errors and skips pass through.
+    #[test]
+    fn the_surface_is_acquired_with_a_bounded_retry() {
+        let (mut tries, mut configured) = (0, 0);
+        let got = acquire::<u8>(
+            || {
+                tries += 1;
+                assert!(tries < 1000, "spins on a stale surface");
+                Try::Stale(None)
+            },
+            || configured += 1,
+        );
+        assert_eq!(got, Ok(None));
+        assert_eq!((tries, configured), (ACQUIRE_TRIES, ACQUIRE_TRIES));
+        let mut answers = vec![Try::Got(7u8), Try::Stale(Some(1))];
+        assert_eq!(acquire(|| answers.pop().unwrap(), || {}), Ok(Some(7)));
+        assert_eq!(acquire::<u8>(|| Try::Skip, || panic!("no retry")), Ok(None));
+        assert_eq!(acquire::<u8>(|| Try::Fail("lost".into()), || {}), Err("lost".into()));
+    }
 
     /// A storm of resizes configures the surface once, at its last size,
     /// after that size has held for `SETTLE`; a tiny or empty window is
