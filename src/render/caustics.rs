@@ -7,7 +7,7 @@
 //! on the camera ([`Caustics::same_light_paths`] decides when it can be
 //! kept).
 
-use crate::integrator::{Targets, photon_pass};
+use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::photon::{PhotonMap, SharedMap, initial_radius};
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -112,6 +112,17 @@ impl Caustics {
 /// [`PASSES_PER_SPP`] per sample, at least [`MIN_PASSES`].
 pub fn passes_for_spp(spp: u32) -> u32 {
     spp.saturating_mul(PASSES_PER_SPP).max(MIN_PASSES)
+}
+
+/// The photons `passes` passes of [`with_caustics`] trace in `scene`, for
+/// the work budget (`limits::Work`): every light's photons of every pass
+/// (fewer when the map fills up and passes stop early); 0 when the scene
+/// computes no caustics.
+pub fn photons_traced(scene: &Scene, passes: u32, settings: CausticSettings) -> f64 {
+    Caustics::new(scene, settings).map_or(0.0, |c| {
+        let per_light = photons_per_light(scene, &c.targets, settings.photons_per_pass);
+        passes as f64 * per_light as f64 * scene.lights.len() as f64
+    })
 }
 
 /// `scene` with its caustic map after `passes` passes (the scene itself,
