@@ -16,7 +16,8 @@
 //!   [`LIGHT_WORK`] to a sample (its shadow rays), and each photon traced
 //!   for caustics (passes × photons a pass a light × lights) counts
 //!   [`PHOTON_WORK`], so no accepted command runs unboundedly long, however
-//!   many lights or photon passes it asks for.
+//!   many lights or photon passes it asks for (`render` also cuts its
+//!   passes to `render::caustics::MAX_PHOTONS_TRACED` photons).
 //! - Input files are read up to a cap: [`SCENE_FILE_CAP`] for scenes,
 //!   [`TRACE_INPUT_CAP`] for `lens trace`.
 

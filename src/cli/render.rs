@@ -3,7 +3,7 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
-use lensview::render::caustics::{CausticSettings, passes_for_spp, photons_traced, with_caustics};
+use lensview::render::caustics::{CausticSettings, render_photons, with_caustics};
 use lensview::render::{ImageFormat, RenderSettings, render};
 use lensview::{files, limits, output};
 use std::path::PathBuf;
@@ -49,9 +49,10 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     };
     // Camera samples, the lights they shade and the photons of the
     // caustics: all in the one work budget.
+    let (passes, photons) = render_photons(&scene, spp, photon_settings);
     let work = limits::Work::samples(a.width, a.height, spp as u64, 1)
         .with_lights(scene.lights.len())
-        .with_photons(photons_traced(&scene, passes_for_spp(spp), photon_settings));
+        .with_photons(photons);
     limits::check_total("the render", work)?;
     let settings = RenderSettings {
         width: a.width,
@@ -62,7 +63,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
-    let scene = with_caustics(&scene, passes_for_spp(spp), photon_settings);
+    let scene = with_caustics(&scene, passes, photon_settings);
     let photon_secs = start.elapsed().as_secs_f64();
     let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
     let secs = start.elapsed().as_secs_f64();
