@@ -37,8 +37,9 @@ pub const LIGHT_WORK: f64 = 0.25;
 /// photons/s against 6.8 M camera samples/s, same machine), rounded up.
 pub const PHOTON_WORK: f64 = 4.0;
 /// Largest scene file read: 10^6 objects in the short inline form take
-/// 70 MB and load in about 0.8 GB (under 1 KB an object, tests/memory.rs);
-/// a refusal of a file this large is placed in about 2 KB an object.
+/// 70 MB and load in 1.07 GB of peak RSS (0.8 KB of heap an object at the
+/// peak, tests/memory.rs, which measures every kind of entry: README,
+/// "Memory when loading"); a refusal is placed in about 2 KB an object.
 pub const SCENE_FILE_CAP: u64 = 128 << 20;
 /// Largest `lens trace` input read (about 400 000 rays' cases).
 pub const TRACE_INPUT_CAP: u64 = 64 << 20;
