@@ -11,7 +11,7 @@
 //!
 //! ```text
 //! math · color · sampling · optics · simd     pure functions and lane helpers
-//! limits · output · photon                    size/work limits · atomic file writes · photon map
+//! limits · output · files · photon            size/work limits · atomic file writes · which files · photon map
 //!         ↑
 //! geometry · material · light · camera        one closed set of shapes
 //!         ↑
@@ -72,6 +72,7 @@ pub mod bench;
 pub mod camera;
 pub mod color;
 pub mod edit;
+pub mod files;
 pub mod geometry;
 pub mod integrator;
 pub mod lens_tools;

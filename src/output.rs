@@ -7,17 +7,27 @@
 //!   or overwritten on the way;
 //! - it is flushed to disk and renamed over the target only when complete,
 //!   so the target holds either its old content or the whole new one;
-//! - it is removed on every failure, on unwinding, and on Ctrl-C (when the
-//!   command installed [`remove_temp_files_on_interrupt`]);
+//! - it is removed on every failure, on unwinding, and on Ctrl-C, SIGTERM
+//!   or SIGHUP (when the command installed [`remove_temp_files_on_interrupt`]);
 //! - only a regular file (or nothing) is replaced: a directory, a device, a
 //!   FIFO or a socket at the path is refused with an error naming it.
 //!   A symbolic link whose final target is a regular file writes that
 //!   target (the link stays a link, as editors do); a link to anything else,
-//!   or to nothing, is refused.
+//!   or to nothing, is refused;
+//! - a file with more than one hard link is refused: renaming over one name
+//!   would leave the others with the old content (the link silently split),
+//!   and writing in place instead would lose the guarantee that the target
+//!   holds its old or its whole new content (a crash half-way would corrupt
+//!   every name). Removing the other links, or writing to a new name, is the
+//!   user's choice to make;
+//! - [`write_all`] writes several files as one: all are filled and flushed
+//!   before the first is renamed, so a failure in any leaves every target
+//!   as it was.
 //!
 //! A replaced file keeps its permissions; a new one gets 0666 less the umask,
 //! as a plain create would.
 
+use crate::files::kind;
 use std::fs::Permissions;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -47,14 +57,45 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
 /// Writes what `fill` produces to `path` atomically (see the module
 /// documentation). `fill` gets a buffered writer.
 pub fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), WriteError> {
+    commit(vec![stage(path, fill)?])
+}
+
+/// Writes each `(path, bytes)` atomically, and all of them as one: every
+/// temporary file is complete on disk before the first is renamed over its
+/// target, so a failure while writing any leaves every target as it was
+/// and no temporary file.
+pub fn write_all(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
+    let mut staged = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        match stage(path, |w| w.write_all(bytes)) {
+            Ok(s) => staged.push(s),
+            Err(e) => {
+                staged.into_iter().for_each(discard);
+                return Err(e);
+            }
+        }
+    }
+    commit(staged)
+}
+
+/// A complete temporary file, flushed to disk, waiting to be renamed over
+/// `target` (what `path` names).
+struct Staged {
+    path: PathBuf,
+    target: PathBuf,
+    tmp: tempfile::NamedTempFile,
+}
+
+/// Fills a temporary file for `path` (listed for the signal handler while
+/// it exists); on failure it is removed.
+fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<Staged, WriteError> {
     let fail = |err| WriteError {
         path: path.to_path_buf(),
         err,
     };
     let (target, perms) = target(path).map_err(fail)?;
     let tmp = temp_beside(&target, perms).map_err(fail)?;
-    let tmp_path = tmp.path().to_path_buf();
-    pending().push(tmp_path.clone());
+    pending().push(tmp.path().to_path_buf());
     let filled = (|| {
         let mut w = BufWriter::new(tmp.as_file());
         fill(&mut w)?;
@@ -62,16 +103,45 @@ pub fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<(
         drop(w);
         tmp.as_file().sync_all()
     })();
-    // Renaming (or removing) happens under the lock, so the Ctrl-C handler
-    // sees the temporary file either still there or gone, never half-way.
-    let mut list = pending();
-    let result = match filled {
-        Ok(()) => tmp.persist(&target).map(drop).map_err(|e| e.error),
-        Err(e) => Err(e), // dropping `tmp` removes it
+    let staged = Staged {
+        path: path.to_path_buf(),
+        target,
+        tmp,
     };
-    list.retain(|p| *p != tmp_path);
-    drop(list);
-    result.map_err(fail)
+    match filled {
+        Ok(()) => Ok(staged),
+        Err(e) => {
+            discard(staged);
+            Err(fail(e))
+        }
+    }
+}
+
+/// Removes a staged temporary file and its entry in the list, under the
+/// lock, so the signal handler sees it either still there or gone.
+fn discard(s: Staged) {
+    let mut list = pending();
+    list.retain(|p| p != s.tmp.path());
+    drop(s.tmp);
+}
+
+/// Renames each staged file over its target, under the lock (as
+/// [`discard`]); after a failed rename the rest are removed, not renamed.
+fn commit(staged: Vec<Staged>) -> Result<(), WriteError> {
+    let mut list = pending();
+    let mut result = Ok(());
+    for s in staged {
+        let tmp_path = s.tmp.path().to_path_buf();
+        if result.is_ok() {
+            // On failure `persist` hands the file back; dropping it removes it.
+            result = s.tmp.persist(&s.target).map(drop).map_err(|e| WriteError {
+                path: s.path,
+                err: e.error,
+            });
+        }
+        list.retain(|p| *p != tmp_path);
+    }
+    result
 }
 
 /// A new, empty temporary file in `target`'s directory, named after it.
@@ -119,6 +189,7 @@ fn target(path: &Path) -> io::Result<(PathBuf, Option<Permissions>)> {
         other => other?,
     };
     if meta.is_file() {
+        single_link(&meta)?;
         return Ok((path.to_path_buf(), Some(meta.permissions())));
     }
     if !meta.file_type().is_symlink() {
@@ -129,7 +200,29 @@ fn target(path: &Path) -> io::Result<(PathBuf, Option<Permissions>)> {
     if !meta.is_file() {
         return Err(refused(&format!("it is a symbolic link to {}", kind(&meta))));
     }
+    single_link(&meta)?;
     Ok((real, Some(meta.permissions())))
+}
+
+/// Refuses a regular file with more than one hard link (see the module
+/// documentation for why).
+fn single_link(meta: &std::fs::Metadata) -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if meta.nlink() > 1 {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "it has {} hard links, and replacing it would leave the others with the old content \
+                     (refusing to replace it: write to a new name, or remove the other links)",
+                    meta.nlink()
+                ),
+            ));
+        }
+    }
+    let _ = meta;
+    Ok(())
 }
 
 fn refused(why: &str) -> io::Error {
@@ -149,28 +242,40 @@ pub fn check_regular(path: &Path) -> Result<(), WriteError> {
     })
 }
 
-fn kind(meta: &std::fs::Metadata) -> &'static str {
-    let t = meta.file_type();
-    if t.is_dir() {
-        return "a directory";
+/// The directories [`create_dirs`] made, removed again (each only if
+/// empty, the deepest first) when this is dropped without [`NewDirs::keep`]:
+/// a command that fails leaves no directory it created behind.
+#[must_use = "dropping it removes the directories made"]
+pub struct NewDirs(Vec<PathBuf>);
+
+impl NewDirs {
+    /// Keeps the directories (the command succeeded).
+    pub fn keep(mut self) {
+        self.0.clear();
     }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_fifo() {
-            return "a FIFO";
-        }
-        if t.is_socket() {
-            return "a socket";
+}
+
+impl Drop for NewDirs {
+    fn drop(&mut self) {
+        for d in self.0.iter().rev() {
+            // Not empty: something else wrote there meanwhile; it stays.
+            let _ = std::fs::remove_dir(d);
         }
     }
-    "a special file"
+}
+
+/// `dir` and any missing parents, as `create_dir_all`, remembering the
+/// ones it made (see [`NewDirs`]).
+pub fn create_dirs(dir: &Path) -> io::Result<NewDirs> {
+    let mut missing: Vec<PathBuf> = dir
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .take_while(|a| std::fs::symlink_metadata(a).is_err())
+        .map(Path::to_path_buf)
+        .collect();
+    missing.reverse();
+    std::fs::create_dir_all(dir)?;
+    Ok(NewDirs(missing))
 }
 
 /// The mode for a new file: passed to open(2), so the umask applies as for
@@ -185,9 +290,10 @@ fn new_file_permissions() -> Option<Permissions> {
     None
 }
 
-/// Installs a Ctrl-C (SIGINT) handler that removes the temporary files being
-/// written and exits with status 130. For the headless commands; without it
-/// SIGINT kills the process before any clean-up.
+/// Installs a handler of Ctrl-C (SIGINT), SIGTERM and SIGHUP (`ctrlc`'s
+/// `termination` feature) that removes the temporary files being written
+/// and exits with status 130. For the headless commands; without it any of
+/// the three kills the process before any clean-up.
 pub fn remove_temp_files_on_interrupt() {
     // It fails only when a handler is already installed: then that one rules.
     let _ = ctrlc::set_handler(|| {
@@ -244,7 +350,7 @@ mod tests {
         assert_eq!(e.to_string(), format!("cannot write {}: disk full", p.display()));
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
         assert_eq!(names(&d), ["a.txt"]);
-        assert!(pending().is_empty());
+        assert!(!pending().iter().any(|p| p.starts_with(&d)));
     }
 
     #[test]
@@ -278,5 +384,58 @@ mod tests {
         write_file(&link, b"new").unwrap();
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+    }
+
+    #[test]
+    fn a_file_with_other_hard_links_is_not_replaced() {
+        let d = dir("hard");
+        let (h1, h2) = (d.join("h1.png"), d.join("h2.png"));
+        std::fs::write(&h1, "old").unwrap();
+        std::fs::hard_link(&h1, &h2).unwrap();
+        let e = write_file(&h1, b"new").unwrap_err().to_string();
+        assert!(e.contains("it has 2 hard links"), "{e}");
+        assert!(check_target(&h2).is_err());
+        let link = d.join("link.png");
+        std::os::unix::fs::symlink(&h2, &link).unwrap();
+        assert!(check_target(&link).is_err());
+        assert_eq!([&h1, &h2].map(|p| std::fs::read_to_string(p).unwrap()), ["old", "old"]);
+        std::fs::remove_file(&h2).unwrap();
+        write_file(&h1, b"new").unwrap();
+        assert_eq!(names(&d), ["h1.png", "link.png"]);
+    }
+
+    #[test]
+    fn write_all_writes_none_when_one_fails() {
+        let d = dir("all");
+        let (a, b) = (d.join("a.csv"), d.join("b.png"));
+        std::fs::write(&a, "old").unwrap();
+        std::fs::create_dir(&b).unwrap();
+        let e = write_all(&[(&a, b"new"), (&b, b"png")]).unwrap_err();
+        assert_eq!(e.path, b);
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "old");
+        assert_eq!(names(&d), ["a.csv", "b.png"]);
+        assert!(!pending().iter().any(|p| p.starts_with(&d)));
+        let c = d.join("c.png");
+        write_all(&[(&a, b"new"), (&c, b"png")]).unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "new");
+        assert_eq!(names(&d), ["a.csv", "b.png", "c.png"]);
+    }
+
+    #[test]
+    fn new_directories_are_removed_unless_kept() {
+        let d = dir("dirs");
+        let deep = d.join("a/b/c");
+        let made = create_dirs(&deep).unwrap();
+        assert!(deep.is_dir());
+        drop(made);
+        assert_eq!(names(&d), Vec::<String>::new());
+        std::fs::create_dir(d.join("a")).unwrap();
+        let made = create_dirs(&deep).unwrap();
+        std::fs::write(d.join("a/b/file"), "x").unwrap();
+        drop(made);
+        // `c` is gone, `b` holds a file and `a` was there before.
+        assert_eq!(names(&d.join("a/b")), ["file"]);
+        create_dirs(&deep).unwrap().keep();
+        assert!(deep.is_dir());
     }
 }

@@ -28,51 +28,61 @@ pub struct Series {
 /// The plot's size in pixels.
 const SIZE: (u32, u32) = (960, 640);
 
-/// A log–log line plot with points, written as a PNG atomically
-/// (`lensview::output`: no half file, no temporary left, only a regular file
-/// replaced).
-pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<()> {
+/// A log–log line plot with points, as the bytes of a PNG (for
+/// `output::write_all`, so that a table and its plot are written as one;
+/// `path` names the file in errors).
+pub fn log_log(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<Vec<u8>> {
     let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     draw(&mut rgb, title, x_label, y_label, series)
         .map_err(|e| anyhow!("cannot draw the plot for {}: {e}", path.display()))?;
-    write_png(path, SIZE, &rgb)
+    let mut bytes = Vec::new();
+    encode_png(&mut bytes, SIZE, &rgb).map_err(|e| anyhow!("cannot encode the plot for {}: {e}", path.display()))?;
+    Ok(bytes)
 }
 
 /// 8-bit RGB pixels written as a PNG atomically.
-pub fn write_png(path: &Path, (w, h): (u32, u32), rgb: &[u8]) -> Result<()> {
-    write_with(path, |out| {
-        let mut enc = png::Encoder::new(out, w, h);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        let mut w = enc.write_header().map_err(std::io::Error::other)?;
-        w.write_image_data(rgb).map_err(std::io::Error::other)?;
-        w.finish().map_err(std::io::Error::other)
-    })?;
+pub fn write_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<()> {
+    write_with(path, |out| encode_png(out, size, rgb))?;
     Ok(())
+}
+
+fn encode_png(out: &mut dyn std::io::Write, (w, h): (u32, u32), rgb: &[u8]) -> std::io::Result<()> {
+    let mut enc = png::Encoder::new(out, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header().map_err(std::io::Error::other)?;
+    w.write_image_data(rgb).map_err(std::io::Error::other)?;
+    w.finish().map_err(std::io::Error::other)
+}
+
+/// The axis range `(low, high)` of the positive values of `v`, padded and
+/// holding two powers of ten; `(1e-3, 1)` when none is positive (every
+/// value exact zero: drawn on the floor).
+fn log_range(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| *x > 0.0 && x.is_finite())
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    if !lo.is_finite() {
+        return (1e-3, 1.0);
+    }
+    // Log axes are labelled at powers of ten: make each range hold two.
+    let decade_below = |v: f64| 10f64.powf(v.log10().floor());
+    let decade_above = |v: f64| 10f64.powf(v.log10().ceil());
+    ((lo / 1.5).min(decade_below(lo)), (hi * 1.5).max(decade_above(hi)))
 }
 
 /// Draws the plot into `rgb` (8-bit RGB, [`SIZE`]).
 fn draw(rgb: &mut [u8], title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<()> {
     register_font();
-    let pts = series
-        .iter()
-        .flat_map(|s| s.points.iter().copied())
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0);
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
-    for (x, y) in pts {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if !(x0.is_finite() && y0.is_finite()) {
+    let all = || series.iter().flat_map(|s| s.points.iter().copied());
+    if !all().any(|(x, y)| x.is_finite() && y.is_finite()) {
         return Err(anyhow!("nothing to plot"));
     }
-    // Log axes are labelled at powers of ten: make each range hold two.
-    let decade_below = |v: f64| 10f64.powf(v.log10().floor());
-    let decade_above = |v: f64| 10f64.powf(v.log10().ceil());
-    let (x0, x1) = ((x0 / 1.5).min(decade_below(x0)), (x1 * 1.5).max(decade_above(x1)));
-    let (y0, y1) = ((y0 / 1.5).min(decade_below(y0)), (y1 * 1.5).max(decade_above(y1)));
+    let (x0, x1) = log_range(all().map(|p| p.0));
+    let (y0, y1) = log_range(all().map(|p| p.1));
+    // A value of 0 (an exact result: RMSE 0 against the reference) has no
+    // place on a log axis: it is drawn on the axis's floor, not left out.
+    let place = |(x, y): (f64, f64)| (x.max(x0), y.max(y0));
     let root = BitMapBackend::with_buffer(rgb, SIZE).into_drawing_area();
     let e = |e: DrawingAreaErrorKind<_>| anyhow!("{e:?}");
     root.fill(&WHITE).map_err(e)?;
@@ -101,11 +111,20 @@ fn draw(rgb: &mut [u8], title: &str, x_label: &str, y_label: &str, series: &[Ser
     ];
     for (i, s) in series.iter().enumerate() {
         let c = colours[i % colours.len()];
-        let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|(x, y)| *x > 0.0 && *y > 0.0).collect();
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|&p| place(p))
+            .collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
             .map_err(e)?
-            .label(s.name.as_str())
+            .label(if s.points.iter().any(|&(x, y)| x <= 0.0 || y <= 0.0) {
+                format!("{} (values of 0 drawn on the axis)", s.name)
+            } else {
+                s.name.clone()
+            })
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
         chart
             .draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// Top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers").
 const LAYERS: &[&[&str]] = &[
     &[
-        "math", "color", "sampling", "optics", "simd", "limits", "output", "photon",
+        "math", "color", "sampling", "optics", "simd", "limits", "output", "files", "photon",
     ],
     &["geometry", "material", "light", "camera"],
     &["accel"],

@@ -5,7 +5,7 @@
 //! is the library's (`lensview::bench`).
 
 use super::load_scene;
-use super::table::{Column, Plot, Table, num};
+use super::table::{Column, Plot, Table, num, write_files};
 use crate::plot::Series;
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -14,7 +14,7 @@ use lensview::bench::{
     median_time, primary_rays_per_second, primary_rays_per_second_scalar, unused_feature_frame,
 };
 use lensview::scene::{Scene, SceneFile};
-use lensview::{limits, output};
+use lensview::{files, limits, output};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
@@ -99,7 +99,16 @@ impl BenchArgs {
 }
 
 pub fn bench(a: &BenchArgs) -> Result<()> {
-    check_limits(a)?;
+    // Dropped on an error: `--out-dir`, if this run made it, is removed.
+    let new_dirs = check_limits(a)?;
+    run_mode(a)?;
+    if let Some(d) = new_dirs {
+        d.keep();
+    }
+    Ok(())
+}
+
+fn run_mode(a: &BenchArgs) -> Result<()> {
     let (sf, scene) = load_scene(a.scene.as_deref())?;
     match a.mode() {
         BenchMode::UnusedFeature {
@@ -138,9 +147,10 @@ pub fn bench(a: &BenchArgs) -> Result<()> {
 }
 
 /// The shared limits ([`limits`]) for this run's size, runs, frames and
-/// work, and a writable `--out-dir` for the study, checked before anything
-/// is measured.
-fn check_limits(a: &BenchArgs) -> Result<()> {
+/// work, and for the study a `--out-dir` where every file it writes can be
+/// written, checked before anything is measured. Returns the directories
+/// made for `--out-dir` (removed again if the run fails).
+fn check_limits(a: &BenchArgs) -> Result<Option<output::NewDirs>> {
     limits::check_image("--width × --height", a.width, a.height, limits::IMAGE_BYTES_PER_PIXEL)?;
     limits::check_count("--runs", a.runs as u64, limits::MAX_RUNS as u64)?;
     let passes = match a.mode() {
@@ -152,14 +162,37 @@ fn check_limits(a: &BenchArgs) -> Result<()> {
         BenchMode::PrimaryOnly => 3 * a.runs as u64,
         // WIDTH×HEIGHT and 400×400, `runs` times each.
         BenchMode::FrameOnly => 2 * a.runs as u64,
-        BenchMode::Study => {
-            std::fs::create_dir_all(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;
-            output::check_target(&a.out_dir.join("bench-size.csv"))?;
-            return Ok(());
-        }
+        BenchMode::Study => return check_outputs(a).map(Some),
     };
     limits::check_work("the benchmark", a.width.max(400), a.height.max(400), 1, passes)?;
-    Ok(())
+    Ok(None)
+}
+
+/// Makes `--out-dir` and checks every file the study writes there
+/// ([`study_files`]): each writable, none the scene.
+fn check_outputs(a: &BenchArgs) -> Result<output::NewDirs> {
+    let made = output::create_dirs(&a.out_dir).with_context(|| format!("cannot create {}", a.out_dir.display()))?;
+    let outputs = study_files(&a.out_dir);
+    let named: Vec<(&str, &Path)> = outputs.iter().map(|p| ("output", p.as_path())).collect();
+    let scene_input = a.scene.as_deref().map(|p| ("the scene", p));
+    files::check_distinct(scene_input.as_slice(), &named)?;
+    for p in &outputs {
+        output::check_target(p)?;
+    }
+    Ok(made)
+}
+
+/// Every file the study writes in `out_dir`: each report's CSV and, for
+/// those plotted, its PNG.
+fn study_files(out_dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for (name, _, plotted) in REPORTS {
+        files.push(out_dir.join(format!("{name}.csv")));
+        if plotted {
+            files.push(out_dir.join(format!("{name}.png")));
+        }
+    }
+    files
 }
 
 /// Closest-hit primary rays per second at one size, cast three ways.
@@ -236,13 +269,13 @@ struct Study<'a> {
 /// A report of the full study: it measures and returns its table.
 type Report = fn(&Study) -> Table;
 
-/// The reports of the full study and the names of their files, in the
-/// order they run.
-const REPORTS: [(&str, Report); 4] = [
-    ("bench-size", report_sizes),
-    ("bench-objects", report_objects),
-    ("bench-throughput", report_throughput),
-    ("bench-features", report_features),
+/// The reports of the full study, the names of their files and whether
+/// each is plotted, in the order they run.
+const REPORTS: [(&str, Report, bool); 4] = [
+    ("bench-size", report_sizes, true),
+    ("bench-objects", report_objects, true),
+    ("bench-throughput", report_throughput, false),
+    ("bench-features", report_features, false),
 ];
 
 fn study(s: &Study, out_dir: &Path) -> Result<()> {
@@ -252,19 +285,22 @@ fn study(s: &Study, out_dir: &Path) -> Result<()> {
         s.runs,
         rayon::current_num_threads()
     );
-    let mut written = Vec::new();
-    for (name, report) in REPORTS {
+    let (mut written, mut files) = (Vec::new(), Vec::new());
+    for (name, report, plotted) in REPORTS {
         let table = report(s);
-        table.emit(
+        debug_assert_eq!(table.plot.is_some(), plotted, "{name}");
+        files.extend(table.emit(
             &out_dir.join(format!("{name}.csv")),
             &out_dir.join(format!("{name}.png")),
-        )?;
-        written.push(if table.plot.is_some() {
+        )?);
+        written.push(if plotted {
             format!("{name}.csv/png")
         } else {
             format!("{name}.csv")
         });
     }
+    // All files at once, at the end: a run that fails writes none.
+    write_files(&files)?;
     println!("\nwrote {} in {}", written.join(", "), out_dir.display());
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! schedule, as a table (CSV) and a log–log plot (PNG).
 
 use super::load_scene;
-use super::table::{Column, Plot, Table, num};
+use super::table::{Column, Plot, Table, num, write_files};
 use crate::plot::Series;
 use anyhow::Result;
 use clap::Args;
@@ -14,7 +14,7 @@ use lensview::render::Image;
 use lensview::render::progressive::Sampling;
 use lensview::sampling::Pattern;
 use lensview::scene::Scene;
-use lensview::{limits, output};
+use lensview::{files, limits, output};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -69,12 +69,19 @@ pub fn converge(a: &ConvergeArgs) -> Result<()> {
     limits::check_image("--width × --height", a.width, a.height, bpp)?;
     limits::check_spp("--max-spp", a.max_spp)?;
     limits::check_spp("--reference-spp", a.reference_spp)?;
-    // Each schedule renders about 2 × max-spp samples a pixel in all.
-    let spp = a.reference_spp as u64 + 8 * a.max_spp as u64 + 1;
-    limits::check_work("the reference and the schedule", a.width, a.height, spp, 1)?;
+    let scene_input = a.scene.as_deref().map(|p| ("the scene", p));
+    files::check_distinct(
+        scene_input.as_slice(),
+        &[("--csv", a.csv.as_path()), ("--plot", a.plot.as_path())],
+    )?;
     output::check_target(&a.csv)?;
     output::check_target(&a.plot)?;
     let (_, before) = load_scene(a.scene.as_deref())?;
+    // Each schedule renders about 2 × max-spp samples a pixel in all, each
+    // sample shading every light.
+    let spp = a.reference_spp as u64 + 8 * a.max_spp as u64 + 1;
+    let work = limits::Work::samples(a.width, a.height, spp, 1).with_lights(before.lights.len());
+    limits::check_total("the reference and the schedule", work)?;
     let scene = match a.camera_step {
         Some(step) => step_camera(&before, step),
         None => before.clone(),
@@ -110,7 +117,8 @@ pub fn converge(a: &ConvergeArgs) -> Result<()> {
             })
             .collect(),
     });
-    t.emit(&a.csv, &a.plot)?;
+    // The CSV and the plot both ready before either is written.
+    write_files(&t.emit(&a.csv, &a.plot)?)?;
     println!("wrote {} and {}", a.csv.display(), a.plot.display());
     Ok(())
 }

@@ -3,9 +3,9 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
-use lensview::render::caustics::{CausticSettings, passes_for_spp, with_caustics};
+use lensview::render::caustics::{CausticSettings, render_photons, with_caustics};
 use lensview::render::{ImageFormat, RenderSettings, render};
-use lensview::{limits, output};
+use lensview::{files, limits, output};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -35,13 +35,25 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     if let Some(spp) = a.spp {
         limits::check_spp("--spp", spp)?;
     }
-    // A directory, device or FIFO at -o, or an unknown extension, is
-    // refused before rendering.
+    // The scene itself, a directory, device or FIFO at -o, or an unknown
+    // extension, is refused before rendering.
+    let scene_input = a.scene.as_deref().map(|p| ("the scene", p));
+    files::check_distinct(scene_input.as_slice(), &[("-o", a.output.as_path())])?;
     output::check_target(&a.output)?;
     let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
     let spp = a.spp.unwrap_or(scene.spp);
-    limits::check_work("the render", a.width, a.height, spp as u64, 1)?;
+    let photon_settings = CausticSettings {
+        seed: a.seed,
+        ..CausticSettings::default()
+    };
+    // Camera samples, the lights they shade and the photons of the
+    // caustics: all in the one work budget.
+    let (passes, photons) = render_photons(&scene, spp, photon_settings);
+    let work = limits::Work::samples(a.width, a.height, spp as u64, 1)
+        .with_lights(scene.lights.len())
+        .with_photons(photons);
+    limits::check_total("the render", work)?;
     let settings = RenderSettings {
         width: a.width,
         height: a.height,
@@ -51,11 +63,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
-    let photon_settings = CausticSettings {
-        seed: a.seed,
-        ..CausticSettings::default()
-    };
-    let scene = with_caustics(&scene, passes_for_spp(spp), photon_settings);
+    let scene = with_caustics(&scene, passes, photon_settings);
     let photon_secs = start.elapsed().as_secs_f64();
     let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
     let secs = start.elapsed().as_secs_f64();

@@ -1,14 +1,15 @@
 //! The one shape every measurement command reports in: a [`Table`] of
-//! formatted cells that [`Table::emit`] prints aligned on stdout, writes as
-//! CSV and, when it carries a [`Plot`], draws as a log–log PNG. The CSV
+//! formatted cells that [`Table::emit`] prints aligned on stdout, makes into
+//! CSV and, when it carries a [`Plot`], draws as a log–log PNG, written by
+//! [`write_files`] all at once. The CSV
 //! files are read by the docs (docs/bench/, docs/converge-*.csv), so a
 //! table's CSV columns are a contract; printed-only columns are not.
 
 use crate::plot::{Series, log_log};
 use anyhow::Result;
-use lensview::output::write_file;
+use lensview::output::write_all;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// One column: its CSV header, or `None` for a figure derived for the
 /// reader and only printed, and its printed label.
@@ -118,16 +119,28 @@ impl Table {
         out
     }
 
-    /// Prints the table, writes it to `csv` and, if it has a plot, draws it
-    /// to `png`.
-    pub fn emit(&self, csv: &Path, png: &Path) -> Result<()> {
+    /// Prints the table and returns its files: the CSV text for `csv` and,
+    /// if it has a plot, the PNG drawn for `png`. Nothing is written here:
+    /// the caller writes them all as one (`output::write_all`), once every
+    /// file is ready, so a failure leaves none behind.
+    pub fn emit(&self, csv: &Path, png: &Path) -> Result<Vec<(PathBuf, Vec<u8>)>> {
         print!("{}", self.text());
-        write_file(csv, self.csv().as_bytes())?;
+        let mut files = vec![(csv.to_path_buf(), self.csv().into_bytes())];
         if let Some(p) = &self.plot {
-            log_log(png, &p.title, &p.x_label, &p.y_label, &p.series)?;
+            files.push((
+                png.to_path_buf(),
+                log_log(png, &p.title, &p.x_label, &p.y_label, &p.series)?,
+            ));
         }
-        Ok(())
+        Ok(files)
     }
+}
+
+/// Writes `files` as one ([`lensview::output::write_all`]).
+pub fn write_files(files: &[(PathBuf, Vec<u8>)]) -> Result<()> {
+    let refs: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (p.as_path(), b.as_slice())).collect();
+    write_all(&refs)?;
+    Ok(())
 }
 
 /// `v` with `decimals` digits after the point, as the CSV files hold it.

@@ -35,6 +35,14 @@ pub struct ViewArgs {
 }
 
 pub fn view(a: ViewArgs) -> Result<()> {
+    // The logs are written to, the scene only read (saving it is the
+    // editor's business): a log must not be the scene, nor the other log.
+    let scene_input = a.scene.as_deref().map(|p| ("the scene", p));
+    let logs: Vec<(&str, &std::path::Path)> = [("--frame-log", &a.frame_log), ("--ui-log", &a.ui_log)]
+        .into_iter()
+        .filter_map(|(flag, p)| p.as_deref().map(|p| (flag, p)))
+        .collect();
+    lensview::files::check_distinct(scene_input.as_slice(), &logs)?;
     let (scene_file, _) = load_scene(a.scene.as_deref())?;
     // The window's own buffers: the progressive planes and the RGBA frame.
     limits::check_image(

@@ -287,8 +287,7 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
         return Vec::new();
     }
     let t = targets.spheres.len();
-    let share = if scene.features.dispersion { 3 * t } else { t };
-    let per_light = per_light.max(1).div_ceil(share) * share;
+    let per_light = photons_per_light(scene, targets, per_light);
     let total = per_light * scene.lights.len();
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
@@ -305,6 +304,15 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
         })
         .collect();
     chunks.concat()
+}
+
+/// The photons [`photon_pass`] shoots from each light when asked for
+/// `per_light`: rounded up to a whole share for every target (and colour
+/// channel, with dispersion), so at least one a target.
+pub fn photons_per_light(scene: &Scene, targets: &Targets, per_light: usize) -> usize {
+    let t = targets.spheres.len().max(1);
+    let share = if scene.features.dispersion { 3 * t } else { t };
+    per_light.max(1).div_ceil(share) * share
 }
 
 #[cfg(test)]

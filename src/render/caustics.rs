@@ -7,7 +7,7 @@
 //! on the camera ([`Caustics::same_light_paths`] decides when it can be
 //! kept).
 
-use crate::integrator::{Targets, photon_pass};
+use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::photon::{PhotonMap, SharedMap, initial_radius};
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -22,6 +22,12 @@ pub const MIN_PASSES: u32 = 8;
 pub const FIRST_PASS_NEIGHBOURS: usize = 24;
 /// The most photons kept: past it no pass is added (the estimate stays).
 pub const MAX_PHOTONS: usize = 1 << 21;
+/// The most photons `lensview render` traces (2^28 ≈ 2.7·10^8, about 2.3
+/// minutes at 1.9 M photons/s on 2 cores): its passes are cut to fit, but
+/// never below one ([`render_photons`]). Without it a scene whose photons
+/// are rarely stored (so [`MAX_PHOTONS`] never stops the passes) traced
+/// 2 × spp passes however long they took.
+pub const MAX_PHOTONS_TRACED: u64 = 1 << 28;
 
 /// How a scene's photon passes are shot.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -112,6 +118,21 @@ impl Caustics {
 /// [`PASSES_PER_SPP`] per sample, at least [`MIN_PASSES`].
 pub fn passes_for_spp(spp: u32) -> u32 {
     spp.saturating_mul(PASSES_PER_SPP).max(MIN_PASSES)
+}
+
+/// The photon passes `lensview render` runs for `spp` samples per pixel
+/// of `scene`, and the photons they trace at most (for the work budget,
+/// `limits::Work`; fewer when the map fills up and the passes stop early):
+/// [`passes_for_spp`], cut to [`MAX_PHOTONS_TRACED`] photons but never
+/// below one pass. `(0, 0.0)` when the scene computes no caustics.
+pub fn render_photons(scene: &Scene, spp: u32, settings: CausticSettings) -> (u32, f64) {
+    Caustics::new(scene, settings).map_or((0, 0.0), |c| {
+        let per_light = photons_per_light(scene, &c.targets, settings.photons_per_pass);
+        let per_pass = (per_light as u64).saturating_mul(scene.lights.len() as u64).max(1);
+        let fit = u32::try_from(MAX_PHOTONS_TRACED / per_pass).unwrap_or(u32::MAX);
+        let passes = passes_for_spp(spp).min(fit.max(1));
+        (passes, passes as f64 * per_pass as f64)
+    })
 }
 
 /// `scene` with its caustic map after `passes` passes (the scene itself,
@@ -320,5 +341,27 @@ mod tests {
         assert_eq!(passes_for_spp(64), 64 * PASSES_PER_SPP);
         let s = with_caustics(&focal_spot(), 3, CausticSettings::default());
         assert_eq!(s.caustic_map.unwrap().0.passes(), 3);
+    }
+
+    /// Issue 30.2: the photons a render traces are capped (passes cut to
+    /// [`MAX_PHOTONS_TRACED`], at least one), and counted.
+    #[test]
+    fn headless_photons_are_capped_and_counted() {
+        let scene = focal_spot();
+        let settings = CausticSettings::default();
+        let per_light = photons_per_light(&scene, &Targets::of(&scene), PHOTONS_PER_PASS);
+        let per_pass = (per_light * scene.lights.len()) as f64;
+        assert_eq!(render_photons(&scene, 4, settings), (8, 8.0 * per_pass));
+        let most = (MAX_PHOTONS_TRACED / per_pass as u64) as u32;
+        assert_eq!(render_photons(&scene, 65536, settings), (most, most as f64 * per_pass));
+        assert!(most as f64 * per_pass <= MAX_PHOTONS_TRACED as f64);
+        // So many lights that one pass is over the cap: still one pass.
+        let mut many = scene.clone();
+        let light = many.lights[0].clone();
+        many.lights.resize(10_000, light);
+        assert_eq!(render_photons(&many, 1, settings), (1, 1e4 * per_light as f64));
+        let mut off = scene;
+        off.features.caustics = false;
+        assert_eq!(render_photons(&off, 64, settings), (0, 0.0));
     }
 }

@@ -62,7 +62,7 @@ impl Image {
 
     /// Reads an 8-bit RGB or RGBA PNG back into linear light.
     pub fn read_png(path: &Path) -> std::io::Result<Image> {
-        let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path)?));
+        let dec = png::Decoder::new(std::io::BufReader::new(crate::files::open_regular(path)?));
         let mut reader = dec.read_info().map_err(std::io::Error::other)?;
         let size = reader
             .output_buffer_size()

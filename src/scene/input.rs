@@ -10,9 +10,10 @@ use std::path::Path;
 pub use crate::limits::SCENE_FILE_CAP;
 
 /// The whole of `path`, refused with [`SceneError::TooLarge`] when it holds
-/// more than `cap` bytes. A regular file is measured before it is read; any
-/// other (a pipe, `/dev/zero`) is read up to one byte past the cap, so an
-/// endless one fails as soon as that much has come.
+/// more than `cap` bytes (measured before it is read, and read no further
+/// than one byte past the cap should it grow). Only a regular file is read
+/// (`files::open_regular`): a FIFO or a device is refused without
+/// blocking, naming what it is.
 pub fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>, SceneError> {
     let file = path.display().to_string();
     let io = |err| SceneError::Io {
@@ -23,13 +24,12 @@ pub fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>, SceneError> {
         file: file.clone(),
         cap,
     };
-    let f = std::fs::File::open(path).map_err(io)?;
+    let f = crate::files::open_regular(path).map_err(io)?;
     let meta = f.metadata().map_err(io)?;
-    if meta.is_file() && meta.len() > cap {
+    if meta.len() > cap {
         return Err(too_large());
     }
-    // The size of a regular file as a hint; a pipe's is 0.
-    let hint = if meta.is_file() { meta.len().min(cap) } else { 0 };
+    let hint = meta.len().min(cap);
     let mut bytes = Vec::with_capacity(usize::try_from(hint).unwrap_or(0) + 1);
     f.take(cap.saturating_add(1)).read_to_end(&mut bytes).map_err(io)?;
     if bytes.len() as u64 > cap {

@@ -135,13 +135,10 @@ pub fn run(opts: ViewOptions) -> Result<()> {
     let doc = Document::new(opts.scene_file.clone(), source).map_err(|e| anyhow!("invalid scene: {e}"))?;
     let log = match &opts.frame_log {
         Some(p) => Some({
-            // Appended to, not replaced: still never a device, FIFO or directory.
+            // Appended to, not replaced: still never a device, FIFO or
+            // directory, and a FIFO swapped in cannot block the open.
             lensview::output::check_regular(p).context("--frame-log")?;
-            std::fs::OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(p)
-                .with_context(|| format!("cannot open frame log {}", p.display()))?
+            lensview::files::open_append(p).with_context(|| format!("cannot open frame log {}", p.display()))?
         }),
         None => None,
     };

@@ -176,9 +176,10 @@ impl Refine {
         let spp = self.frame.as_ref().map_or(1, |f| f.spp.max(1));
         // The same limits as `render`: refused before anything is allocated.
         let bpp = limits::PROGRESSIVE_BYTES_PER_PIXEL + 3;
-        if let Err(e) =
-            limits::check_image("screenshot", w, h, bpp).and(limits::check_work("screenshot", w, h, spp as u64, 1))
-        {
+        if let Err(e) = limits::check_image("screenshot", w, h, bpp).and(limits::check_total(
+            "screenshot",
+            limits::Work::samples(w, h, spp as u64, 1).with_lights(scene.lights.len()),
+        )) {
             return format!("cannot save a screenshot: {e}");
         }
         self.screenshots += 1;

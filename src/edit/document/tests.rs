@@ -313,6 +313,38 @@ fn reload_is_one_undoable_step_and_keeps_the_camera() {
     assert!(matches!(cubes().reload(true), Err(ReloadError::NoFile)));
 }
 
+/// Issue 30.2: F5 when the scene's path has become a FIFO (or a device)
+/// is refused at once, naming it, and the document stays; before, the open
+/// blocked the window's thread until a writer came.
+#[test]
+fn reload_of_a_path_that_became_a_fifo_does_not_block() {
+    let path = tmp("reload-fifo.toml");
+    let mut doc = cubes();
+    doc.save_as(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let before = doc.scene().clone();
+    // On another thread, so that a regression fails instead of hanging.
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let e = doc.reload(true).unwrap_err().to_string();
+        let _ = tx.send((e, doc.scene() == &before));
+    });
+    let (e, kept) = rx
+        .recv_timeout(std::time::Duration::from_secs(10))
+        .expect("reload blocked on a FIFO");
+    assert!(e.contains("it is a FIFO, not a regular file"), "{e}");
+    assert!(e.contains(&*path.to_string_lossy()), "{e}");
+    assert!(kept);
+    std::fs::remove_file(&path).unwrap();
+}
+
 #[test]
 fn lens_axis_angles_round_trip() {
     for (yaw, pitch) in [(0.0, 0.0), (30.0, 10.0), (-120.0, -45.0), (179.0, 80.0)] {
