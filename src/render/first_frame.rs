@@ -14,6 +14,13 @@ use super::progressive::{ReprojectTimes, Stage};
 /// ([`Costs::budget`]).
 pub const FIRST_FRAME_BUDGET_S: f64 = 0.012;
 
+/// A flight shows at least this many pictures a second where the machine
+/// allows: the first picture after a camera move may take what is left of
+/// such a frame after the window's present (with a margin: predictions
+/// are means).
+pub const FLIGHT_RATE: f64 = 20.0;
+const FLIGHT_MARGIN: f64 = 0.9;
+
 /// How much more a pixel left by a reprojection costs to trace than the
 /// average camera sample: most are seen through the lens (measured on
 /// cubes.toml at 1280×720, docs/performance.md: about 4.5).
@@ -24,9 +31,15 @@ const HOLE_COST: f64 = 4.0;
 /// budget (2×2 blocks, ≥ 45 dB on cubes.toml, when nothing is measured).
 pub fn hole_level(holes: usize, seconds_per_sample: Option<f64>) -> u32 {
     let Some(sps) = seconds_per_sample else { return 2 };
+    hole_level_within(holes, sps, FIRST_FRAME_BUDGET_S)
+}
+
+/// The finest block size at which `holes` pixels are traced within
+/// `budget_s` (8 if none).
+fn hole_level_within(holes: usize, sps: f64, budget_s: f64) -> u32 {
     [1, 2, 4, 8]
         .into_iter()
-        .find(|&n| holes as f64 / (n * n) as f64 * sps * HOLE_COST <= FIRST_FRAME_BUDGET_S)
+        .find(|&n| holes as f64 / (n * n) as f64 * sps * HOLE_COST <= budget_s)
         .unwrap_or(8)
 }
 
@@ -55,9 +68,11 @@ pub enum First {
     Fresh(usize),
 }
 
-/// Running mean, half weight on the newest.
+/// Running mean, a quarter weight on the newest: on two cores a stage
+/// that shares them with a present takes up to twice its time, and a
+/// choice that followed every such stage would flip between levels.
 fn blend(old: Option<f64>, new: f64) -> f64 {
-    old.map_or(new, |o| 0.5 * o + 0.5 * new)
+    old.map_or(new, |o| 0.75 * o + 0.25 * new)
 }
 
 impl Costs {
@@ -128,25 +143,36 @@ impl Costs {
         self.level_s[3].or(self.sample_s)
     }
 
-    /// The block size a reprojection's holes are traced at.
-    pub fn hole_level(&self, holes: usize) -> u32 {
-        hole_level(holes, self.frame_sample_s())
+    /// The first picture's budget after a camera move, for `size` pixels
+    /// and presents of `present_s`: what a [`FLIGHT_RATE`] frame leaves
+    /// after the present, with a margin, and at least [`Self::budget`].
+    pub fn move_budget(&self, (w, h): (u32, u32), present_s: f64) -> f64 {
+        let left = (1.0 / FLIGHT_RATE - present_s.max(0.0)) * FLIGHT_MARGIN;
+        self.budget(w as usize * h as usize).max(left)
+    }
+
+    /// The block size at which a reprojection traces its `holes` within
+    /// `budget_s` (2×2 when nothing is measured).
+    pub fn hole_level(&self, holes: usize, budget_s: f64) -> u32 {
+        match self.frame_sample_s() {
+            Some(sps) => hole_level_within(holes, sps, budget_s),
+            None => 2,
+        }
     }
 
     /// The first picture after a camera move with a picture to move (`stages`:
-    /// the schedule, `w × h` pixels). Each is predicted by the measured
+    /// the schedule, `w × h` pixels, `budget` seconds). Each is predicted by the measured
     /// costs and scored by the coarsest detail it shows, in pixels: a fresh
     /// level of `b × b` blocks scores `b`; a reprojection scores 1 where
     /// it moves pixels and its hole level elsewhere, weighted by the share
     /// of holes last time. The better score among those that fit the budget
     /// wins (ties: the reprojection); if neither fits, the cheaper. Nothing
     /// measured yet: the reprojection.
-    pub fn choose(&self, stages: &[Stage], (w, h): (u32, u32)) -> First {
+    pub fn choose(&self, stages: &[Stage], (w, h): (u32, u32), budget: f64) -> First {
         let (Some(sps), Some(warp)) = (self.frame_sample_s(), self.warp_px_s) else {
             return First::Reproject;
         };
         let n = w as usize * h as usize;
-        let budget = self.budget(n);
         let fresh = self.first_stage(stages, (w, h), budget);
         let fresh_cost = self.predict(stages[fresh], (w, h)).unwrap_or(f64::INFINITY);
         let fresh_score = match stages[fresh] {
@@ -154,7 +180,7 @@ impl Costs {
             _ => 1.0,
         };
         let holes = (self.holes * n as f64).round() as usize;
-        let level = self.hole_level(holes);
+        let level = hole_level_within(holes, sps, budget - warp * n as f64);
         let cost = warp * n as f64 + holes as f64 / (level * level) as f64 * sps * HOLE_COST;
         let score = self.holes * level as f64 + (1.0 - self.holes);
         let fits = (cost <= budget, fresh_cost <= budget);
@@ -189,7 +215,7 @@ mod tests {
     #[test]
     fn nothing_measured_reprojects() {
         let st = schedule(16);
-        assert_eq!(Costs::default().choose(&st, (1280, 720)), First::Reproject);
+        assert_eq!(Costs::default().choose(&st, (1280, 720), 0.012), First::Reproject);
     }
 
     #[test]
@@ -197,7 +223,8 @@ mod tests {
         // 1-spp frame 40 ms (budget 13 ms); warp 5 ms; 10 % holes.
         let n = 1280.0 * 720.0;
         let c = costs(0.040 / n, 0.005 / n, 0.1);
-        assert_eq!(c.choose(&schedule(16), (1280, 720)), First::Reproject);
+        let budget = c.budget(n as usize);
+        assert_eq!(c.choose(&schedule(16), (1280, 720), budget), First::Reproject);
     }
 
     #[test]
@@ -206,8 +233,16 @@ mod tests {
         let st = schedule(16);
         // The warp alone 20 ms, over a 13 ms budget; 2×2 blocks take 10 ms.
         let c = costs(0.040 / n, 0.020 / n, 0.1);
-        assert_eq!(c.choose(&st, (1280, 720)), First::Fresh(2));
+        assert_eq!(c.choose(&st, (1280, 720), c.budget(n as usize)), First::Fresh(2));
         assert_eq!(st[2], Stage::Blocks(2));
+        // With a 30 ms budget (about a flight frame less a cheap present) it fits.
+        assert_eq!(c.choose(&st, (1280, 720), 0.030), First::Reproject);
+        assert!((c.move_budget((1280, 720), 0.010) - 0.036).abs() < 1e-12);
+        assert_eq!(
+            c.move_budget((1280, 720), 0.2),
+            c.budget(n as usize),
+            "at least the tap's"
+        );
     }
 
     #[test]
@@ -216,9 +251,12 @@ mod tests {
         // within the budget: 2×2 fresh blocks show finer detail.
         let n = 1280.0 * 720.0;
         let c = costs(0.040 / n, 0.005 / n, 0.95);
-        let level = c.hole_level((0.95 * n) as usize);
+        let level = c.hole_level((0.95 * n) as usize, c.budget(n as usize) - 0.005);
         assert!(level >= 4, "{level}");
-        assert_eq!(c.choose(&schedule(16), (1280, 720)), First::Fresh(2));
+        assert_eq!(
+            c.choose(&schedule(16), (1280, 720), c.budget(n as usize)),
+            First::Fresh(2)
+        );
     }
 
     #[test]
@@ -229,15 +267,15 @@ mod tests {
         assert_eq!(c.sample_s, None, "too few samples, or only some pixels");
         c.sampled(Stage::Samples(1), 0.002, 1000);
         c.sampled(Stage::Samples(1), 0.004, 1000);
-        assert!((c.sample_s.unwrap() - 3e-6).abs() < 1e-12);
+        assert!((c.sample_s.unwrap() - 2.5e-6).abs() < 1e-12);
         // Each level keeps its own: a block's sample costs more.
         c.sampled(Stage::Blocks(8), 0.010, 1000);
         assert_eq!(c.level_s[0], Some(1e-5));
         assert_eq!(c.predict(Stage::Blocks(8), (80, 80)), Some(100.0 * 1e-5));
         let one = c.predict(Stage::Samples(1), (80, 80)).unwrap();
-        assert!((one - 6400.0 * 3e-6).abs() < 1e-12);
+        assert!((one - 6400.0 * 2.5e-6).abs() < 1e-12);
         // 4×4 blocks, not measured, take the overall mean.
-        assert!(c.predict(Stage::Blocks(4), (80, 80)).unwrap() > 400.0 * 3e-6);
+        assert!(c.predict(Stage::Blocks(4), (80, 80)).unwrap() > 400.0 * 2.5e-6);
         let t = ReprojectTimes {
             first_hits_s: 0.001,
             warp_s: 0.003,
@@ -248,7 +286,7 @@ mod tests {
         c.reprojected(&t, 2000);
         assert_eq!((c.warp_px_s, c.holes), (Some(2e-6), 0.25));
         let budget = c.budget(1_000_000);
-        assert!((budget - 1.0).abs() < 1e-9, "a third of 3 s: {budget}");
+        assert!((budget - 2.5 / 3.0).abs() < 1e-9, "a third of 2.5 s: {budget}");
         assert_eq!(c.first_stage(&schedule(4), (1000, 1000), 0.5), 1, "4×4 blocks fit");
         assert_eq!(c.first_stage(&schedule(4), (1000, 1000), 0.1), 0, "none fits");
         assert_eq!(Costs::default().budget(10), FIRST_FRAME_BUDGET_S);

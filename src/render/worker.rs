@@ -32,6 +32,10 @@ pub struct Job {
     pub seed: u64,
     /// When the input that caused this job happened.
     pub input_time: Instant,
+    /// What showing a frame costs the window (its smoothed present time;
+    /// 0 headless): the first picture after a move gets what is left of
+    /// a flight frame ([`super::first_frame::Costs::move_budget`]).
+    pub present_s: f64,
 }
 
 /// One refined picture.
@@ -237,10 +241,21 @@ fn start(
     let moved = shown.as_ref().filter(|s| {
         (prog.width, prog.height) == size && s.camera != job.scene.camera && same_but_camera(s, &job.scene)
     });
-    let chosen = costs.choose(stages, size);
+    // A move (even with no picture to move: a flight's fresh previews)
+    // gets what a flight frame leaves; an edit or a new size, a tap's.
+    let budget = match moved {
+        Some(_) => costs.move_budget(size, job.present_s),
+        None => FIRST_FRAME_BUDGET_S,
+    };
+    let chosen = match moved {
+        Some(_) => costs.choose(stages, size, budget),
+        None => First::Fresh(costs.first_stage(stages, size, budget)),
+    };
     if let Some(old) = moved
         && chosen == First::Reproject
-        && prog.reproject(traced, old, |holes| costs.hole_level(holes))
+        && prog.reproject(traced, old, |holes| {
+            costs.hole_level(holes, budget - t0.elapsed().as_secs_f64())
+        })
     {
         costs.reprojected(&prog.reprojection, size.0 as usize * size.1 as usize);
         prog.seed = job.seed;
@@ -248,10 +263,10 @@ fn start(
         return Start::Moved(t0.elapsed().as_secs_f64());
     }
     prog.reset(job.width, job.height, job.seed);
-    Start::At(match (moved.is_some(), chosen) {
-        (true, First::Fresh(i)) => i,
-        // Not a move (an edit, a new size): the first frame's budget.
-        _ => costs.first_stage(stages, size, FIRST_FRAME_BUDGET_S),
+    Start::At(match chosen {
+        First::Fresh(i) => i,
+        // Nothing to reproject (only block levels drawn so far).
+        First::Reproject => costs.first_stage(stages, size, budget),
     })
 }
 
@@ -398,6 +413,7 @@ mod tests {
             max_spp: spp,
             seed: 0,
             input_time: Instant::now(),
+            present_s: 0.0,
         }
     }
 

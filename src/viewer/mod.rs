@@ -205,7 +205,8 @@ impl Viewer {
         let Some(size) = self.screen.as_ref().and_then(|s| s.render_size(&self.display)) else {
             return;
         };
-        self.refine.submit(self.session.doc.built().clone(), size);
+        let present_s = self.pacer.present_cost().as_secs_f64();
+        self.refine.submit(self.session.doc.built().clone(), size, present_s);
         self.pacer.submitted(Instant::now());
     }
 

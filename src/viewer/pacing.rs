@@ -81,6 +81,11 @@ impl Pacer {
         Duration::from_secs_f64(1.0 / hz)
     }
 
+    /// What a present takes (smoothed).
+    pub fn present_cost(&self) -> Duration {
+        self.present_cost
+    }
+
     /// The display's refresh period.
     pub fn refresh(&self) -> Duration {
         self.refresh

@@ -60,8 +60,9 @@ impl Refine {
         }
     }
 
-    /// Starts a new generation: `scene` at `width`×`height`.
-    pub fn submit(&mut self, scene: Arc<Scene>, (width, height): (u32, u32)) {
+    /// Starts a new generation: `scene` at `width`×`height`, for a window
+    /// whose presents take `present_s`.
+    pub fn submit(&mut self, scene: Arc<Scene>, (width, height): (u32, u32), present_s: f64) {
         self.generation += 1;
         self.input_time = Instant::now();
         self.worker.submit(Job {
@@ -73,6 +74,7 @@ impl Refine {
             max_spp: if self.paused { 1 } else { self.max_spp },
             seed: 0,
             input_time: self.input_time,
+            present_s,
         });
     }
 
@@ -224,7 +226,7 @@ mod tests {
     fn paused_the_picture_stays_and_an_edit_refines_to_one_sample() {
         let scene = Arc::new(Scene::default_scene().1);
         let mut r = Refine::new(Worker::spawn(|| {}), 1 << 16);
-        r.submit(scene.clone(), (48, 32));
+        r.submit(scene.clone(), (48, 32), 0.0);
         assert!(wait(&mut r, |f| f.generation == 1));
         assert!(r.toggle_pause());
         let kept = r.frame().map(|f| (f.generation, f.spp));
@@ -232,13 +234,13 @@ mod tests {
         assert!(!r.receive(), "a frame arrived while paused");
         assert_eq!(r.frame().map(|f| (f.generation, f.spp)), kept);
         // An edit while paused: shown, but only to one sample per pixel.
-        r.submit(scene.clone(), (48, 32));
+        r.submit(scene.clone(), (48, 32), 0.0);
         assert!(wait(&mut r, |f| f.generation == 2 && f.last));
         assert_eq!(r.frame().map(|f| f.spp), Some(1));
         // Resumed: refinement goes on to the cap.
         assert!(!r.toggle_pause());
         assert!(r.set_max_spp(4) && !r.set_max_spp(4));
-        r.submit(scene, (48, 32));
+        r.submit(scene, (48, 32), 0.0);
         assert!(wait(&mut r, |f| f.generation == 3 && f.last));
         assert_eq!(r.frame().map(|f| f.spp), Some(4));
         r.clear_frame();
@@ -252,7 +254,7 @@ mod tests {
         let scene = Arc::new(Scene::default_scene().1);
         let mut r = Refine::new(Worker::spawn(|| {}), 4);
         r.take_stages();
-        r.submit(scene, (48, 32));
+        r.submit(scene, (48, 32), 0.0);
         let g = r.generation;
         // Let every stage arrive before taking them: most are never drawn.
         let end = Instant::now() + Duration::from_secs(30);
