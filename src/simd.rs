@@ -79,8 +79,94 @@ impl Iterator for LiveLanes {
     }
 }
 
-/// Compiles each `*_impl` function a second time with AVX2 enabled, and
-/// defines the public function that picks the build at run time.
+/// The instruction sets a lane function is built for; [`isa`] picks one
+/// at run time. Every build performs the same `f64` operations in the same
+/// order (no FMA is enabled in any, and Rust never contracts a multiply
+/// and an add), so all give the same bits (`tests/isa.rs`); they differ in
+/// how many lanes one instruction carries: two (SSE2), four (AVX2) or all
+/// eight (AVX-512, one `zmm` register a lane array).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    Portable = 1,
+    Avx2 = 2,
+    Avx512 = 3,
+}
+
+impl Isa {
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Portable => "SSE2",
+            Isa::Avx2 => "AVX2",
+            Isa::Avx512 => "AVX-512",
+        }
+    }
+
+    /// The best build this CPU runs.
+    pub fn detected() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::is_x86_feature_detected as has;
+            if has!("avx512f") && has!("avx512vl") && has!("avx512dq") && has!("avx512bw") && has!("avx2") {
+                return Isa::Avx512;
+            }
+            if has!("avx2") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Portable
+    }
+
+    /// An ISA by name (`sse2`/`portable`, `avx2`, `avx512`), if this CPU
+    /// runs it.
+    pub fn parse(name: &str) -> Option<Isa> {
+        let isa = match name.to_ascii_lowercase().as_str() {
+            "sse2" | "portable" => Isa::Portable,
+            "avx2" => Isa::Avx2,
+            "avx512" | "avx-512" => Isa::Avx512,
+            _ => return None,
+        };
+        (isa as u8 <= Isa::detected() as u8).then_some(isa)
+    }
+}
+
+/// The build forced by [`force_isa`] or `LENSVIEW_ISA` (0: none yet read).
+static CHOSEN: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// The build the lane functions run: the best this CPU has, unless
+/// `LENSVIEW_ISA` (`sse2`, `avx2`, `avx512`; one this CPU runs) or
+/// [`force_isa`] asked for a lesser one (to compare them).
+#[inline]
+pub fn isa() -> Isa {
+    use std::sync::atomic::Ordering;
+    match CHOSEN.load(Ordering::Relaxed) {
+        1 => Isa::Portable,
+        2 => Isa::Avx2,
+        3 => Isa::Avx512,
+        _ => {
+            let isa = std::env::var("LENSVIEW_ISA")
+                .ok()
+                .and_then(|v| Isa::parse(&v))
+                .unwrap_or_else(Isa::detected);
+            CHOSEN.store(isa as u8, Ordering::Relaxed);
+            isa
+        }
+    }
+}
+
+/// Runs the lane functions on `isa` from now on (`None`: the best this CPU
+/// has); an ISA this CPU lacks is refused (false).
+pub fn force_isa(isa: Option<Isa>) -> bool {
+    let isa = isa.unwrap_or_else(Isa::detected);
+    if isa as u8 > Isa::detected() as u8 {
+        return false;
+    }
+    CHOSEN.store(isa as u8, std::sync::atomic::Ordering::Relaxed);
+    true
+}
+
+/// Compiles each `*_impl` function again with AVX2 and with AVX-512
+/// enabled, and defines the public function that picks the build [`isa`]
+/// says.
 macro_rules! with_avx2 {
     ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident => $imp:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         #[cfg(target_arch = "x86_64")]
@@ -92,13 +178,24 @@ macro_rules! with_avx2 {
         $(#[$doc])*
         $vis fn $name($($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the AVX2 build differs from the portable one only
-                // in being compiled with AVX2 instructions, and the line
-                // above has just checked that this CPU has them. Calling a
-                // `target_feature` function needs `unsafe` in Rust; nothing
-                // else here is unchecked.
-                return unsafe { $avx2($($arg),*) };
+            {
+                /// The AVX-512 build.
+                #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+                fn avx512($($arg: $ty),*) -> $ret {
+                    $imp($($arg),*)
+                }
+                match $crate::simd::isa() {
+                    // SAFETY: each build differs from the portable one only
+                    // in being compiled with more instructions, and `isa`
+                    // picks only a build whose instructions this CPU has
+                    // (`Isa::detected`). Calling a `target_feature`
+                    // function needs `unsafe` in Rust; nothing else here
+                    // is unchecked.
+                    $crate::simd::Isa::Avx512 => return unsafe { avx512($($arg),*) },
+                    // SAFETY: as above.
+                    $crate::simd::Isa::Avx2 => return unsafe { $avx2($($arg),*) },
+                    $crate::simd::Isa::Portable => {}
+                }
             }
             $imp($($arg),*)
         }
@@ -107,16 +204,9 @@ macro_rules! with_avx2 {
 
 pub(crate) use with_avx2;
 
-/// Whether this CPU runs the AVX2 builds of [`with_avx2!`].
+/// Whether this CPU runs the AVX2 builds of [`with_avx2!`] (or better).
 pub fn uses_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    isa() != Isa::Portable
 }
 
 #[cfg(test)]

@@ -216,13 +216,13 @@ impl PrimaryRates {
 
     /// The three rates in words.
     fn summary(&self) -> String {
-        use lensview::simd::{LANES, uses_avx2};
+        use lensview::simd::{LANES, isa};
         use lensview::trace::TILE;
         format!(
             "{:.2} M rays/s in tiles of {TILE} packets of {LANES} ({}), {:.2} M rays/s in packets walking alone, \
              {:.2} M rays/s one by one (tiles {:.2}× one by one)",
             self.tiles / 1e6,
-            if uses_avx2() { "AVX2" } else { "SSE2" },
+            isa().name(),
             self.packets / 1e6,
             self.one_by_one / 1e6,
             self.tiles / self.one_by_one
