@@ -213,6 +213,10 @@ struct Tok {
 struct Tokens<'a> {
     text: &'a str,
     lexer: std::iter::Peekable<toml_parser::lexer::Lexer<'a>>,
+    /// A comment held a control character TOML forbids there: the text is
+    /// left to the whole-document parse (the comments between and after
+    /// objects are parsed by nobody here).
+    bad_comment: bool,
 }
 
 impl<'a> Tokens<'a> {
@@ -220,11 +224,18 @@ impl<'a> Tokens<'a> {
     fn next(&mut self) -> Tok {
         self.peek_kind();
         match self.lexer.next() {
-            Some(t) => Tok {
-                kind: t.kind(),
-                start: t.span().start(),
-                end: t.span().end(),
-            },
+            Some(t) => {
+                let (start, end) = (t.span().start(), t.span().end());
+                if t.kind() == TokenKind::Comment {
+                    let forbidden = |c: char| c.is_control() && c != '\t';
+                    self.bad_comment |= self.text.get(start..end).is_none_or(|c| c.chars().any(forbidden));
+                }
+                Tok {
+                    kind: t.kind(),
+                    start,
+                    end,
+                }
+            }
             None => Tok {
                 kind: TokenKind::Eof,
                 start: self.text.len(),
@@ -293,7 +304,7 @@ impl<'a> Tokens<'a> {
                 TokenKind::Eof => return None,
                 TokenKind::Comma | TokenKind::RightSquareBracket if depth == 1 => {
                     match element.take() {
-                        Some((a, b)) => each(Piece::Value(&self.text[a..b]))?,
+                        Some((a, b)) => each(Piece::Value(self.text.get(a..b)?))?,
                         // `[1,,2]` or `[,]`: not valid.
                         None if t.kind == TokenKind::Comma => return None,
                         None => {}
@@ -320,16 +331,24 @@ impl<'a> Tokens<'a> {
 
 /// The start of the line holding byte `at`.
 fn line_start(text: &str, at: usize) -> usize {
-    text[..at].rfind('\n').map_or(0, |i| i + 1)
+    text.get(..at).and_then(|t| t.rfind('\n')).map_or(0, |i| i + 1)
 }
 
 /// Gives each object written in `text` to `each` and returns the text
 /// without them; `None` when the objects are not written in the two forms
 /// read here or the text cannot be scanned.
 fn split<'a>(text: &'a str, each: &mut dyn FnMut(Piece<'a>) -> Option<()>) -> Option<String> {
+    // A carriage return without its line feed ends no line in TOML (the
+    // whole-document parse refuses it, and says where), though the lexer
+    // breaks a line there and `line_start` does not: left to that parse.
+    let bytes = text.as_bytes();
+    if (0..bytes.len()).any(|i| bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n')) {
+        return None;
+    }
     let mut tokens = Tokens {
         text,
         lexer: toml_parser::Source::new(text).lex().peekable(),
+        bad_comment: false,
     };
     let mut rest = String::new();
     let mut kept_from = 0; // the text from here on is not yet in `rest`
@@ -344,13 +363,15 @@ fn split<'a>(text: &'a str, each: &mut dyn FnMut(Piece<'a>) -> Option<()>) -> Op
             TokenKind::LeftSquareBracket => {
                 let line = line_start(text, t.start);
                 if let Some(body) = section.take() {
-                    each(Piece::Table(&text[body..line]))?;
+                    // (Every slice taken here is checked: a text scanned
+                    // otherwise than expected is left to the whole parse.)
+                    each(Piece::Table(text.get(body..line)?))?;
                     kept_from = line;
                 }
                 in_root = false;
                 let (objects, end) = tokens.header(t);
                 if objects {
-                    rest.push_str(&text[kept_from..line]);
+                    rest.push_str(text.get(kept_from..line)?);
                     section = Some(end);
                     tables = true;
                 }
@@ -362,18 +383,18 @@ fn split<'a>(text: &'a str, each: &mut dyn FnMut(Piece<'a>) -> Option<()>) -> Op
                     return None;
                 }
                 inline = true;
-                rest.push_str(&text[kept_from..line_start(text, t.start)]);
+                rest.push_str(text.get(kept_from..line_start(text, t.start))?);
                 kept_from = tokens.array(each)?;
             }
             _ => tokens.skip_line(0)?,
         }
     }
-    if inline && tables {
+    if (inline && tables) || tokens.bad_comment {
         return None;
     }
     match section {
-        Some(body) => each(Piece::Table(&text[body..]))?,
-        None => rest.push_str(&text[kept_from..]),
+        Some(body) => each(Piece::Table(text.get(body..)?))?,
+        None => rest.push_str(text.get(kept_from..)?),
     }
     Some(rest)
 }
