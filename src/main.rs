@@ -5,11 +5,21 @@ mod cli;
 mod plot;
 mod viewer;
 
-use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = cli::Cli::parse();
+    let cli = match cli::Cli::read() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let (text, ok) = cli::parse_error(&e);
+            if ok {
+                print!("{text}");
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("{text}");
+            return ExitCode::FAILURE;
+        }
+    };
     // Headless commands: Ctrl-C removes the temporary file of a write in
     // progress and exits 130. The window keeps the default (it only writes
     // small files, from its own event loop).
