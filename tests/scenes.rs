@@ -159,6 +159,25 @@ fn impossible_values_are_rejected() {
     assert!(msg.contains("invalid type"), "{msg}");
 }
 
+/// A material no object uses is validated all the same (the panel offers
+/// every material the file defines), each impossible value named.
+#[test]
+fn an_unused_material_with_impossible_values_is_refused() {
+    let cases = [
+        ("reflectivity = 2", "materials.spare.reflectivity"),
+        ("ior = 0.9", "materials.spare.ior"),
+        ("color = [0.5, nan, 0.5]", "materials.spare.color[1]"),
+        ("diffuse = -1", "materials.spare.diffuse"),
+        ("reflectivity = 0.7\ntransparency = 0.7", "materials.spare.transparency"),
+    ];
+    for (body, want) in cases {
+        let to = format!("[materials.red]\ncolor = [0.8, 0.1, 0.1]\n\n[materials.spare]\n{body}\n");
+        let (line, _, field, _) = placed_error_of("[materials.red]\ncolor = [0.8, 0.1, 0.1]\n", &to);
+        assert_eq!(field, want, "{body}");
+        assert!(line >= 13, "{body}: line {line}");
+    }
+}
+
 #[test]
 fn missing_file_names_the_file() {
     let e = Scene::load(std::path::Path::new("no/such/scene.toml")).unwrap_err();

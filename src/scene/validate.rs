@@ -147,6 +147,11 @@ impl Validator {
                 ));
             }
         }
+        // Every material, used or not: one the file defines is one the
+        // panel offers (each reports its problems once).
+        for (name, m) in &sf.materials {
+            self.material(&FieldPath::root("materials").key(name), m);
+        }
         objects
     }
 
