@@ -178,6 +178,40 @@ fn an_unused_material_with_impossible_values_is_refused() {
     }
 }
 
+/// A number out of its type's range (which leaves no document to find the
+/// field in) names its field, not `(document)`; a missing `[camera]` is
+/// named, not the table that starts the file.
+#[test]
+fn overflowing_values_and_missing_tables_name_their_fields() {
+    let cases = [
+        (
+            "[camera]",
+            "[render]\nspp = 99999999999999999999\n[camera]",
+            "render.spp",
+        ),
+        ("radius = 1", "radius = 1e400", "objects[0].radius"),
+        ("position = [0, 1, 5]", "position = [0, 1e999, 5]", "camera.position[1]"),
+        (
+            "intensity = 100",
+            "intensity = 99999999999999999999999",
+            "lights[0].intensity",
+        ),
+        ("d = 1", "d = -1e309", "lenses[0].d"),
+    ];
+    for (from, to, want) in cases {
+        let (_, _, field, message) = placed_error_of(from, to);
+        assert_eq!(field, want, "{to}: {message}");
+    }
+    let no_camera = BASE.replacen(
+        "[camera]\nposition = [0, 1, 5]\nlook_at = [0, 0, 0]\n",
+        "[render]\nspp = 4\n",
+        1,
+    );
+    assert!(!no_camera.contains("[camera]"), "{no_camera}");
+    let (_, _, field, message) = invalid(Scene::parse("bad.toml", &no_camera));
+    assert_eq!((field.as_str(), message.as_str()), ("camera", "missing table [camera]"));
+}
+
 #[test]
 fn missing_file_names_the_file() {
     let e = Scene::load(std::path::Path::new("no/such/scene.toml")).unwrap_err();

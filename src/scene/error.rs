@@ -307,6 +307,17 @@ impl<'a> Located<'a> {
         let (line, column) = line_col(self.text, span.start);
         let mut message = message.trim().replace('\n', " ");
         let mut field = self.path_at(span.start);
+        if field.0.is_empty() {
+            // No document to look in (a number too large for its type
+            // leaves none): the field of that value, found with it replaced.
+            field = self.path_with_placeholder(span.start).unwrap_or(field);
+        }
+        if let Some(missing) = self.missing_root_field(&message) {
+            // A required table of the document's root is missing: name it,
+            // not the table that happens to start where the document does.
+            field = FieldPath::root(missing);
+            message = format!("missing table [{missing}]");
+        }
         if self.doc.is_none() && message == "duplicate key" {
             match self.duplicate(span.clone()) {
                 Some((path, why)) => (field, message) = (path, why),
@@ -320,6 +331,46 @@ impl<'a> Located<'a> {
             field: field.to_string(),
             message: escape_controls(&message).into_owned(),
         }
+    }
+
+    /// The field of the value starting at byte `at` in a text that does
+    /// not parse (a number out of its type's range): the text is parsed
+    /// again with that value replaced by `0` padded to its length.
+    fn path_with_placeholder(&self, at: usize) -> Option<FieldPath> {
+        let rest = self.text.get(at..)?;
+        let len = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.' | '_')))
+            .unwrap_or(rest.len());
+        if len == 0 {
+            return None;
+        }
+        let replaced = format!("{}0{}{}", &self.text[..at], " ".repeat(len - 1), &self.text[at + len..]);
+        let doc = toml_edit::Document::parse(replaced.as_str()).ok()?;
+        let located = Located {
+            file: self.file,
+            text: &replaced,
+            doc: Some(doc),
+        };
+        let path = located.path_at(at);
+        (!path.0.is_empty()).then_some(path)
+    }
+
+    /// The key a "missing field `KEY`" message names, when it is a key of
+    /// the document's root that the root lacks (the scene's `camera`).
+    fn missing_root_field(&self, message: &str) -> Option<&'static str> {
+        const ROOT: [&str; 7] = [
+            "render",
+            "camera",
+            "ambient",
+            "lights",
+            "materials",
+            "objects",
+            "lenses",
+        ];
+        let name = message.strip_prefix("missing field `")?.split('`').next()?;
+        let key = ROOT.into_iter().find(|k| *k == name)?;
+        let doc = self.doc.as_ref()?;
+        (!doc.as_table().contains_key(key)).then_some(key)
     }
 
     /// A duplicate key or table at `span`, which leaves no parsed document
