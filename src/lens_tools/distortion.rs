@@ -49,12 +49,7 @@ pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Disto
         return Err(bad("steps", format!("{steps} must be between 1 and {MAX_STEPS}")));
     }
     let n = setup.index.nominal();
-    let (from_v2, m) = setup.paraxial_image(n).ok_or_else(|| {
-        bad(
-            "object-distance",
-            "the lens forms no real paraxial image (no power, or the object is inside the front focal point)".into(),
-        )
-    })?;
+    let (from_v2, m) = setup.real_image(n)?;
     let efl = setup.paraxial(n).efl;
     let plane_z = setup.plane_z(from_v2);
     let points = (1..=steps)

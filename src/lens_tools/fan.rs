@@ -114,16 +114,14 @@ pub fn lsa_curve(setup: &Setup, n: f64, steps: u32) -> Vec<LsaPoint> {
 }
 
 /// `rays` meridional rays (pupil x from −1 to 1) at the d line, followed to
-/// `image_plane` (default: the paraxial image; without one, 2·d after V2).
+/// `image_plane` (default: the real paraxial image, refused without one as
+/// `spot` and `distortion` refuse: [`Setup::real_image`]).
 pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, SetupError> {
     if !(1..=MAX_FAN_RAYS).contains(&rays) {
         return Err(bad("rays", format!("{rays} must be between 1 and {MAX_FAN_RAYS}")));
     }
     let n = setup.index.nominal();
-    let from_v2 = match image_plane {
-        Some(_) => setup.image_plane(image_plane)?,
-        None => setup.image_plane(None).unwrap_or(2.0 * setup.lens.d),
-    };
+    let from_v2 = setup.image_plane(image_plane)?;
     let plane_z = setup.plane_z(from_v2);
     let px = |k: u32| {
         if rays == 1 {

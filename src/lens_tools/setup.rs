@@ -174,6 +174,39 @@ impl Setup {
         }
     }
 
+    /// The real paraxial image at index `n`, from V2 along the light, and
+    /// the lateral magnification: the one rule `fan`, `spot` and
+    /// `distortion` share. Refused, naming what was given that makes it
+    /// so: no power (`n`: n = 1, or faces that cancel), the object inside
+    /// the front focal point (`object-distance`, only when one was given),
+    /// or an image that is not after V2 (`n`: the focus falls inside the
+    /// glass or before it, where only the backward extension of the rays
+    /// would meet; the lens's shape and index put it there).
+    pub fn real_image(&self, n: f64) -> Result<(f64, Option<f64>), SetupError> {
+        if !self.paraxial(n).has_power() {
+            return Err(bad(
+                "n",
+                format!("the lens has no power at n = {n} (n = 1, or faces that cancel): it forms no image"),
+            ));
+        }
+        let Some((from_v2, m)) = self.paraxial_image(n) else {
+            return Err(bad(
+                "object-distance",
+                "the object is inside the front focal point: the lens forms no real image of it".into(),
+            ));
+        };
+        if !(from_v2 > 0.0) {
+            return Err(bad(
+                "n",
+                format!(
+                    "the paraxial image lies {:.6} before V2, inside or in front of the glass: the lens forms no real image after it",
+                    -from_v2
+                ),
+            ));
+        }
+        Ok((from_v2, m))
+    }
+
     /// World z of the plane `from_v2` beyond V2 along the light.
     pub fn plane_z(&self, from_v2: f64) -> f64 {
         -self.sag2() - from_v2
@@ -188,14 +221,13 @@ impl Setup {
                 "image-plane",
                 format!("{z} must be a distance after the rear vertex V2 along the light (> 0, at most 1e9)"),
             )),
-            None => (self.paraxial_image(self.index.nominal()).map(|(z, _)| z))
-                .filter(|&z| z > 0.0)
-                .ok_or_else(|| {
-                    bad(
-                        "image-plane",
-                        "the paraxial image is not after V2 (no power, a focus inside the glass, or the object inside the front focal point): give the plane".into(),
-                    )
-                }),
+            None => self.real_image(self.index.nominal()).map(|(z, _)| z).map_err(|e| {
+                let why = e.message;
+                bad(
+                    e.field,
+                    format!("{why}; give --image-plane to trace to a plane of your own"),
+                )
+            }),
         }
     }
 }
