@@ -20,15 +20,15 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    // Headless commands: Ctrl-C removes the temporary file of a write in
-    // progress and exits 130. The window keeps the default (it only writes
-    // small files, from its own event loop).
-    if !matches!(cli.command, None | Some(cli::Command::View(_))) {
-        lensview::output::remove_temp_files_on_interrupt();
-    } else {
-        // Before any thread exists: it sets an environment variable.
+    // Ctrl-C, SIGTERM and SIGHUP remove the temporary file of a write in
+    // progress (a screenshot's, in the window) and exit 130, as they would
+    // have ended the process anyway.
+    if matches!(cli.command, None | Some(cli::Command::View(_))) {
+        // Before any thread exists (the handler's is one): it sets an
+        // environment variable.
         viewer::quiet_wayland_probe();
     }
+    lensview::output::remove_temp_files_on_interrupt();
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
