@@ -367,22 +367,11 @@ fn run(
             if cancelled() {
                 break;
             }
-            let before = prog.samples_cast;
-            let t0 = Instant::now();
-            if let Stage::Samples(n) = stage {
-                caustics.refine(n.saturating_sub(prog.spp), &cancelled);
-            }
-            let traced = Instant::now();
-            if !prog.run(caustics.scene(&job.scene), stage, &cancelled) {
+            let Some((dt, cost)) = run_stage(&mut prog, &mut caustics, &job.scene, stage, &mut costs, &cancelled)
+            else {
                 break;
-            }
+            };
             shown = Some(job.scene.clone());
-            let dt = t0.elapsed().as_secs_f64();
-            let cost = prog.samples_cast - before;
-            // The camera samples' own time (photon passes left out), in
-            // the stages that sample every pixel alike (an adaptive wave's
-            // time is not proportional to its samples).
-            costs.sampled(stage, traced.elapsed().as_secs_f64(), cost);
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
                 return;
             }
@@ -397,6 +386,31 @@ fn run(
             costs.holes = share;
         }
     }
+}
+
+/// `stage` of `scene` on `prog`, a sample stage's photon passes first:
+/// its time and the camera samples it cast (`None`: cancelled). The
+/// samples' own time (photon passes left out) goes to `costs`.
+fn run_stage(
+    prog: &mut Progressive,
+    caustics: &mut Interleaved,
+    scene: &Arc<Scene>,
+    stage: Stage,
+    costs: &mut Costs,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Option<(f64, u64)> {
+    let before = prog.samples_cast;
+    let t0 = Instant::now();
+    if let Stage::Samples(n) = stage {
+        caustics.refine(n.saturating_sub(prog.spp), cancelled);
+    }
+    let traced = Instant::now();
+    if !prog.run(caustics.scene(scene), stage, cancelled) {
+        return None;
+    }
+    let cost = prog.samples_cast - before;
+    costs.sampled(stage, traced.elapsed().as_secs_f64(), cost);
+    Some((t0.elapsed().as_secs_f64(), cost))
 }
 
 #[cfg(test)]
