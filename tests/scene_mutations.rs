@@ -1,7 +1,7 @@
 //! The streaming scene reader against the whole-document parser on
 //! byte-level mutations of real scene files, made where the two readers
 //! could part: around table headers (`[[objects]]`, `[[lenses]]`), line
-//! breaks (LF, CRLF, a lone CR) and comments. Every mutant goes through
+//! breaks (LF, CRLF, a lone CR), comments and byte-order marks. Every mutant goes through
 //! the fuzz oracle (`check_scene_bytes`: what the streaming reader accepts
 //! is what the whole document gives; a refusal is the whole document's
 //! line, column and message, one line), and none may panic. Seeded, so a
@@ -34,6 +34,8 @@ const BYTES: &[&[u8]] = &[
     b"\xff",
     b"\x00",
     b"x",
+    // A byte-order mark (allowed only at the very start of a document).
+    b"\xef\xbb\xbf",
 ];
 
 /// A small counter-based generator (splitmix64).
