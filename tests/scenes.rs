@@ -212,6 +212,59 @@ fn overflowing_values_and_missing_tables_name_their_fields() {
     assert_eq!((field.as_str(), message.as_str()), ("camera", "missing table [camera]"));
 }
 
+/// Several numbers out of range in one file (each leaves `toml_edit` no
+/// document), integers and floats, decimal and hexadecimal, in tables,
+/// arrays and inline objects, beside a key made of digits: the error names
+/// the field of the one reported, never `(document)`.
+#[test]
+fn several_numbers_out_of_range_still_name_their_field() {
+    let huge = "99999999999999999999999";
+    let cases: [(&str, String, &[&str]); 4] = [
+        (
+            "intensity = 100",
+            format!("intensity = {huge}\ncolor = [1, -{huge}, 1e999]"),
+            &["lights[0].intensity", "lights[0].color[1]", "lights[0].color[2]"],
+        ),
+        (
+            "[camera]",
+            "[render]\nspp = 0x1_0000_0000_0000_0000\nbackground = [0, 0, 1e400]\n[camera]".to_string(),
+            &["render.spp", "render.background[2]"],
+        ),
+        (
+            "[materials.red]",
+            format!("[materials.12345678901234567890123]\nshininess = {huge}\nspecular = {huge}\n[materials.red]"),
+            &[
+                "materials.12345678901234567890123.shininess",
+                "materials.12345678901234567890123.specular",
+            ],
+        ),
+        (
+            "[[objects]]",
+            format!(
+                "objects = [{{type = \"sphere\", radius = {huge}}}, {{type = \"sphere\", radius = {huge}}}]\n[[objects]]"
+            ),
+            &["objects[0].radius", "objects[1].radius"],
+        ),
+    ];
+    for (from, to, want) in cases {
+        // The inline objects go first: a root key cannot follow a table.
+        let text = match to.strip_suffix("[[objects]]") {
+            Some(inline) if to.starts_with("objects") => format!(
+                "{inline}{}",
+                BASE.replacen(
+                    "[[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"red\"\n",
+                    "",
+                    1
+                )
+            ),
+            _ => BASE.replacen(from, &to, 1),
+        };
+        assert_ne!(text, BASE, "{from}");
+        let (_, _, field, message) = invalid(Scene::parse("bad.toml", &text));
+        assert!(want.contains(&field.as_str()), "{to}: {field}: {message}");
+    }
+}
+
 #[test]
 fn missing_file_names_the_file() {
     let e = Scene::load(std::path::Path::new("no/such/scene.toml")).unwrap_err();

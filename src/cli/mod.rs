@@ -9,7 +9,9 @@
 //! - [`bench`]: performance tables and plots (`lensview bench`).
 //! - [`converge`]: error against run time (`lensview converge`).
 //! - [`table`]: the table that `bench` and `converge` print, write and plot.
+//! - [`args`]: reading the command line, and its errors as one line.
 
+mod args;
 mod bench;
 mod converge;
 mod lens;
@@ -24,6 +26,7 @@ use clap::{Parser, Subcommand};
 use lensview::scene::{Scene, SceneFile};
 use std::path::Path;
 
+pub use args::parse_error;
 pub use bench::BenchArgs;
 pub use converge::ConvergeArgs;
 pub use lens::LensCommand;
@@ -54,63 +57,6 @@ pub enum Command {
     /// Exact lens optics: real rays (`trace`) and paraxial data (`info`).
     #[command(subcommand)]
     Lens(LensCommand),
-}
-
-impl Cli {
-    /// The command line, as clap reads it with a negative number after a
-    /// flag taken as its value (`--d -2`), in every subcommand; an error
-    /// is [`parse_error`]'s.
-    pub fn read() -> Result<Cli, clap::Error> {
-        use clap::{CommandFactory, FromArgMatches};
-        fn negatives(c: clap::Command) -> clap::Command {
-            c.allow_negative_numbers(true).mut_subcommands(negatives)
-        }
-        let m = negatives(Cli::command()).try_get_matches()?;
-        Cli::from_arg_matches(&m)
-    }
-}
-
-/// What a command-line error prints, and the exit code: help and the
-/// version as clap writes them (0); any error as the one line every
-/// refusal is (`error: …; see lensview … --help`, 1).
-pub fn parse_error(e: &clap::Error) -> (String, bool) {
-    use clap::error::ErrorKind;
-    match e.kind() {
-        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => (e.render().to_string(), true),
-        kind => {
-            let what = match kind {
-                // clap shows the help here: say what is missing instead.
-                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => "a subcommand is missing".to_string(),
-                _ => e
-                    .render()
-                    .to_string()
-                    .lines()
-                    .map(str::trim)
-                    .find(|l| !l.is_empty())
-                    .unwrap_or("the command line is not understood")
-                    .trim_start_matches("error: ")
-                    .to_string(),
-            };
-            let line = format!("error: {what}; see {} --help", command_path());
-            (lensview::scene::escape_controls(&line).into_owned(), false)
-        }
-    }
-}
-
-/// `lensview` and the subcommands named on the command line (`lensview
-/// lens info`): whose `--help` to point at.
-fn command_path() -> String {
-    use clap::CommandFactory;
-    let mut cmd = Cli::command();
-    let mut path = vec!["lensview".to_string()];
-    for arg in std::env::args().skip(1) {
-        let Some(sub) = cmd.find_subcommand(&arg).cloned() else {
-            break;
-        };
-        path.push(arg);
-        cmd = sub;
-    }
-    path.join(" ")
 }
 
 /// Loads `path`, or the embedded default scene.

@@ -137,9 +137,67 @@ impl Problem {
     }
 }
 
+/// `text` with every number out of range for TOML (an integer that does
+/// not fit 64 bits, a float too large for an f64) replaced by `0` padded
+/// with spaces to its length, every other byte in place; `None` when there
+/// is none. The values are found by `toml_parser`'s own parser (a key made
+/// of digits is not a value) and decoded as `toml_edit` decodes them.
+fn numbers_in_range(text: &str) -> Option<String> {
+    use toml_parser::decoder::{Encoding, ScalarKind};
+    use toml_parser::{ErrorSink, ParseError, Source, Span, parser::EventReceiver};
+    struct Unquoted(Vec<Span>);
+    impl EventReceiver for Unquoted {
+        fn scalar(&mut self, span: Span, encoding: Option<Encoding>, _error: &mut dyn ErrorSink) {
+            if encoding.is_none() {
+                self.0.push(span);
+            }
+        }
+    }
+    let source = Source::new(text);
+    let mut values = Unquoted(Vec::new());
+    let tokens: Vec<_> = source.lex().collect();
+    toml_parser::parser::parse_document(&tokens, &mut values, &mut ());
+    drop(tokens);
+    let (mut out, mut copied) = (String::new(), 0);
+    for span in values.0 {
+        let (Some(raw), Some(before)) = (source.get(span), text.get(copied..span.start())) else {
+            continue;
+        };
+        let (mut decoded, mut error) = (String::new(), None::<ParseError>);
+        let out_of_range = match raw.decode_scalar(&mut decoded, &mut error) {
+            _ if error.is_some() => false,
+            ScalarKind::Integer(radix) => i64::from_str_radix(&decoded, radix.value()).is_err(),
+            ScalarKind::Float => {
+                let named = decoded
+                    .trim_start_matches(['+', '-'])
+                    .chars()
+                    .all(|c| c.is_ascii_alphabetic());
+                !named && decoded.parse::<f64>().is_ok_and(f64::is_infinite)
+            }
+            _ => false,
+        };
+        if out_of_range && !span.is_empty() {
+            out.push_str(before);
+            out.push('0');
+            out.extend(std::iter::repeat_n(' ', span.len() - 1));
+            copied = span.end();
+        }
+    }
+    if copied == 0 {
+        return None;
+    }
+    out.push_str(text.get(copied..)?);
+    Some(out)
+}
+
 /// 1-based line and column of byte `offset` in `text`.
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let offset = offset.min(text.len());
+    // An offset inside a character (no parser should give one) counts as
+    // that character's start: never a slice that panics.
+    let offset = (0..=offset.min(text.len()))
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
     let before = &text[..offset];
     let line = before.matches('\n').count() + 1;
     let col = before.rfind('\n').map_or(offset, |i| offset - i - 1) + 1;
@@ -186,16 +244,20 @@ impl<'a> Node<'a> {
 pub struct Located<'a> {
     pub file: &'a str,
     pub text: &'a str,
-    pub doc: Option<toml_edit::Document<&'a str>>,
+    pub doc: Option<toml_edit::Document<Cow<'a, str>>>,
 }
 
 impl<'a> Located<'a> {
+    /// `text` and its span-keeping parse. A number out of range for TOML
+    /// (an integer beyond 64 bits, a float beyond an f64) leaves `toml_edit`
+    /// no document: it is then the parse of the same text with every such
+    /// number replaced by `0` padded to its length, so that the field of
+    /// that number, and of anything else, is found where it is.
     pub fn new(file: &'a str, text: &'a str) -> Self {
-        Located {
-            file,
-            text,
-            doc: toml_edit::Document::parse(text).ok(),
-        }
+        let doc = toml_edit::Document::parse(Cow::Borrowed(text))
+            .ok()
+            .or_else(|| toml_edit::Document::parse(Cow::Owned(numbers_in_range(text)?)).ok());
+        Located { file, text, doc }
     }
 
     /// Byte span of the deepest existing prefix of `path` (the key where
@@ -307,11 +369,6 @@ impl<'a> Located<'a> {
         let (line, column) = line_col(self.text, span.start);
         let mut message = message.trim().replace('\n', " ");
         let mut field = self.path_at(span.start);
-        if field.0.is_empty() {
-            // No document to look in (a number too large for its type
-            // leaves none): the field of that value, found with it replaced.
-            field = self.path_with_placeholder(span.start).unwrap_or(field);
-        }
         if let Some(missing) = self.missing_root_field(&message) {
             // A required table of the document's root is missing: name it,
             // not the table that happens to start where the document does.
@@ -331,28 +388,6 @@ impl<'a> Located<'a> {
             field: field.to_string(),
             message: escape_controls(&message).into_owned(),
         }
-    }
-
-    /// The field of the value starting at byte `at` in a text that does
-    /// not parse (a number out of its type's range): the text is parsed
-    /// again with that value replaced by `0` padded to its length.
-    fn path_with_placeholder(&self, at: usize) -> Option<FieldPath> {
-        let rest = self.text.get(at..)?;
-        let len = rest
-            .find(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.' | '_')))
-            .unwrap_or(rest.len());
-        if len == 0 {
-            return None;
-        }
-        let replaced = format!("{}0{}{}", &self.text[..at], " ".repeat(len - 1), &self.text[at + len..]);
-        let doc = toml_edit::Document::parse(replaced.as_str()).ok()?;
-        let located = Located {
-            file: self.file,
-            text: &replaced,
-            doc: Some(doc),
-        };
-        let path = located.path_at(at);
-        (!path.0.is_empty()).then_some(path)
     }
 
     /// The key a "missing field `KEY`" message names, when it is a key of
