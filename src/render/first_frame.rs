@@ -212,6 +212,23 @@ mod tests {
         }
     }
 
+    /// With one rate for every level (`sample_s` alone), the first stage is
+    /// the finest whose samples fit the budget.
+    #[test]
+    fn first_stage_fits_the_budget() {
+        let st = schedule(64);
+        let at = |s: Option<f64>| Costs {
+            sample_s: s,
+            ..Costs::default()
+        };
+        assert_eq!(at(None).first_stage(&st, (1280, 720), 0.016), 0);
+        // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
+        assert_eq!(at(Some(1e-5)).first_stage(&st, (1280, 720), 0.016), 0);
+        // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
+        assert_eq!(at(Some(5e-8)).first_stage(&st, (1280, 720), 0.016), 2);
+        assert_eq!(at(Some(1e-9)).first_stage(&st, (1280, 720), 0.016), 3);
+    }
+
     #[test]
     fn nothing_measured_reprojects() {
         let st = schedule(16);

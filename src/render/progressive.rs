@@ -93,25 +93,6 @@ pub fn schedule(max_spp: u32) -> Vec<Stage> {
     v
 }
 
-/// The first stage worth drawing: the finest block level whose predicted
-/// time fits `budget_s`, given the measured `seconds_per_sample` (none
-/// measured yet: the coarsest).
-pub fn first_stage(stages: &[Stage], width: u32, height: u32, seconds_per_sample: Option<f64>, budget_s: f64) -> usize {
-    let Some(sps) = seconds_per_sample else { return 0 };
-    let mut pick = 0;
-    for (i, st) in stages.iter().enumerate() {
-        if matches!(st, Stage::Samples(s) if *s > 1) {
-            break;
-        }
-        if st.cost(width, height, 0) as f64 * sps <= budget_s {
-            pick = i;
-        } else {
-            break;
-        }
-    }
-    pick
-}
-
 /// Where the last reprojection's time went ([`Progressive::reproject`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ReprojectTimes {

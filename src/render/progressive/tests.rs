@@ -98,17 +98,6 @@ fn schedule_goes_coarse_to_fine_and_stops_at_the_cap() {
 }
 
 #[test]
-fn first_stage_fits_the_budget() {
-    let st = schedule(64);
-    assert_eq!(first_stage(&st, 1280, 720, None, 0.016), 0);
-    // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
-    assert_eq!(first_stage(&st, 1280, 720, Some(1e-5), 0.016), 0);
-    // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
-    assert_eq!(first_stage(&st, 1280, 720, Some(5e-8), 0.016), 2);
-    assert_eq!(first_stage(&st, 1280, 720, Some(1e-9), 0.016), 3);
-}
-
-#[test]
 fn refinement_converges_to_the_same_image_as_a_direct_render() {
     let s = scene();
     let mut p = Progressive::new(40, 30, 3);
