@@ -57,6 +57,34 @@ fn refracted(i: DVec3, n: DVec3, eta: f64, cos_i: f64, sin2_t: f64) -> (DVec3, f
     ((eta * i + (eta * cos_i - cos_t) * n).normalize(), cos_t)
 }
 
+/// How much [`refract`] turns a ray: the refracted direction `t` minus the
+/// incident one, for the incident direction `i + di` (`i` unit, `di` a
+/// small earlier deviation, zero at a first refraction) at a surface of
+/// unit normal `n` facing it, from index `n1` into `n2`. `None` under total
+/// internal reflection (or at grazing incidence).
+///
+/// With `η = n1/n2`, `t − v = (η − 1)·[n × (v × n) + (η + 1)·sin²θi /
+/// (cos θi + cos θt)·n]` for the incident `v`: the tangential part is
+/// Snell's `(η − 1)·v_t` and the normal part `cos θi − cos θt` written as
+/// `(η² − 1)·sin²θi/(cos θi + cos θt)`. `η − 1 = (n1 − n2)/n2` is a
+/// factor, so the deviation keeps its relative precision as the indices
+/// meet (at n − 1 = 10⁻¹³, `refract(…) − i`, the difference of two nearly
+/// equal unit vectors, keeps only ε/10⁻¹³ of its digits); `v × n` is taken
+/// as `i × n + di × n`, so `di` loses nothing to being added to `i`.
+pub fn refraction_deviation(i: DVec3, di: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
+    let eta = n1 / n2;
+    let eta_m1 = (n1 - n2) / n2;
+    let cos_i = -(i.dot(n) + di.dot(n));
+    let w = i.cross(n) + di.cross(n);
+    let sin2_i = w.length_squared();
+    let sin2_t = eta * eta * sin2_i;
+    let cos_sum = cos_i + (1.0 - sin2_t).sqrt();
+    if !(sin2_t <= 1.0 && cos_sum > 0.0) {
+        return None;
+    }
+    Some(eta_m1 * (n.cross(w) + ((eta + 1.0) * sin2_i / cos_sum) * n))
+}
+
 /// One crossing of an interface ([`crossing`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Crossing {
@@ -265,6 +293,28 @@ mod tests {
             assert_relative_eq!(th.sin(), 1.5 * t.x, epsilon = 1e-15);
             assert!(t.y.abs() < 1e-16 && t.z < 0.0);
         }
+    }
+
+    #[test]
+    fn refraction_deviation_is_refract_less_the_incident_ray() {
+        let nrm = DVec3::new(0.1, -0.2, 1.0).normalize();
+        for deg in [0.0f64, 10.0, 30.0, 60.0, 80.0] {
+            let th = deg.to_radians();
+            let i = DVec3::new(th.sin(), 0.0, -th.cos());
+            for (n1, n2) in [(1.0, 1.5), (1.5, 1.0), (1.0, 4.0)] {
+                let Some(t) = refract(i, nrm, n1, n2) else { continue };
+                let dev = refraction_deviation(i, DVec3::ZERO, nrm, n1, n2).unwrap();
+                assert!((i + dev - t).length() < 4e-16, "{deg}° {n1} → {n2}");
+                // The incident direction split in two gives the same turn.
+                let half = 0.5 * (t - i);
+                let split = refraction_deviation(i + half, -half, nrm, n1, n2).unwrap();
+                assert!((split - dev).length() < 1e-15);
+            }
+            assert_eq!(refraction_deviation(i, DVec3::ZERO, nrm, 1.0, 1.0), Some(DVec3::ZERO));
+        }
+        let past = 60f64.to_radians();
+        let i = DVec3::new(past.sin(), 0.0, -past.cos());
+        assert_eq!(refraction_deviation(i, DVec3::ZERO, DVec3::Z, 1.5, 1.0), None);
     }
 
     #[test]

@@ -403,3 +403,79 @@ fn fan_is_drawn_as_svg_and_png() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Where the reference path's exit line meets the axis, from V2 = (0, 0,
+/// −sag2), in DD; `None` unless it leaves through S2.
+fn reference_focus(p: &Path<DD>, sag2: f64) -> Option<DD> {
+    let (x, u) = exit_s2(p)?;
+    let z = x.0[2] - x.0[0] * u.0[2] / u.0[0];
+    Some(DD::new(-sag2) - z)
+}
+
+/// The real marginal focus and the LSA as n → 1 (issue 30.5): the ray
+/// bends by about n − 1, so a turn computed as the difference of two unit
+/// vectors keeps only ε/(n − 1) of its digits (2·10⁻³ of the focus at
+/// n − 1 = 1e-13). `lens info` and `lens fan` against the double-double
+/// reference over n − 1 = 1e-1 … 1e-13, from infinity and from a near
+/// object (a virtual image: the focus is the backward extension's). The
+/// LSA is a difference of two numbers of the focus's size, so its error is
+/// measured against the focus; and, relative to itself, for the edge ray of
+/// a lens whose LSA is 1.6 % of its focus.
+#[test]
+fn marginal_focus_and_lsa_keep_their_precision_as_n_goes_to_1() {
+    let lenses = [
+        (2.0, 5.0, 5.0),
+        (2.0, 1.0, 5.0),
+        (2.0, 1.0, 1.0),
+        (20.0, 50.0, 100.0),
+        (1.0, 1e3, 1e4),
+        (3.0, 1.5000001, 1e5),
+    ];
+    let rel = |got: f64, want: DD, of: DD| ((DD::new(got) - want) / of).to_f64().abs();
+    let mut worst = [0.0f64; 3];
+    for k in 1..=13 {
+        let n = 1.0 + 10f64.powi(-k);
+        // Focus, LSA (against the focus), the edge LSA of the first lens.
+        let mut w = [0.0f64; 3];
+        for &(d, r1, r2) in &lenses {
+            let s = spec(d, r1, r2, n);
+            let (y2, u2) = ynu(d, r1, r2, n, 1.0, 0.0);
+            let bfd = DD::new(-y2) / DD::new(u2);
+            let info = json("info", d, r1, r2, &n.to_string(), &[]);
+            let (sag1, sag2) = (f(&info["sag1"]), f(&info["sag2"]));
+            let h = 0.9 * 0.5 * d;
+            let p = reference::trace::<DD>(&s, [h, 0.0, sag1 + d], [0.0, 0.0, -1.0]);
+            let want = reference_focus(&p, sag2).expect("the marginal ray leaves through S2");
+            w[0] = w[0].max(rel(f(&info["marginal_focus_from_v2"]), want, want));
+            w[1] = w[1].max(rel(f(&info["spherical_aberration"]), want - bfd, want));
+            if r1 == 5.0 {
+                w[2] = rel(f(&info["spherical_aberration"]), want - bfd, want - bfd);
+            }
+            let fan = json("fan", d, r1, r2, &n.to_string(), &["--rays", "1"]);
+            for pt in fan["lsa"].as_array().unwrap() {
+                let want = reference_focus(&retrace(&s, &pt["ray"]), sag2).unwrap();
+                w[0] = w[0].max(rel(f(&pt["focus_from_v2"]), want, want));
+                w[1] = w[1].max(rel(f(&pt["lsa"]), want - bfd, want));
+            }
+            let dist = (10.0 * d).to_string();
+            let ip = (1.3 * d).to_string();
+            let extra = ["--rays", "1", "--object-distance", &dist, "--image-plane", &ip];
+            let near = json("fan", d, r1, r2, &n.to_string(), &extra);
+            let edge = &near["lsa"][31]["ray"];
+            let want = reference_focus(&retrace(&s, edge), sag2).unwrap();
+            let got = f(&near["cardinal"]["object_marginal_focus_from_v2"]);
+            w[0] = w[0].max(rel(got, want, want));
+        }
+        eprintln!(
+            "n − 1 = 1e-{k}: worst relative error of the focus {:.1e}, LSA error / focus {:.1e}; \
+             edge LSA of d 2, R 5, 5: relative error {:.1e}",
+            w[0], w[1], w[2]
+        );
+        for (a, b) in worst.iter_mut().zip(w) {
+            *a = a.max(b);
+        }
+    }
+    assert!(worst[0] <= 1e-14, "focus {:e}", worst[0]);
+    assert!(worst[1] <= 5e-14, "LSA {:e}", worst[1]);
+    assert!(worst[2] <= 1e-12, "edge LSA {:e}", worst[2]);
+}

@@ -18,7 +18,7 @@ pub use aabb::{Aabb, BOX_PAD, slab_hit, slab_overlap};
 pub use cuboid::Cuboid;
 pub(crate) use lens::LaneExits;
 pub use lens::{
-    ExitCrossing, Inside, Lens, LensBranch, LensEntry, LensError, LensPath, LensSurface, LensTraceStatus,
+    ExitCrossing, FinePass, Inside, Lens, LensBranch, LensEntry, LensError, LensPath, LensSurface, LensTraceStatus,
     MAX_INTERNAL_REFLECTIONS, Pruning,
 };
 pub use prism::Prism;

@@ -1,7 +1,7 @@
 //! The meridional ray fan and the longitudinal spherical aberration curve,
 //! and the cross-section they are drawn on ([`super::sketch`]).
 
-use super::setup::{ListedRay, PUPIL_FILL, Setup, SetupError, axis_crossing, bad};
+use super::setup::{ListedRay, PUPIL_FILL, Setup, SetupError, bad, exit_axis_crossing};
 use super::sketch::{Kind, Sketch};
 use super::{LensInfo, lens_info};
 use crate::optics::{WAVELENGTH_D_UM, sagitta};
@@ -82,7 +82,8 @@ pub fn cardinal(setup: &Setup) -> Result<Cardinal, SetupError> {
         ..setup.clone()
     };
     let power = info.efl.is_some();
-    let marginal = axis_crossing(&axial, &axial.trace(1.0, 0.0, n).2).filter(|_| power);
+    let (o, u) = axial.ray(1.0, 0.0);
+    let marginal = exit_axis_crossing(&axial.lens, o, u, n).filter(|_| power);
     Ok(Cardinal {
         info,
         paraxial_image_from_v2: setup.paraxial_image(n).map(|p| p.0),
@@ -101,8 +102,9 @@ pub fn lsa_curve(setup: &Setup, n: f64, steps: u32) -> Vec<LsaPoint> {
     (1..=steps)
         .map(|k| {
             let px = f64::from(k) / f64::from(steps);
-            let (ray, path) = ListedRay::traced(&axial, px, 0.0, n, plane_z);
-            let focus = axis_crossing(&axial, &path).filter(|_| paraxial.is_some());
+            let (ray, _) = ListedRay::traced(&axial, px, 0.0, n, plane_z);
+            let (o, u) = axial.ray(px, 0.0);
+            let focus = exit_axis_crossing(&axial.lens, o, u, n).filter(|_| paraxial.is_some());
             LsaPoint {
                 height: px * PUPIL_FILL * 0.5 * setup.lens.d,
                 ray,

@@ -422,16 +422,9 @@ pub const NO_POWER: &str =
 /// travel.
 pub fn real_focus(lens: &Lens, h: f64, n: f64) -> Option<f64> {
     let start = lens.vertex(LensSurface::S1) + lens.axis * lens.d + DVec3::X * h;
-    let p = lens.trace(start, -lens.axis, n);
-    let (s, x, u) = p.exit?;
-    // The crossing of the exit ray's line with the axis; for a strongly
-    // aberrated lens (a ball lens at 0.9 of its aperture) it lies before V2.
-    if p.status != LensTraceStatus::Transmitted || s != LensSurface::S2 || u.x == 0.0 {
-        return None;
-    }
-    let t = -x.x / u.x;
-    let cross = x + t * u;
-    Some((lens.vertex(LensSurface::S2) - cross).dot(lens.axis))
+    // For a strongly aberrated lens (a ball lens at 0.9 of its aperture)
+    // the crossing lies before V2.
+    setup::exit_axis_crossing(lens, start, -lens.axis, n)
 }
 
 pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> Result<LensInfo, LensError> {

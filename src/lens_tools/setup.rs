@@ -243,16 +243,31 @@ pub fn plane_crossing(path: &LensPath, plane_z: f64) -> Option<DVec3> {
     Some(DVec3::new(x.x + t * u.x, x.y + t * u.y, plane_z))
 }
 
-/// Where the exit line of a traced path crosses the axis in the meridional
-/// plane (x = 0), from V2 along the light; `None` unless transmitted
-/// through S2 and not parallel to the axis.
-pub fn axis_crossing(setup: &Setup, path: &LensPath) -> Option<f64> {
+/// Where the exit line of the ray `origin + s·dir` at index `n` crosses the
+/// axis of `lens` (placed on the z axis as the bench and `lens info` place
+/// it; the ray in the meridional plane x–z), from V2 along the light;
+/// `None` unless it leaves through S2, not parallel to the axis. A ray that
+/// passes without a reflection inside (every ray as n → 1) is taken from
+/// [`Lens::trace_fine`]: its exit slope is the incoming one plus a
+/// deviation computed with n − 1 as a factor, so the focus keeps its
+/// relative precision (from [`Lens::trace`]'s rounded exit direction it
+/// would keep only ε/(n − 1): 2·10⁻³ of the focus at n − 1 = 10⁻¹³).
+/// Any other path is taken from [`Lens::trace`].
+pub fn exit_axis_crossing(lens: &Lens, origin: DVec3, dir: DVec3, n: f64) -> Option<f64> {
+    let v2 = lens.vertex(LensSurface::S2) - lens.center;
+    let crossing = |x: DVec3, u: DVec3| {
+        let t = -x.x / u.x;
+        (u.x != 0.0).then(|| (v2 - (x + t * u)).dot(lens.axis))
+    };
+    if let Some(f) = lens.trace_fine(origin, dir, n) {
+        return crossing(f.exit_local, f.dir + f.deviation).filter(|_| f.exit_face == LensSurface::S2);
+    }
+    let path = lens.trace(origin, dir, n);
     let (s, x, u) = path.exit?;
-    if path.status != LensTraceStatus::Transmitted || s != LensSurface::S2 || u.x == 0.0 {
+    if path.status != LensTraceStatus::Transmitted || s != LensSurface::S2 {
         return None;
     }
-    let z = x.z - x.x / u.x * u.z;
-    Some(-setup.sag2() - z)
+    crossing(x - lens.center, u)
 }
 
 /// A ray as the JSON lists it: enough to trace it again.

@@ -35,7 +35,8 @@
 //! Files by responsibility: `cap.rs` holds one face and the roots of both
 //! faces along a ray, `branches.rs` the Whitted tree of a pass (every ray
 //! out, weighted by Fresnel), `dd.rs` the double-double arithmetic of
-//! [`Lens::localize`], `trace.rs` the scalar tracer inside the glass
+//! [`Lens::localize`], `fine.rs` a pass with its deviation kept apart
+//! ([`Lens::trace_fine`], for foci as n → 1), `trace.rs` the scalar tracer inside the glass
 //! ([`Lens::trace`], [`Lens::propagate_inside`]), and `lanes.rs` the same
 //! hit test and exit for a packet's lanes at once. The hit test, the tracer
 //! and the lanes call the same `#[inline(always)]` steps (`span`,
@@ -45,10 +46,12 @@
 mod branches;
 mod cap;
 mod dd;
+mod fine;
 mod lanes;
 mod trace;
 
 pub use branches::{Inside, LensBranch, Pruning};
+pub use fine::FinePass;
 pub(crate) use lanes::LaneExits;
 pub use trace::{ExitCrossing, LensEntry, LensPath, LensTraceStatus, MAX_INTERNAL_REFLECTIONS};
 

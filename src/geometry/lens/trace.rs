@@ -66,11 +66,11 @@ pub struct LensEntry {
 /// A ray in lens-local coordinates ([`Lens::localize`]: its point `p`
 /// nearest the centre, the unit direction `u`, the distance `t0` from the
 /// origin to `p`) with both faces' roots along it.
-struct LocalRay {
-    p: DVec3,
-    u: DVec3,
-    t0: f64,
-    sp: Span,
+pub(super) struct LocalRay {
+    pub(super) p: DVec3,
+    pub(super) u: DVec3,
+    pub(super) t0: f64,
+    pub(super) sp: Span,
 }
 
 /// The first exit of a ray inside the glass ([`Lens::exit_step`]).
@@ -134,7 +134,7 @@ impl Lens {
     /// The ray `origin + s·dir` in lens-local coordinates with both faces'
     /// roots along it. `dir` is scaled by a power of two first: [1e200, 0,
     /// −1e201] squares to ∞, [1e-200, 0, −1e-199] to 0; the line is the same.
-    fn local_ray(&self, origin: DVec3, dir: DVec3) -> LocalRay {
+    pub(super) fn local_ray(&self, origin: DVec3, dir: DVec3) -> LocalRay {
         let (p, u, t0) = self.localize(origin, rescale_pow2(dir));
         LocalRay {
             p,
@@ -147,7 +147,7 @@ impl Lens {
     /// Where the local ray `r` enters the glass (at its origin itself if
     /// that lies on a face, `t_in + t0 ≤ 0`): the face (0: S1, 1: S2) and
     /// the entry. Nothing here is a number to use if `r` misses.
-    fn entry_on(&self, r: &LocalRay) -> (usize, LensEntry) {
+    pub(super) fn entry_on(&self, r: &LocalRay) -> (usize, LensEntry) {
         let (p, u, t0) = (r.p, r.u, r.t0);
         let x = if r.sp.t_in + t0 > 0.0 {
             p + r.sp.t_in * u
