@@ -13,10 +13,12 @@ mod polytope;
 mod prism;
 mod pyramid;
 mod sphere;
+mod system;
 
 pub use aabb::{Aabb, BOX_PAD, slab_hit, slab_overlap};
 pub use cuboid::Cuboid;
 pub(crate) use lens::LaneExits;
+pub(crate) use lens::localize_near;
 pub use lens::{
     ExitCrossing, FinePass, Inside, Lens, LensBranch, LensEntry, LensError, LensPath, LensSurface, LensTraceStatus,
     MAX_INTERNAL_REFLECTIONS, Pruning,
@@ -24,6 +26,10 @@ pub use lens::{
 pub use prism::Prism;
 pub use pyramid::Pyramid;
 pub use sphere::Sphere;
+pub use system::{
+    Event, EventKind, LensSystem, Paraxial, Piece, PieceKind, Pupil, RayStatus, RealRay, SurfaceSpec, SystemBranch,
+    SystemError, is_air,
+};
 
 use crate::math::Ray;
 use glam::DVec3;
@@ -91,6 +97,8 @@ pub enum Shape {
     /// Boxed: a lens is five times the size of the other shapes, and every
     /// object would pay for it (tests/memory.rs).
     Lens(Box<Lens>),
+    /// A lens system: surfaces along one axis (`system/`).
+    System(Box<LensSystem>),
 }
 
 impl Shape {
@@ -104,6 +112,7 @@ impl Shape {
             Shape::Prism(s) => s.intersect(ray, t_min, t_max),
             Shape::Pyramid(s) => s.intersect(ray, t_min, t_max),
             Shape::Lens(s) => s.intersect(ray, t_min, t_max),
+            Shape::System(s) => s.intersect(ray, t_min, t_max),
         }
     }
 
@@ -116,6 +125,7 @@ impl Shape {
             Shape::Prism(s) => s.normal(part),
             Shape::Pyramid(s) => s.normal(part),
             Shape::Lens(s) => s.normal(p, part),
+            Shape::System(s) => s.normal(p, part),
         }
     }
 
@@ -125,7 +135,7 @@ impl Shape {
         match self {
             Shape::Cuboid(_) => Some(6),
             Shape::Prism(_) | Shape::Pyramid(_) => Some(5),
-            Shape::Sphere(_) | Shape::Lens(_) => None,
+            Shape::Sphere(_) | Shape::Lens(_) | Shape::System(_) => None,
         }
     }
 
@@ -137,6 +147,7 @@ impl Shape {
             Shape::Prism(s) => s.bounds(),
             Shape::Pyramid(s) => s.bounds(),
             Shape::Lens(s) => s.bounds(),
+            Shape::System(s) => s.bounds(),
         }
     }
 
@@ -154,6 +165,7 @@ impl Shape {
             Shape::Prism(s) => s.polytope().contains(p),
             Shape::Pyramid(s) => s.polytope().contains(p),
             Shape::Lens(s) => s.contains(p),
+            Shape::System(s) => s.contains(p),
         }
     }
 
@@ -164,6 +176,7 @@ impl Shape {
             Shape::Prism(_) => "prism",
             Shape::Pyramid(_) => "pyramid",
             Shape::Lens(_) => "lens",
+            Shape::System(_) => "lens system",
         }
     }
 }

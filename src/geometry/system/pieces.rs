@@ -1,0 +1,231 @@
+//! The pieces of a system's boundary (docs/lens-systems.md): optical caps,
+//! opaque rings (the stop's diaphragm among them) and opaque edge
+//! cylinders, and the nearest crossing of any of them along a ray.
+
+use super::{LensSystem, sag};
+use glam::DVec3;
+
+/// What a piece of the boundary is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PieceKind {
+    /// The spherical (or plane) face of surface `k` within its aperture.
+    Cap,
+    /// The flat annulus of surface `k` beyond its aperture, or the stop's
+    /// diaphragm: opaque.
+    Ring,
+    /// The cylindrical edge of the element after surface `k`: opaque.
+    Edge,
+}
+
+/// One piece: its kind and surface (for an edge, the surface before the
+/// element).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Piece {
+    pub surface: usize,
+    pub kind: PieceKind,
+}
+
+impl Piece {
+    /// The part number a [`crate::geometry::Hit`] carries: `3·k + kind`.
+    pub fn part(self) -> u8 {
+        let kind = match self.kind {
+            PieceKind::Cap => 0,
+            PieceKind::Ring => 1,
+            PieceKind::Edge => 2,
+        };
+        (3 * self.surface + kind) as u8
+    }
+
+    pub fn from_part(part: u8) -> Piece {
+        let kind = match part % 3 {
+            0 => PieceKind::Cap,
+            1 => PieceKind::Ring,
+            _ => PieceKind::Edge,
+        };
+        Piece {
+            surface: usize::from(part / 3),
+            kind,
+        }
+    }
+
+    /// Whether the piece absorbs what meets it.
+    pub fn is_opaque(self) -> bool {
+        self.kind != PieceKind::Cap
+    }
+}
+
+/// A crossing of the boundary: at `t` along the ray, on `piece`, at the
+/// local point `x`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: f64,
+    pub piece: Piece,
+    pub x: DVec3,
+}
+
+/// The two roots of `a·t² + 2b·t + c = 0` (NaN where there is none), the
+/// larger-magnitude one from `q = −(b + sign(b)·√(b² − ac))` and the other
+/// as `c/q`, so neither cancels.
+#[inline(always)]
+fn roots(a: f64, b: f64, c: f64) -> [f64; 2] {
+    let disc = b * b - a * c;
+    if !(disc >= 0.0) {
+        return [f64::NAN; 2];
+    }
+    let q = -(b + disc.sqrt().copysign(b));
+    [c / q, q / a]
+}
+
+impl LensSystem {
+    /// The name of a piece as `lens trace` prints it.
+    pub fn piece_name(&self, piece: Piece) -> &'static str {
+        match piece.kind {
+            PieceKind::Cap => "cap",
+            PieceKind::Ring if self.surfaces[piece.surface].stop => "stop",
+            PieceKind::Ring => "ring",
+            PieceKind::Edge => "edge",
+        }
+    }
+
+    /// Whether cap `k` separates two media (a stop's opening or a dummy
+    /// surface in one medium is not a boundary).
+    pub fn cap_is_boundary(&self, k: usize) -> bool {
+        self.before(k) != self.surfaces[k].n
+    }
+
+    /// The nearest crossing with `t` in `(t_lo, t_hi)` of the ray from the
+    /// local point `p` along the unit `u`. `from` is the cap the ray starts
+    /// on: its root at the start is not a crossing (of its two roots, the
+    /// one nearer 0 is left out; a plane has only that one).
+    pub fn next_crossing(&self, p: DVec3, u: DVec3, from: Option<usize>, t_lo: f64, t_hi: f64) -> Option<Crossing> {
+        let mut best: Option<Crossing> = None;
+        let mut take = |t: f64, piece: Piece, x: DVec3| {
+            if t > t_lo && t < t_hi && best.is_none_or(|b| t < b.t) {
+                best = Some(Crossing { t, piece, x });
+            }
+        };
+        for k in 0..self.len() {
+            if self.cap_is_boundary(k) {
+                let mut ts = self.cap_roots(k, p, u);
+                if from == Some(k) {
+                    // The root at the start is the smaller in magnitude.
+                    let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
+                    ts[own] = f64::NAN;
+                }
+                for t in ts {
+                    let x = p + t * u;
+                    if self.on_cap(k, x) {
+                        take(
+                            t,
+                            Piece {
+                                surface: k,
+                                kind: PieceKind::Cap,
+                            },
+                            x,
+                        );
+                    }
+                }
+            }
+            if self.ring_outer[k] > self.surfaces[k].semi_aperture {
+                let t = (self.ring_z(k) - p.z) / u.z;
+                let x = p + t * u;
+                let r2 = x.x * x.x + x.y * x.y;
+                let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
+                if r2 > a * a && r2 <= o * o {
+                    take(
+                        t,
+                        Piece {
+                            surface: k,
+                            kind: PieceKind::Ring,
+                        },
+                        DVec3::new(x.x, x.y, self.ring_z(k)),
+                    );
+                }
+            }
+            if self.rim[k] > 0.0 {
+                for t in self.edge_roots(k, p, u) {
+                    let x = p + t * u;
+                    if x.z >= self.ring_z(k) && x.z <= self.ring_z(k + 1) {
+                        take(
+                            t,
+                            Piece {
+                                surface: k,
+                                kind: PieceKind::Edge,
+                            },
+                            x,
+                        );
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// The roots along `p + t·u` of sphere `k` in vertex form,
+    /// `c(x² + y² + (z − z_k)²) − 2(z − z_k) = 0`: `A = c·|u|²`,
+    /// `B = c·(q·u) − u_z`, `C = c·|q|² − 2q_z` with `q = p − z_k·ẑ`.
+    /// A plane (`c = 0`) has the one root `C/(−2B)`.
+    #[inline(always)]
+    fn cap_roots(&self, k: usize, p: DVec3, u: DVec3) -> [f64; 2] {
+        let c = self.c[k];
+        let q = DVec3::new(p.x, p.y, p.z - self.z[k]);
+        roots(
+            c * u.length_squared(),
+            c * q.dot(u) - u.z,
+            c * q.length_squared() - 2.0 * q.z,
+        )
+    }
+
+    /// Whether the local point `x` of sphere `k` lies on its cap: within
+    /// the aperture, on the vertex's branch (`c·(z − z_k) < 1`).
+    #[inline(always)]
+    fn on_cap(&self, k: usize, x: DVec3) -> bool {
+        let a = self.surfaces[k].semi_aperture;
+        x.x * x.x + x.y * x.y <= a * a && self.c[k] * (x.z - self.z[k]) < 1.0
+    }
+
+    /// The plane of surface `k`'s ring: its sag at the aperture.
+    #[inline(always)]
+    pub(super) fn ring_z(&self, k: usize) -> f64 {
+        self.z[k] + sag(self.c[k], self.surfaces[k].semi_aperture)
+    }
+
+    /// The roots along `p + t·u` of the cylinder `x² + y² = ρ_k²`.
+    #[inline(always)]
+    fn edge_roots(&self, k: usize, p: DVec3, u: DVec3) -> [f64; 2] {
+        let rho = self.rim[k];
+        let a = u.x * u.x + u.y * u.y;
+        let c = (p.x - rho) * (p.x + rho) + p.y * p.y;
+        roots(a, p.x * u.x + p.y * u.y, c)
+    }
+
+    /// The unit normal of cap `k` at the local point `x`, pointing to the
+    /// side before the surface: `(c·x, c·y, c·(z − z_k) − 1)`, of length 1
+    /// on the sphere (normalised for rounding).
+    #[inline(always)]
+    pub fn cap_normal(&self, k: usize, x: DVec3) -> DVec3 {
+        let c = self.c[k];
+        DVec3::new(c * x.x, c * x.y, c * (x.z - self.z[k]) - 1.0).normalize()
+    }
+
+    /// The normal (local) at `x` on `piece` pointing out of the solid: to
+    /// the air side of a cap or ring, away from the axis on an edge.
+    pub fn outward_normal(&self, piece: Piece, x: DVec3) -> DVec3 {
+        let k = piece.surface;
+        let glass_before = super::is_air(&self.before(k)).then_some(false).unwrap_or(true);
+        match piece.kind {
+            PieceKind::Cap => {
+                let g = self.cap_normal(k, x);
+                if glass_before { -g } else { g }
+            }
+            PieceKind::Ring => {
+                if glass_before && k > 0 && self.rim[k] == 0.0 {
+                    DVec3::Z
+                } else {
+                    -DVec3::Z
+                }
+            }
+            PieceKind::Edge => DVec3::new(x.x, x.y, 0.0).normalize_or(DVec3::X),
+        }
+    }
+}

@@ -1,0 +1,296 @@
+//! Rays through a system: the real ray `lens trace` follows (refraction at
+//! each cap, reflection under TIR, absorption at rings, edges and the
+//! diaphragm) and the Whitted tree the renderer and the photons follow
+//! (a Fresnel split at every cap, each branch pruned by its weight). Both
+//! take the same step at a cap ([`LensSystem::interface`]).
+
+use super::LensSystem;
+use super::pieces::{Crossing, Piece};
+use crate::geometry::Pruning;
+use crate::optics;
+use glam::DVec3;
+
+/// Reflections a real ray may make before it is reported trapped.
+pub const MAX_REFLECTIONS: u32 = 64;
+
+/// How a real ray ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayStatus {
+    /// It met the system and left it.
+    Transmitted,
+    /// It met no piece.
+    Miss,
+    /// A ring, an edge or the stop's diaphragm absorbed it.
+    Absorbed,
+    /// More than [`MAX_REFLECTIONS`] reflections inside.
+    Trapped,
+}
+
+impl RayStatus {
+    pub fn name(self) -> &'static str {
+        match self {
+            RayStatus::Transmitted => "transmitted",
+            RayStatus::Miss => "miss",
+            RayStatus::Absorbed => "absorbed",
+            RayStatus::Trapped => "trapped",
+        }
+    }
+}
+
+/// What happened at a piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventKind {
+    Refract,
+    Reflect,
+    Absorb,
+}
+
+impl EventKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Refract => "refract",
+            EventKind::Reflect => "reflect",
+            EventKind::Absorb => "absorb",
+        }
+    }
+}
+
+/// One event of a real ray, in world coordinates: the point and the
+/// direction after it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Event {
+    pub piece: Piece,
+    pub kind: EventKind,
+    pub point: DVec3,
+    pub dir: DVec3,
+}
+
+/// A real ray through a system.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RealRay {
+    pub status: RayStatus,
+    pub events: Vec<Event>,
+    pub reflections: u32,
+    /// Where it left (transmitted rays): the last event's point and
+    /// direction, and the piece.
+    pub exit: Option<(Piece, DVec3, DVec3)>,
+    /// Local point and direction after the last event (for the figures,
+    /// which measure in the system's frame).
+    pub local: (DVec3, DVec3),
+}
+
+/// One ray out of the system's Whitted tree, in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SystemBranch {
+    pub point: DVec3,
+    pub dir: DVec3,
+    /// The normal of the piece it leaves, on the side it leaves to.
+    pub normal: DVec3,
+    /// The share of the light that met the system leaving along it.
+    pub weight: f64,
+    /// Reflections (partial and total, the first one outside included).
+    pub reflections: u32,
+}
+
+/// The crossing of a cap for a ray along `u`: the normal facing the ray,
+/// the indices it goes from and to, and the refracted direction with its
+/// Fresnel reflectance ([`optics::crossing`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Interface {
+    pub nf: DVec3,
+    pub n1: f64,
+    pub n2: f64,
+    pub crossing: optics::Crossing,
+}
+
+impl LensSystem {
+    /// The step at a cap: which way the ray crosses cap `k` at the local
+    /// point `x` (the cap's normal points to the side before it), from which
+    /// medium into which, at wavelength `lambda_um`.
+    #[inline]
+    pub fn interface(&self, k: usize, x: DVec3, u: DVec3, lambda_um: f64) -> Interface {
+        let g = self.cap_normal(k, x);
+        let (before, after) = (self.before(k).at(lambda_um), self.surfaces[k].n.at(lambda_um));
+        // Along the light (u·g < 0) from before into after.
+        let (nf, n1, n2) = if u.dot(g) < 0.0 {
+            (g, before, after)
+        } else {
+            (-g, after, before)
+        };
+        Interface {
+            nf,
+            n1,
+            n2,
+            crossing: optics::crossing(u, nf, n1, n2),
+        }
+    }
+
+    /// The real ray from the world `origin` along `dir` (any length) at
+    /// `lambda_um`: refraction at each cap, reflection under TIR.
+    pub fn trace(&self, origin: DVec3, dir: DVec3, lambda_um: f64) -> RealRay {
+        let (mut x, mut u, t0) = self.localize(origin, dir);
+        let mut lo = -t0;
+        let mut from = None;
+        let mut out = RealRay {
+            status: RayStatus::Miss,
+            events: Vec::new(),
+            reflections: 0,
+            exit: None,
+            local: (x, u),
+        };
+        // Refractions are bounded by the pieces a ray can meet going one
+        // way; reflections by MAX_REFLECTIONS.
+        let most = MAX_REFLECTIONS as usize + 8 * self.len() + 8;
+        while let Some(c) = self.next_crossing(x, u, from, lo, f64::INFINITY) {
+            let (kind, next) = self.real_step(&c, u, lambda_um);
+            x = c.x;
+            u = next;
+            lo = 0.0;
+            from = Some(c.piece.surface);
+            out.reflections += u32::from(kind == EventKind::Reflect);
+            out.events.push(Event {
+                piece: c.piece,
+                kind,
+                point: self.world_point(x),
+                dir: self.world_dir(u),
+            });
+            out.local = (x, u);
+            if kind == EventKind::Absorb {
+                out.status = RayStatus::Absorbed;
+                return out;
+            }
+            if out.reflections > MAX_REFLECTIONS || out.events.len() > most {
+                out.status = RayStatus::Trapped;
+                return out;
+            }
+        }
+        if let Some(last) = out.events.last() {
+            out.status = RayStatus::Transmitted;
+            out.exit = Some((last.piece, last.point, last.dir));
+        }
+        out
+    }
+
+    /// What a real ray along `u` does at crossing `c`, and its direction
+    /// after.
+    fn real_step(&self, c: &Crossing, u: DVec3, lambda_um: f64) -> (EventKind, DVec3) {
+        if c.piece.is_opaque() {
+            return (EventKind::Absorb, u);
+        }
+        let i = self.interface(c.piece.surface, c.x, u, lambda_um);
+        if i.crossing.total {
+            (EventKind::Reflect, optics::reflect(u, i.nf))
+        } else {
+            (EventKind::Refract, i.crossing.dir)
+        }
+    }
+}
+
+/// A branch of the tree still inside (or between the elements of) the
+/// system.
+#[derive(Clone, Copy, Debug)]
+struct Live {
+    x: DVec3,
+    u: DVec3,
+    weight: f64,
+    reflections: u32,
+    from: Option<usize>,
+    /// Crossings so far (the tree's bound on refractions).
+    steps: u32,
+}
+
+/// Branches held at once; a tree that would hold more drops its lightest.
+const STACK: usize = 48;
+
+impl LensSystem {
+    /// Every ray out of the system for light arriving from outside along
+    /// the world ray `origin + t·dir` (unit `dir`), at `lambda_um`: the
+    /// Whitted tree with a Fresnel split at every cap (the reflection at
+    /// the first one included), each branch pruned by `prune`, rings,
+    /// edges and the diaphragm absorbing. Each ray out is handed to `emit`
+    /// in a fixed order. Returns the weight dropped by pruning.
+    pub fn branches(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        lambda_um: f64,
+        prune: &Pruning,
+        emit: &mut impl FnMut(SystemBranch),
+    ) -> f64 {
+        let (x, u, t0) = self.localize(origin, dir);
+        let mut stack = [Live {
+            x,
+            u,
+            weight: 1.0,
+            reflections: 0,
+            from: None,
+            steps: 0,
+        }; STACK];
+        let mut len = 1;
+        let mut dropped = 0.0;
+        let most = 8 * self.len() as u32 + 8;
+        while len > 0 {
+            len -= 1;
+            let b = stack[len];
+            let lo = if b.steps == 0 { -t0 } else { 0.0 };
+            let Some(c) = self.next_crossing(b.x, b.u, b.from, lo, f64::INFINITY) else {
+                if b.steps > 0 {
+                    emit(self.leaving(&b));
+                }
+                continue;
+            };
+            if c.piece.is_opaque() {
+                continue;
+            }
+            if b.steps > most {
+                dropped += b.weight;
+                continue;
+            }
+            let i = self.interface(c.piece.surface, c.x, b.u, lambda_um);
+            let r = if i.crossing.total { 1.0 } else { i.crossing.reflectance };
+            let next = |u, weight, reflections| Live {
+                x: c.x,
+                u,
+                weight,
+                reflections,
+                from: Some(c.piece.surface),
+                steps: b.steps + 1,
+            };
+            let children = [
+                (!i.crossing.total).then(|| next(i.crossing.dir, b.weight * (1.0 - r), b.reflections)),
+                Some(next(optics::reflect(b.u, i.nf), b.weight * r, b.reflections + 1)),
+            ];
+            // Pushed reflection first, so the refraction is walked first.
+            for child in children.into_iter().rev().flatten() {
+                let kept = if child.reflections > b.reflections {
+                    prune.keeps_on(child.weight, b.reflections)
+                } else {
+                    prune.keeps(child.weight)
+                };
+                if !kept {
+                    dropped += child.weight;
+                } else if len < STACK {
+                    stack[len] = child;
+                    len += 1;
+                } else {
+                    dropped += child.weight;
+                }
+            }
+        }
+        dropped
+    }
+
+    /// The ray out for a branch with nothing ahead.
+    fn leaving(&self, b: &Live) -> SystemBranch {
+        let k = b.from.unwrap_or(0);
+        let g = self.cap_normal(k, b.x);
+        let side = if g.dot(b.u) >= 0.0 { g } else { -g };
+        SystemBranch {
+            point: self.world_point(b.x),
+            dir: self.world_dir(b.u),
+            normal: self.world_dir(side),
+            weight: b.weight,
+            reflections: b.reflections,
+        }
+    }
+}
