@@ -334,6 +334,33 @@ fn near_point(rel: DVec3, along: f64, dir: DVec3) -> (DVec3, DVec3, f64) {
     (rel - k * dir, dir / len, -k * len)
 }
 
+/// The point of the ray `origin + s·dir` nearest `center`, relative to
+/// `center`, with the unit direction and the `s` of that point along it:
+/// [`Lens::localize`] for any solid placed by a point (the lens, a lens
+/// system). Within `fast_radius2` of `center` in plain `f64`; farther, in
+/// double-double arithmetic from the direction exactly as given.
+#[inline]
+pub(crate) fn localize_near(center: DVec3, origin: DVec3, dir: DVec3, fast_radius2: f64) -> (DVec3, DVec3, f64) {
+    let rel = origin - center;
+    if rel.length_squared() <= fast_radius2 {
+        return near_point(rel, rel.dot(dir), dir);
+    }
+    let o = [origin.x, origin.y, origin.z];
+    let c = [center.x, center.y, center.z];
+    let v = [dir.x, dir.y, dir.z];
+    let rel = [0, 1, 2].map(|i| dd::Dd::two_sum(o[i], -c[i]));
+    let mut dot = dd::Dd(0.0, 0.0);
+    let mut vv = dd::Dd(0.0, 0.0);
+    for i in 0..3 {
+        dot = dot.add(rel[i].mul_f(v[i]));
+        vv = vv.add(dd::Dd::two_prod(v[i], v[i]));
+    }
+    let k = dot.div(vv);
+    let p = [0, 1, 2].map(|i| rel[i].add(k.mul_f(-v[i])).value());
+    let len = vv.value().sqrt();
+    (DVec3::from(p), dir / len, -k.value() * len)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -402,31 +429,4 @@ mod tests {
         assert_relative_eq!((rim - l.sphere_centre(LensSurface::S1)).length(), 5.0, epsilon = 1e-14);
         assert_relative_eq!((rim - l.sphere_centre(LensSurface::S2)).length(), 3.0, epsilon = 1e-14);
     }
-}
-
-/// The point of the ray `origin + s·dir` nearest `center`, relative to
-/// `center`, with the unit direction and the `s` of that point along it:
-/// [`Lens::localize`] for any solid placed by a point (the lens, a lens
-/// system). Within `fast_radius2` of `center` in plain `f64`; farther, in
-/// double-double arithmetic from the direction exactly as given.
-#[inline]
-pub(crate) fn localize_near(center: DVec3, origin: DVec3, dir: DVec3, fast_radius2: f64) -> (DVec3, DVec3, f64) {
-    let rel = origin - center;
-    if rel.length_squared() <= fast_radius2 {
-        return near_point(rel, rel.dot(dir), dir);
-    }
-    let o = [origin.x, origin.y, origin.z];
-    let c = [center.x, center.y, center.z];
-    let v = [dir.x, dir.y, dir.z];
-    let rel = [0, 1, 2].map(|i| dd::Dd::two_sum(o[i], -c[i]));
-    let mut dot = dd::Dd(0.0, 0.0);
-    let mut vv = dd::Dd(0.0, 0.0);
-    for i in 0..3 {
-        dot = dot.add(rel[i].mul_f(v[i]));
-        vv = vv.add(dd::Dd::two_prod(v[i], v[i]));
-    }
-    let k = dot.div(vv);
-    let p = [0, 1, 2].map(|i| rel[i].add(k.mul_f(-v[i])).value());
-    let len = vv.value().sqrt();
-    (DVec3::from(p), dir / len, -k.value() * len)
 }

@@ -212,7 +212,7 @@ impl LensSystem {
     /// the air side of a cap or ring, away from the axis on an edge.
     pub fn outward_normal(&self, piece: Piece, x: DVec3) -> DVec3 {
         let k = piece.surface;
-        let glass_before = super::is_air(&self.before(k)).then_some(false).unwrap_or(true);
+        let glass_before = !super::is_air(&self.before(k));
         match piece.kind {
             PieceKind::Cap => {
                 let g = self.cap_normal(k, x);
