@@ -46,6 +46,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a point light above a lens: the focal spot and its caustic ring on the floor",
         text: include_str!("../../scenes/focal-spot.toml"),
     },
+    Preset {
+        name: "lens family",
+        file: "lens-family.toml",
+        about: "a checkerboard behind a plano-convex condenser, a biconcave diverger and a meniscus (lens systems)",
+        text: include_str!("../../scenes/lens-family.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).

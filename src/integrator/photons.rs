@@ -8,10 +8,10 @@
 //! and the pass keeps them in photon order, so a pass is the same on any
 //! number of threads.
 
-use super::lens_pass::{Transmitted, transmitted_rays};
+use super::lens_pass::{Transmitted, system_rays, transmitted_rays};
 use super::surface::{spawn_ray, surface};
 use crate::color::Rgb;
-use crate::geometry::{MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
+use crate::geometry::{LensSystem, MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
 use crate::light::Light;
 use crate::math::{Ray, orthonormal_basis};
 use crate::optics::{self, RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
@@ -198,7 +198,9 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &
             out.push(Photon::new(s.p, ray.dir, power));
         }
         let ior = m.ior.at(lambda);
-        let f = if m.transparency > 0.0 {
+        let system = s.object.system();
+        // A system's tree holds every reflection at its surfaces.
+        let f = if m.transparency > 0.0 && system.is_none() {
             let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
             optics::fresnel_at(ray.dir, s.nf, n1, n2)
         } else {
@@ -218,11 +220,16 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &
             skip = s.leaving(r);
             depth += 1;
         } else {
-            let Some(tr) = one_branch(s.object, s.p, s.nf, s.entering, &ray, ior, rng.next_f64()) else {
+            let pick = rng.next_f64();
+            let tr = match system {
+                Some(sys) => system_branch(s.object, sys, &ray, lambda, pick),
+                None => one_branch(s.object, s.p, s.nf, s.entering, &ray, ior, pick),
+            };
+            let Some(tr) = tr else {
                 return;
             };
             power *= m.color * tr.factor;
-            skip = if s.outward(tr.ray.dir) || s.object.lens().is_some() {
+            skip = if s.outward(tr.ray.dir) || s.object.lens().is_some() || system.is_some() {
                 s.index
             } else {
                 usize::MAX
@@ -251,6 +258,26 @@ fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, ray: &Ray, ior:
     };
     let mut out: Vec<Transmitted> = Vec::new();
     transmitted_rays(obj, p, nf, entering, ray, ior, &prune, &mut |t| out.push(t));
+    pick_branch(&out, u)
+}
+
+/// [`one_branch`] for a lens system: one ray of its tree
+/// ([`system_rays`]), drawn by weight; its factor the tree's total weight
+/// (what the rings, edges and diaphragm absorb is lost).
+fn system_branch(obj: &Object, sys: &LensSystem, ray: &Ray, lambda: f64, u: f64) -> Option<Transmitted> {
+    let prune = Pruning {
+        scale: 1.0,
+        min: PHOTON_BRANCH_MIN,
+        max_reflections: MAX_INTERNAL_REFLECTIONS,
+    };
+    let mut out: Vec<Transmitted> = Vec::new();
+    system_rays(obj, sys, ray, lambda, &prune, |t| out.push(t));
+    pick_branch(&out, u)
+}
+
+/// One of the rays `out`, drawn by its factor with `u` in [0, 1); its
+/// factor set to their sum.
+fn pick_branch(out: &[Transmitted], u: f64) -> Option<Transmitted> {
     let total: f64 = out.iter().map(|t| t.factor).sum();
     let mut left = u * total;
     let pick = out.iter().position(|t| {

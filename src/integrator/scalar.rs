@@ -3,11 +3,11 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
-use super::lens_pass::{Transmitted, transmitted_rays};
+use super::lens_pass::{Transmitted, system_rays, transmitted_rays};
 use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
 use crate::color::Rgb;
-use crate::geometry::Pruning;
+use crate::geometry::{LensSystem, Pruning};
 use crate::light::LightSample;
 use crate::math::Ray;
 use crate::optics::fresnel_at;
@@ -91,6 +91,18 @@ impl Refraction for Alone {
     #[inline(always)]
     fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted)) {
         transmitted_rays(s.object, s.p, s.nf, s.entering, &self.0, ior, prune, emit);
+    }
+
+    #[inline(always)]
+    fn through_system(
+        &self,
+        s: &Surface,
+        sys: &LensSystem,
+        lambda_um: f64,
+        prune: &Pruning,
+        emit: impl FnMut(Transmitted),
+    ) {
+        system_rays(s.object, sys, &self.0, lambda_um, prune, emit);
     }
 }
 

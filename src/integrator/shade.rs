@@ -7,7 +7,7 @@
 use super::lens_pass::Transmitted;
 use super::surface::{Surface, spawn_ray};
 use crate::color::Rgb;
-use crate::geometry::Pruning;
+use crate::geometry::{LensSystem, Pruning};
 use crate::light::{Light, LightSample};
 use crate::material::Material;
 use crate::math::Ray;
@@ -209,6 +209,16 @@ pub(super) trait Refraction {
     /// `ior`): each ray that carries on, out of a lens every branch of its
     /// tree pruned by `prune`, handed to `emit` in order.
     fn transmit(&self, s: &Surface, ior: f64, prune: &Pruning, emit: impl FnMut(Transmitted));
+    /// [`super::lens_pass::system_rays`] for this ray into the lens system
+    /// of the surface `s`.
+    fn through_system(
+        &self,
+        s: &Surface,
+        sys: &LensSystem,
+        lambda_um: f64,
+        prune: &Pruning,
+        emit: impl FnMut(Transmitted),
+    );
 }
 
 /// How a kernel follows the rays [`shade_onward`] sends on: the scalar one
@@ -242,7 +252,21 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     }
     let m = &s.object.material;
     let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
-    if GLASS && m.transparency > 0.0 {
+    if GLASS
+        && m.transparency > 0.0
+        && let Some(sys) = s.object.system()
+    {
+        // A system's tree holds every reflection at its surfaces.
+        let kt = m.transparency;
+        if followed(kt, weight) {
+            let prune = lens_pruning(scene, depth, weight, kt);
+            refraction.through_system(s, sys, lambda_um, &prune, |tr| {
+                if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
+                    tracer.trace(sec, color);
+                }
+            });
+        }
+    } else if GLASS && m.transparency > 0.0 {
         let ior = m.ior.at(lambda_um);
         let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
         let (r, kt) = glass_shares::<MIRROR>(m, refraction.fresnel(dir, s.nf, n1, n2));
@@ -316,7 +340,7 @@ pub(super) fn within_depth(scene: &Scene, depth: u32, bounces: u32) -> bool {
 pub(super) fn carried_on(s: &Surface, depth: u32, weight: f64, kt: f64, tr: Transmitted) -> Secondary {
     let w = kt * tr.factor;
     // Out of a lens, or out of a solid: the ray has left the object.
-    let skip = if s.object.lens().is_some() || s.outward(tr.ray.dir) {
+    let skip = if s.object.lens().is_some() || s.object.system().is_some() || s.outward(tr.ray.dir) {
         s.index
     } else {
         usize::MAX

@@ -10,6 +10,7 @@ pub mod fan;
 pub mod setup;
 pub mod sketch;
 pub mod spot;
+pub mod system_trace;
 
 pub use distortion::{Distortion, distortion};
 pub use fan::{Fan, fan};
@@ -39,7 +40,11 @@ pub struct TraceInput {
 pub struct TraceCase {
     #[serde(default)]
     pub id: serde_json::Value,
-    pub lens: LensSpec,
+    /// The biconvex lens; or `system`, a lens system (one of the two).
+    #[serde(default)]
+    pub lens: Option<LensSpec>,
+    #[serde(default)]
+    pub system: Option<system_trace::SystemSpec>,
     pub rays: Vec<RaySpec>,
 }
 
@@ -75,7 +80,25 @@ pub struct TraceOutput {
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct CaseOutput {
     pub id: serde_json::Value,
-    pub rays: Vec<RayOutput>,
+    pub rays: Vec<CaseRay>,
+}
+
+/// A ray's output: through the biconvex lens or through a system.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum CaseRay {
+    Lens(RayOutput),
+    System(system_trace::SystemRayOutput),
+}
+
+impl CaseRay {
+    /// The output of a ray through the biconvex lens.
+    pub fn lens(&self) -> Option<&RayOutput> {
+        match self {
+            CaseRay::Lens(r) => Some(r),
+            CaseRay::System(_) => None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -154,9 +177,20 @@ fn lens_field(e: &LensError) -> &'static str {
 pub fn trace_cases(input: &TraceInput) -> Result<TraceOutput, TraceError> {
     let mut cases = Vec::with_capacity(input.cases.len());
     for (ci, case) in input.cases.iter().enumerate() {
+        if case.system.is_some() {
+            let sys = system_trace::case_system(ci, case)?;
+            let rays = (case.rays.iter().enumerate())
+                .map(|(ri, r)| system_trace::trace_ray(&sys, ci, case, ri, r).map(CaseRay::System))
+                .collect::<Result<_, _>>()?;
+            cases.push(CaseOutput {
+                id: case.id.clone(),
+                rays,
+            });
+            continue;
+        }
         let lens = case_lens(ci, case)?;
         let rays = (case.rays.iter().enumerate())
-            .map(|(ri, r)| trace_ray(&lens, ci, case, ri, r, input.branches))
+            .map(|(ri, r)| trace_ray(&lens, ci, case, ri, r, input.branches).map(CaseRay::Lens))
             .collect::<Result<_, _>>()?;
         cases.push(CaseOutput {
             id: case.id.clone(),
@@ -170,8 +204,15 @@ pub fn trace_cases(input: &TraceInput) -> Result<TraceOutput, TraceError> {
 /// problem that [`trace_cases`] would meet, or none.
 pub fn check_cases(input: &TraceInput) -> Result<(), TraceError> {
     for (ci, case) in input.cases.iter().enumerate() {
-        case_lens(ci, case)?;
-        let index = index_of(case.lens.n);
+        if case.system.is_some() {
+            let sys = system_trace::case_system(ci, case)?;
+            for (ri, r) in case.rays.iter().enumerate() {
+                system_trace::check_ray(&sys, ci, case, ri, r)?;
+            }
+            continue;
+        }
+        let lens = case_lens(ci, case)?;
+        let index = lens.index;
         for (ri, r) in case.rays.iter().enumerate() {
             ray_index(ci, case, ri, r, index)?;
         }
@@ -222,8 +263,16 @@ impl Serialize for StreamedRays<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::{Error, SerializeSeq};
         let (ci, case) = (self.0, self.1);
-        let lens = case_lens(ci, case).map_err(S::Error::custom)?;
         let mut seq = s.serialize_seq(Some(case.rays.len()))?;
+        if case.system.is_some() {
+            let sys = system_trace::case_system(ci, case).map_err(S::Error::custom)?;
+            for (ri, r) in case.rays.iter().enumerate() {
+                let out = system_trace::trace_ray(&sys, ci, case, ri, r).map_err(S::Error::custom)?;
+                seq.serialize_element(&out)?;
+            }
+            return seq.end();
+        }
+        let lens = case_lens(ci, case).map_err(S::Error::custom)?;
         for (ri, r) in case.rays.iter().enumerate() {
             seq.serialize_element(&trace_ray(&lens, ci, case, ri, r, self.2).map_err(S::Error::custom)?)?;
         }
@@ -241,13 +290,18 @@ impl<I: Iterator<Item = T> + ExactSizeIterator + Clone, T: Serialize> Serialize 
 }
 
 /// `cases[0] (id …)`: where a problem with a case is.
-fn case_place(ci: usize, case: &TraceCase) -> String {
+pub(crate) fn case_place(ci: usize, case: &TraceCase) -> String {
     format!("cases[{ci}] (id {})", case.id)
 }
 
 /// The lens of case `ci`, or what is wrong with it.
 fn case_lens(ci: usize, case: &TraceCase) -> Result<Lens, TraceError> {
-    let l = &case.lens;
+    let Some(l) = &case.lens else {
+        return Err(TraceError {
+            place: case_place(ci, case),
+            message: "needs `lens` (the biconvex lens) or `system` (a lens system)".into(),
+        });
+    };
     Lens::new(
         DVec3::from(l.center),
         DVec3::from(l.axis),
@@ -307,7 +361,7 @@ fn trace_ray(
     r: &RaySpec,
     branches: bool,
 ) -> Result<RayOutput, TraceError> {
-    let n = ray_index(ci, case, ri, r, index_of(case.lens.n))?;
+    let n = ray_index(ci, case, ri, r, lens.index)?;
     let p = lens.trace(DVec3::from(r.origin), DVec3::from(r.direction), n);
     let side = |x: Option<(LensSurface, DVec3, DVec3)>| x.map(|(s, p, d)| (s.name(), p.to_array(), d.to_array()));
     let entry = side(p.entry);

@@ -25,6 +25,9 @@ pub struct SceneFile {
     pub objects: Vec<ObjectFile>,
     #[serde(default)]
     pub lenses: Vec<LensFile>,
+    /// Lens systems: every lens that is not the biconvex `[[lenses]]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub systems: Vec<SystemFile>,
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -211,6 +214,83 @@ pub struct LensFile {
     /// Colour of the glass (1 = clear).
     #[serde(default = "default_white", deserialize_with = "exact3")]
     pub tint: V3,
+}
+
+/// `[[systems]]`: a lens system (README, "Lens systems"). `kind` says
+/// which of the other keys it reads; the rest must be absent.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SystemFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// `surfaces`, `prescription`, `preset`, `plano-convex`,
+    /// `plano-concave`, `biconvex`, `biconcave`, `meniscus` or `doublet`.
+    pub kind: String,
+    /// The first surface's vertex; or `center`, the middle of the axial
+    /// length (one of the two).
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
+    pub vertex: Option<V3>,
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
+    pub center: Option<V3>,
+    #[serde(default = "default_axis", deserialize_with = "exact3")]
+    pub axis: V3,
+    #[serde(default = "default_white", deserialize_with = "exact3")]
+    pub tint: V3,
+    /// Shorthand kinds: diameter, radii, centre thickness(es), glass(es).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub d: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r3: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n: Option<IndexFile>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n2: Option<IndexFile>,
+    /// Plano kinds: which face is flat, `"front"` or `"back"` (default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat: Option<String>,
+    /// `kind = "surfaces"`: the surfaces in the order the light meets them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surfaces: Option<Vec<SurfaceFile>>,
+    /// `kind = "prescription"`: a table in pbrt-v4's realistic-camera form.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prescription: Option<String>,
+    /// `kind = "preset"`: a built-in system's name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    /// Prescriptions and presets: lengths are multiplied by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+}
+
+/// One surface of `[[systems]]` `surfaces`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceFile {
+    /// Signed radius (0 = plane).
+    #[serde(default)]
+    pub radius: f64,
+    #[serde(default)]
+    pub thickness: f64,
+    /// The medium after the surface (1 = air).
+    #[serde(default = "default_air")]
+    pub n: IndexFile,
+    pub semi_aperture: f64,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub stop: bool,
+}
+
+fn default_air() -> IndexFile {
+    IndexFile::Constant(1.0)
 }
 
 /// A refractive index as written in a file: `1.5` or `{ cauchy = [A, B] }`.

@@ -10,15 +10,17 @@ pub mod error;
 pub mod file;
 mod input;
 mod stream;
+mod systems;
 mod validate;
 
 pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;
 pub use input::{SCENE_FILE_CAP, check_scene_bytes, read_capped};
+pub use systems::KINDS as SYSTEM_KINDS;
 
 use crate::camera::Camera;
 use crate::color::Rgb;
-use crate::geometry::{Aabb, Lens, Shape};
+use crate::geometry::{Aabb, Lens, LensSystem, Shape};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::rotation_from_degrees;
@@ -148,6 +150,13 @@ impl Object {
             _ => None,
         }
     }
+
+    pub fn system(&self) -> Option<&LensSystem> {
+        match &self.shape {
+            Shape::System(s) => Some(s),
+            _ => None,
+        }
+    }
 }
 
 /// What a scene uses, decided once when it is built, so that rendering
@@ -255,7 +264,11 @@ impl Scene {
             glass,
             mirror: glass || mats().any(|m| m.reflectivity > 0.0),
             specular: mats().any(|m| m.specular > 0.0),
-            dispersion: mats().any(|m| m.transparency > 0.0 && m.ior.is_dispersive()),
+            dispersion: mats().any(|m| m.transparency > 0.0 && m.ior.is_dispersive())
+                || self
+                    .objects
+                    .iter()
+                    .any(|o| o.system().is_some_and(LensSystem::is_dispersive)),
             caustics: self.caustics.unwrap_or(true) && glass_or_mirror && !self.lights.is_empty(),
         };
         self.bvh = (self.objects.len() >= BVH_MIN_OBJECTS).then(|| {
@@ -349,6 +362,7 @@ impl Scene {
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
         objects.extend(v.lenses(sf));
+        objects.extend(v.systems(sf));
         v.camera_off_surfaces(sf, camera.position, &objects);
         // Pushed one by one, the vector may have room for nearly as many
         // again (760 bytes each): give it back (tests/memory.rs).

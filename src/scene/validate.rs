@@ -212,7 +212,7 @@ impl Validator {
         }
     }
 
-    fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
+    pub(super) fn problem(&mut self, path: FieldPath, msg: impl Into<String>) {
         self.problems.push(Problem::new(path, msg));
     }
 
@@ -227,7 +227,7 @@ impl Validator {
         DVec3::from(v)
     }
 
-    fn colour(&mut self, path: &FieldPath, v: V3) -> Rgb {
+    pub(super) fn colour(&mut self, path: &FieldPath, v: V3) -> Rgb {
         for (i, x) in v.iter().enumerate() {
             if !(x.is_finite() && *x >= 0.0) {
                 self.problem(
@@ -291,7 +291,7 @@ impl Validator {
         }
     }
 
-    fn index(&mut self, path: &FieldPath, n: IndexFile) -> Index {
+    pub(super) fn index(&mut self, path: &FieldPath, n: IndexFile) -> Index {
         match n {
             IndexFile::Constant(n) => {
                 if !(n >= 1.0) {
