@@ -191,34 +191,44 @@ fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
                 said(format!("lens {name} = {:.4}", *r), want > *r)
             }
         }
-        Edit::LensIndex(delta) => {
-            let (lo, hi) = INDEX_RANGE;
-            match &mut l.n {
-                IndexFile::Constant(n) => {
-                    let want = *n + delta;
-                    *n = want.clamp(lo, hi);
-                    if want != *n {
-                        format!("lens n clamped to {:.4}", *n)
-                    } else {
-                        format!("lens n = {:.4}", *n)
-                    }
-                }
-                IndexFile::Cauchy([a, b]) => {
-                    // Shift A; keep n(λ) within range over the visible band.
-                    let n_blue = |a: f64| a + *b / (0.38 * 0.38);
-                    let want = *a + delta;
-                    let a_max = hi - (n_blue(0.0)).max(0.0);
-                    let a_min = lo - (*b / (0.78 * 0.78)).min(0.0);
-                    *a = want.clamp(a_min, a_max.max(a_min));
-                    if want != *a {
-                        format!("lens Cauchy A clamped to {:.4}", *a)
-                    } else {
-                        format!("lens Cauchy A = {:.4} (B = {:.5})", *a, *b)
-                    }
-                }
+        Edit::LensIndex(delta) => edit_index(&mut l.n, delta),
+        _ => String::new(),
+    }
+}
+
+/// The lens index changed by `delta` (its Cauchy A for a Cauchy pair),
+/// clamped to [`INDEX_RANGE`]; a catalogue glass is left as it is.
+fn edit_index(n: &mut IndexFile, delta: f64) -> String {
+    let (lo, hi) = INDEX_RANGE;
+    match n {
+        IndexFile::Constant(n) => {
+            let want = *n + delta;
+            *n = want.clamp(lo, hi);
+            if want != *n {
+                format!("lens n clamped to {:.4}", *n)
+            } else {
+                format!("lens n = {:.4}", *n)
             }
         }
-        _ => String::new(),
+        IndexFile::Cauchy([a, b]) => {
+            // Shift A; keep n(λ) within range over the visible band.
+            let n_blue = |a: f64| a + *b / (0.38 * 0.38);
+            let want = *a + delta;
+            let a_max = hi - (n_blue(0.0)).max(0.0);
+            let a_min = lo - (*b / (0.78 * 0.78)).min(0.0);
+            *a = want.clamp(a_min, a_max.max(a_min));
+            if want != *a {
+                format!("lens Cauchy A clamped to {:.4}", *a)
+            } else {
+                format!("lens Cauchy A = {:.4} (B = {:.5})", *a, *b)
+            }
+        }
+        // A catalogue glass is kept: its index is the glass's own.
+        IndexFile::Glass(g) => format!(
+            "lens n is the glass {} (nd = {:.5}): choose n or Cauchy in the panel to change it",
+            g.name,
+            g.nd()
+        ),
     }
 }
 
@@ -229,6 +239,17 @@ mod tests {
 
     fn sf() -> SceneFile {
         Scene::default_scene().0
+    }
+
+    #[test]
+    fn a_glass_lens_keeps_its_glass_under_the_index_key() {
+        let mut s = sf();
+        let g = crate::glass::lookup("N-BK7").unwrap();
+        s.lenses[0].n = IndexFile::Glass(g);
+        let msg = apply(&mut s, Edit::LensIndex(0.3));
+        assert!(msg.contains("the glass N-BK7 (nd = 1.51680)"), "{msg}");
+        assert_eq!(s.lenses[0].n, IndexFile::Glass(g));
+        Scene::build(&s).unwrap();
     }
 
     #[test]

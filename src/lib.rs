@@ -11,6 +11,7 @@
 //!
 //! ```text
 //! math · color · sampling · optics · simd     pure functions and lane helpers
+//! glass · prescription                        glass catalogue · lens prescription text
 //! limits · output · files · photon            size/work limits · atomic file writes · which files · photon map
 //!         ↑
 //! geometry · material · light · camera        one closed set of shapes
@@ -74,6 +75,7 @@ pub mod color;
 pub mod edit;
 pub mod files;
 pub mod geometry;
+pub mod glass;
 pub mod integrator;
 pub mod lens_tools;
 pub mod light;
@@ -83,6 +85,7 @@ pub mod math;
 pub mod optics;
 pub mod output;
 pub mod photon;
+pub mod prescription;
 pub mod render;
 pub mod sampling;
 pub mod scene;

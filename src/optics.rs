@@ -4,6 +4,7 @@
 //! Conventions: a surface normal `n` passed here is unit length and faces the
 //! side the incident ray comes from (`dot(i, n) < 0`); directions are unit.
 
+use crate::glass::Glass;
 use glam::DVec3;
 
 /// The d line of helium (587.5618 nm), where a single "n" is quoted.
@@ -159,12 +160,13 @@ pub fn fresnel_cosines(cos_i: f64, cos_t: f64, n1: f64, n2: f64) -> f64 {
     0.5 * (s_num * p_den + p_num * s_den) / (s_den * p_den)
 }
 
-/// A refractive index: a constant, or Cauchy's law `n(λ) = A + B/λ²` with λ in
-/// micrometres.
+/// A refractive index: a constant, Cauchy's law `n(λ) = A + B/λ²` with λ in
+/// micrometres, or a catalogue glass (Sellmeier, `crate::glass`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Index {
     Constant(f64),
     Cauchy { a: f64, b: f64 },
+    Glass(&'static Glass),
 }
 
 impl Index {
@@ -173,6 +175,7 @@ impl Index {
         match *self {
             Index::Constant(n) => n,
             Index::Cauchy { a, b } => a + b / (lambda_um * lambda_um),
+            Index::Glass(g) => g.n(lambda_um),
         }
     }
 
@@ -182,7 +185,7 @@ impl Index {
     }
 
     pub fn is_dispersive(&self) -> bool {
-        matches!(*self, Index::Cauchy { b, .. } if b != 0.0)
+        matches!(*self, Index::Cauchy { b, .. } if b != 0.0) || matches!(self, Index::Glass(_))
     }
 }
 
@@ -443,5 +446,14 @@ mod tests {
         let idx = Index::Cauchy { a: 1.5, b: 0.004 };
         assert_relative_eq!(idx.at(0.5), 1.516, epsilon = 1e-15);
         assert!(idx.is_dispersive() && !Index::Constant(1.5).is_dispersive());
+    }
+
+    #[test]
+    fn glass_index() {
+        let g = crate::glass::lookup("N-BK7").unwrap();
+        let idx = Index::Glass(g);
+        assert_eq!(idx.at(0.5), g.n(0.5));
+        assert!((idx.nominal() - 1.5168).abs() < 2e-5);
+        assert!(idx.is_dispersive() && idx == Index::Glass(g));
     }
 }

@@ -271,6 +271,39 @@ fn lens_info_prints_paraxial_data_as_text_and_json() {
 
 /// `bench --quick` writes every table and plot with numbers in them, and its
 /// side modes answer as the benchmark scripts expect.
+/// `--n` takes a catalogue glass (issue 31): its nd and Abbe number are
+/// printed, and an unknown name is one line listing the known ones.
+#[test]
+fn lens_info_takes_a_glass_name() {
+    let args = ["lens", "info", "--d", "20", "--r1", "50", "--r2", "50", "--n", "N-BK7"];
+    let o = bin().args(args).output().unwrap();
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("glass N-BK7: nd = 1.51680, Abbe number vd = 64.17"),
+        "{text}"
+    );
+    assert!(text.contains("axial colour"), "{text}");
+    let o = bin().args(args).arg("--json").output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["glass"]["name"], "N-BK7");
+    assert!((v["glass"]["nd"].as_f64().unwrap() - 1.5168).abs() < 2e-5);
+    assert!((v["glass"]["abbe"].as_f64().unwrap() - 64.17).abs() < 0.05);
+    assert!((v["n"].as_f64().unwrap() - 1.5168).abs() < 2e-5);
+    let o = bin()
+        .args([
+            "lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "1.5", "--json",
+        ])
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v.get("glass").is_none());
+    fails_with(
+        &["lens", "info", "--d", "2", "--r1", "5", "--r2", "5", "--n", "XYZ"],
+        "`XYZ` is neither a number nor a known glass (known: N-BK7,",
+    );
+}
+
 #[test]
 fn bench_writes_its_tables_and_plots() {
     let dir = tmp("bench");

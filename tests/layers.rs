@@ -9,7 +9,17 @@ use std::path::{Path, PathBuf};
 /// Top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers").
 const LAYERS: &[&[&str]] = &[
     &[
-        "math", "color", "sampling", "optics", "simd", "limits", "output", "files", "photon",
+        "math",
+        "color",
+        "sampling",
+        "optics",
+        "simd",
+        "limits",
+        "output",
+        "files",
+        "photon",
+        "glass",
+        "prescription",
     ],
     &["geometry", "material", "light", "camera"],
     &["accel"],

@@ -603,3 +603,37 @@ fn scenes_at_the_edges_of_the_supported_domain_render_correctly() {
         "{px:?}"
     );
 }
+
+/// A catalogue glass by name (issue 31): a lens and a material take
+/// `"N-BK7"`, render with its dispersion and write the name back; an
+/// unknown name is one line naming the field and the known glasses.
+#[test]
+fn glass_names_are_read_rendered_and_refused_by_field() {
+    let text = BASE.replace("n = 1.5", "n = \"N-BK7\"").replace(
+        "color = [0.8, 0.1, 0.1]",
+        "color = [0.8, 0.1, 0.1]\ntransparency = 0.5\nior = \"n-sf11\"",
+    );
+    let (sf, scene) = Scene::parse("glass.toml", &text).unwrap_or_else(|e| panic!("{e}"));
+    let bk7 = lensview::glass::lookup("N-BK7").unwrap();
+    assert_eq!(sf.lenses[0].n, lensview::scene::file::IndexFile::Glass(bk7));
+    let saved = toml::to_string(&sf).unwrap();
+    assert!(
+        saved.contains("n = \"N-BK7\"") && saved.contains("ior = \"N-SF11\""),
+        "{saved}"
+    );
+    assert_eq!(Scene::parse("again.toml", &saved).unwrap().1, scene);
+    let px = render_small(&text);
+    assert!(px.iter().all(|c| c.is_finite()) && px.iter().any(|c| c.x > 0.0));
+
+    let (line, field, msg) = error_of("n = 1.5", "n = \"XYZ\"");
+    assert_eq!((line, field.as_str()), (23, "lenses[0].n"));
+    assert!(
+        msg.contains("unknown glass \"XYZ\"") && msg.contains("N-BK7, ") && msg.contains("F_SILICA"),
+        "{msg}"
+    );
+    // BK7 (the old melt) is not N-BK7.
+    assert_eq!(error_of("n = 1.5", "n = \"BK7\"").1, "lenses[0].n");
+    let (_, field, msg) = error_of("color = [0.8, 0.1, 0.1]", "color = [0.8, 0.1, 0.1]\nior = \"XYZ\"");
+    assert_eq!(field, "materials.red.ior");
+    assert!(msg.contains("unknown glass"), "{msg}");
+}

@@ -50,7 +50,8 @@ pub struct LensShape {
     /// Radius of curvature of S2 (magnitude, ≥ d/2).
     #[arg(long)]
     pub r2: f64,
-    /// Refractive index (a number), or Cauchy coefficients as A,B (n = A + B/λ², λ in µm).
+    /// Refractive index (a number), Cauchy coefficients as A,B (n = A + B/λ², λ in µm), or a catalogue
+    /// glass's name (N-BK7, N-SF5, F2, …: Sellmeier dispersion).
     #[arg(long, value_parser = parse_index)]
     pub n: lensview::optics::Index,
 }
@@ -64,6 +65,15 @@ fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
     let s = s.trim().trim_start_matches("cauchy:");
     match s.split_once(',') {
         Some((a, b)) => Ok(lensview::optics::Index::Cauchy { a: num(a)?, b: num(b)? }),
+        None if s.parse::<f64>().is_err() && s.chars().any(|c| c.is_ascii_alphabetic()) => {
+            match lensview::glass::lookup(s) {
+                Some(g) => Ok(lensview::optics::Index::Glass(g)),
+                None => Err(format!(
+                    "`{s}` is neither a number nor a known glass (known: {})",
+                    lensview::glass::names()
+                )),
+            }
+        }
         None => Ok(lensview::optics::Index::Constant(num(s)?)),
     }
 }

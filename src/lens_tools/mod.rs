@@ -162,6 +162,7 @@ pub fn index_of(n: IndexFile) -> Index {
     match n {
         IndexFile::Constant(n) => Index::Constant(n),
         IndexFile::Cauchy([a, b]) => Index::Cauchy { a, b },
+        IndexFile::Glass(g) => Index::Glass(g),
     }
 }
 
@@ -465,6 +466,18 @@ pub struct LensInfo {
     /// (656.3 nm); negative when blue focuses closer, as in every simple lens.
     pub axial_colour: Option<f64>,
     pub max_internal_reflections: u32,
+    /// For a catalogue glass: its name, `nd` and Abbe number `vd` (from
+    /// its Sellmeier formula at 587.56, 486.13 and 656.27 nm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub glass: Option<GlassInfo>,
+}
+
+/// [`LensInfo::glass`].
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct GlassInfo {
+    pub name: &'static str,
+    pub nd: f64,
+    pub abbe: f64,
 }
 
 /// [`LensInfo::no_power`]'s reason.
@@ -517,6 +530,14 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
         spherical_aberration: marginal.map(|m| m - px.bfd),
         axial_colour,
         max_internal_reflections: MAX_INTERNAL_REFLECTIONS,
+        glass: match index {
+            Index::Glass(g) => Some(GlassInfo {
+                name: g.name,
+                nd: g.nd(),
+                abbe: g.abbe(),
+            }),
+            _ => None,
+        },
     })
 }
 
@@ -529,6 +550,13 @@ impl std::fmt::Display for LensInfo {
             "lens d = {}, R1 = {}, R2 = {}, n = {} at λ = {} µm",
             self.d, self.r1, self.r2, self.n, self.wavelength_um
         )?;
+        if let Some(gl) = &self.glass {
+            writeln!(
+                f,
+                "  glass {}: nd = {:.5}, Abbe number vd = {:.2}",
+                gl.name, gl.nd, gl.abbe
+            )?;
+        }
         writeln!(f, "  centre thickness           {}", g(self.thickness))?;
         writeln!(f, "  sagitta S1, S2             {}, {}", g(self.sag1), g(self.sag2))?;
         if let Some(why) = self.no_power {

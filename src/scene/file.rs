@@ -2,6 +2,7 @@
 //! keys; every default lives here, in one place. See README.md, "Scene file
 //! format", for the meaning of each key.
 
+use crate::glass::{self, Glass};
 use serde::de::{self, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::collections::BTreeMap;
@@ -293,11 +294,14 @@ fn default_air() -> IndexFile {
     IndexFile::Constant(1.0)
 }
 
-/// A refractive index as written in a file: `1.5` or `{ cauchy = [A, B] }`.
+/// A refractive index as written in a file: `1.5`, `{ cauchy = [A, B] }`
+/// or a catalogue glass's name, `"N-BK7"` (resolved when read; an unknown
+/// name is refused with the list of known ones).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum IndexFile {
     Constant(f64),
     Cauchy([f64; 2]),
+    Glass(&'static Glass),
 }
 
 impl<'de> Deserialize<'de> for IndexFile {
@@ -306,7 +310,13 @@ impl<'de> Deserialize<'de> for IndexFile {
         impl<'de> Visitor<'de> for V {
             type Value = IndexFile;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number or a table { cauchy = [A, B] }")
+                f.write_str("a number, a glass name or a table { cauchy = [A, B] }")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<IndexFile, E> {
+                glass::lookup(v).map(IndexFile::Glass).ok_or_else(|| {
+                    let shown: String = v.chars().take(40).flat_map(char::escape_default).collect();
+                    E::custom(format!("unknown glass \"{shown}\"; known glasses: {}", glass::names()))
+                })
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<IndexFile, E> {
                 Ok(IndexFile::Constant(v))
@@ -336,6 +346,7 @@ impl Serialize for IndexFile {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
             IndexFile::Constant(n) => s.serialize_f64(*n),
+            IndexFile::Glass(g) => s.serialize_str(g.name),
             IndexFile::Cauchy(ab) => {
                 use serde::ser::SerializeMap;
                 let mut m = s.serialize_map(Some(1))?;

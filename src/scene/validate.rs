@@ -316,6 +316,8 @@ impl Validator {
                 }
                 idx
             }
+            // A catalogue glass is physical everywhere in the visible.
+            IndexFile::Glass(g) => Index::Glass(g),
         }
     }
 

@@ -278,10 +278,18 @@ pub fn switch_light_kind(light: &mut LightFile, kind: LightKind) {
 
 /// An index with or without dispersion, keeping its value at the d line:
 /// a constant becomes Cauchy's `A + B/λ²` with a crown glass's B
-/// ([`CROWN_B`]); a Cauchy pair becomes its d-line value.
+/// ([`CROWN_B`]); a Cauchy pair becomes its d-line value. A catalogue
+/// glass becomes its `nd`, or the Cauchy pair through its `nd` with its
+/// `nF − nC` (so the Abbe number is kept).
 pub fn index_with_dispersion(n: IndexFile, dispersive: bool) -> IndexFile {
     match (n, dispersive) {
         (IndexFile::Cauchy([a, b]), false) => IndexFile::Constant(Index::Cauchy { a, b }.nominal()),
+        (IndexFile::Glass(g), false) => IndexFile::Constant(g.nd()),
+        (IndexFile::Glass(g), true) => {
+            use crate::glass::{C_UM, F_UM};
+            let b = (g.n(F_UM) - g.n(C_UM)) / (F_UM.powi(-2) - C_UM.powi(-2));
+            IndexFile::Cauchy([g.nd() - b / WAVELENGTH_D_UM.powi(2), b])
+        }
         (IndexFile::Constant(v), true) => IndexFile::Cauchy([v - CROWN_B / WAVELENGTH_D_UM.powi(2), CROWN_B]),
         _ => n,
     }

@@ -170,7 +170,7 @@ impl Lens {
         };
         match index {
             Index::Constant(n) => check_n(n)?,
-            Index::Cauchy { .. } => {
+            Index::Cauchy { .. } | Index::Glass(_) => {
                 // Must be physical over the visible range used for rendering.
                 check_n(index.at(0.38))?;
                 check_n(index.at(0.78))?;

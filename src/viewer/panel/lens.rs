@@ -147,6 +147,7 @@ fn to_index(n: IndexFile) -> Index {
     match n {
         IndexFile::Constant(v) => Index::Constant(v),
         IndexFile::Cauchy([a, b]) => Index::Cauchy { a, b },
+        IndexFile::Glass(g) => Index::Glass(g),
     }
 }
 

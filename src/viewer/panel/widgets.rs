@@ -121,11 +121,16 @@ pub fn name(ui: &mut egui::Ui, name: &mut Option<String>) {
     }
 }
 
-/// A refractive index: a constant, or Cauchy's A and B.
+/// A refractive index: a constant, or Cauchy's A and B; a catalogue glass
+/// (from the file) is shown by name and kept until another kind is chosen.
 pub fn index(ui: &mut egui::Ui, n: &mut IndexFile) {
     ui.horizontal(|ui| {
         let cauchy = matches!(n, IndexFile::Cauchy(_));
-        if ui.radio(!cauchy, "n").clicked() {
+        let constant = matches!(n, IndexFile::Constant(_));
+        if let IndexFile::Glass(g) = n {
+            let _ = ui.radio(true, format!("glass {}", g.name));
+        }
+        if ui.radio(constant, "n").clicked() {
             *n = index_with_dispersion(*n, false);
         }
         if ui.radio(cauchy, "Cauchy A + B/λ²").clicked() {
@@ -142,6 +147,10 @@ pub fn index(ui: &mut egui::Ui, n: &mut IndexFile) {
                 ui.add(Field::Dispersion.drag(b).speed(0.0002).max_decimals(6).prefix("B "))
                     .on_hover_text("µm²");
             });
+        }
+        IndexFile::Glass(g) => {
+            ui.label(format!("nd {:.5}, Abbe number vd {:.2}", g.nd(), g.abbe()))
+                .on_hover_text("Sellmeier dispersion from the glass catalogue");
         }
     }
 }

@@ -300,3 +300,21 @@ fn dispersion_on_and_off_keeps_the_index_at_the_d_line() {
     };
     assert!((back - 1.5).abs() < 1e-12);
 }
+
+#[test]
+fn a_glass_turns_into_its_nd_or_a_cauchy_pair_with_its_dispersion() {
+    use crate::glass::{C_UM, F_UM};
+    let g = crate::glass::lookup("N-SF5").unwrap();
+    let n = IndexFile::Glass(g);
+    let IndexFile::Constant(nd) = index_with_dispersion(n, false) else {
+        panic!()
+    };
+    assert_eq!(nd, g.nd());
+    let IndexFile::Cauchy([a, b]) = index_with_dispersion(n, true) else {
+        panic!()
+    };
+    let c = Index::Cauchy { a, b };
+    assert!((c.nominal() - g.nd()).abs() < 1e-12);
+    let dispersion = g.n(F_UM) - g.n(C_UM);
+    assert!((c.at(F_UM) - c.at(C_UM) - dispersion).abs() < 1e-12);
+}
