@@ -39,6 +39,7 @@
 //! | the lens: a ray inside, exits, internal reflection | `geometry/lens/trace.rs` |
 //! | the lens: the same steps over eight lanes | `geometry/lens/lanes.rs` |
 //! | refraction, Fresnel, thick-lens paraxial data | `optics.rs` |
+//! | the glass catalogue; lens prescriptions as text (`lenses/*.dat`) | `glass.rs`; `prescription.rs` |
 //! | `lens trace`/`info`; ray fan, LSA, spot diagram, distortion, the fan's drawing | `lens_tools/mod.rs`; `lens_tools/{setup,fan,spot,distortion,sketch}.rs` |
 //! | other shapes, one a file; the box test and its padding | `geometry/{sphere,cuboid,prism,pyramid,polytope,aabb}.rs` |
 //! | the BVH | `accel/mod.rs` |
