@@ -10,6 +10,7 @@ use super::validate::Validator;
 use crate::geometry::{LensSystem, Shape, SurfaceSpec, SystemError};
 use crate::material::Material;
 use crate::optics::Index;
+use crate::prescription;
 use glam::DVec3;
 
 /// The kinds a `[[systems]]` entry may have.
@@ -282,8 +283,58 @@ impl Validator {
         p: &FieldPath,
         s: &SystemFile,
     ) -> Option<(Vec<SurfaceSpec>, Box<dyn Fn(&SystemError) -> String>)> {
-        let _ = s;
-        self.problem(p.key("kind"), "prescriptions are not read yet");
-        None
+        let (key, text) = if s.kind == "preset" {
+            let Some(name) = &s.preset else {
+                self.problem(p.key("preset"), format!("kind `preset` needs `preset`: one of {}", preset_names()));
+                return None;
+            };
+            let Some(text) = prescription::preset(name) else {
+                self.problem(p.key("preset"), format!("no preset `{name}`: one of {}", preset_names()));
+                return None;
+            };
+            ("preset", text)
+        } else {
+            let Some(text) = &s.prescription else {
+                self.problem(p.key("prescription"), "kind `prescription` needs `prescription`, the table as text");
+                return None;
+            };
+            ("prescription", text.as_str())
+        };
+        let scale = s.scale.unwrap_or(1.0);
+        if !(scale > 0.0 && scale.is_finite()) {
+            self.problem(p.key("scale"), format!("scale {scale} must be positive and finite"));
+            return None;
+        }
+        let rows = match prescription::parse(key, text) {
+            Ok(rows) => rows,
+            Err(e) => {
+                self.problem(p.key(key), e.to_string());
+                return None;
+            }
+        };
+        let lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
+        let fields = move |e: &SystemError| match e.surface {
+            Some(k) => format!("{key}: line {}: {}", lines.get(k).copied().unwrap_or(0), e.field),
+            None => format!("{key}: {}", e.field),
+        };
+        Some((from_rows(&rows, scale), Box::new(fields)))
     }
+}
+
+/// The names of the built-in prescriptions.
+fn preset_names() -> String {
+    prescription::PRESETS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+}
+
+/// The surfaces of a prescription's rows, lengths times `scale`.
+pub fn from_rows(rows: &[prescription::PrescriptionRow], scale: f64) -> Vec<SurfaceSpec> {
+    rows.iter()
+        .map(|r| SurfaceSpec {
+            radius: r.radius * scale,
+            thickness: r.thickness * scale,
+            n: r.n,
+            semi_aperture: 0.5 * r.aperture_diameter * scale,
+            stop: r.stop,
+        })
+        .collect()
 }
