@@ -500,3 +500,12 @@ pub fn inside_path<T: Real>(g: &Geometry<T>, mut x: V3<T>, mut v: V3<T>) -> Path
         }
     }
 }
+
+// ---------------------------------------------------------------------------
+// Lens systems (docs/lens-systems.md)
+// ---------------------------------------------------------------------------
+
+#[allow(dead_code)]
+pub mod system;
+#[allow(dead_code)]
+pub mod system_cases;
