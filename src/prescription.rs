@@ -171,6 +171,25 @@ pub fn parse(name: &str, text: &str) -> Result<Vec<PrescriptionRow>, Prescriptio
     Ok(rows)
 }
 
+/// The prescriptions of `lenses/`, compiled in: `[[systems]]` with
+/// `kind = "preset"` and `lens … --preset` name them.
+pub const PRESETS: &[(&str, &str)] = &[
+    ("double-gauss-50mm", include_str!("../lenses/dgauss.50mm.dat")),
+    ("cooke-triplet-100mm", include_str!("../lenses/cooke-triplet.100mm.dat")),
+    (
+        "achromat-AC254-100-A",
+        include_str!("../lenses/achromat.AC254-100-A.dat"),
+    ),
+    ("wide-22mm", include_str!("../lenses/wide.22mm.dat")),
+    ("telephoto-250mm", include_str!("../lenses/telephoto.250mm.dat")),
+    ("fisheye-10mm", include_str!("../lenses/fisheye.10mm.dat")),
+];
+
+/// The preset called `name`.
+pub fn preset(name: &str) -> Option<&'static str> {
+    PRESETS.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -271,20 +290,4 @@ mod tests {
         assert_eq!(dgauss.len(), 11);
         assert!(dgauss[5].stop && dgauss[5].aperture_diameter == 17.1);
     }
-}
-
-/// The prescriptions of `lenses/`, compiled in: `[[systems]]` with
-/// `kind = "preset"` and `lens … --preset` name them.
-pub const PRESETS: &[(&str, &str)] = &[
-    ("double-gauss-50mm", include_str!("../lenses/dgauss.50mm.dat")),
-    ("cooke-triplet-100mm", include_str!("../lenses/cooke-triplet.100mm.dat")),
-    ("achromat-AC254-100-A", include_str!("../lenses/achromat.AC254-100-A.dat")),
-    ("wide-22mm", include_str!("../lenses/wide.22mm.dat")),
-    ("telephoto-250mm", include_str!("../lenses/telephoto.250mm.dat")),
-    ("fisheye-10mm", include_str!("../lenses/fisheye.10mm.dat")),
-];
-
-/// The preset called `name`.
-pub fn preset(name: &str) -> Option<&'static str> {
-    PRESETS.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
 }

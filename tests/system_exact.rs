@@ -506,16 +506,33 @@ fn lens_trace_systems_match_reference() {
 // ---------------------------------------------------------------------------
 
 /// The crate's paraxial data of a system (EFL, BFD, FFD, H from V1, H' from
-/// the last vertex; lengths along the light, FFD before V1). `lens info`
-/// for systems has no format yet (issue #31): wire it here, then un-ignore
-/// `lens_info_systems_match_paraxial_reference`.
-fn crate_paraxial(_spec: &SystemSpec) -> Result<Paraxial<f64>, String> {
-    Err("`lens info` for lens systems is not defined yet (issue #31)".into())
+/// the last vertex; lengths along the light, FFD before V1), as
+/// `lens system --json` prints them.
+fn crate_paraxial(spec: &SystemSpec) -> Result<Paraxial<f64>, String> {
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let path = dir.path().join("system.json");
+    std::fs::write(&path, spec.to_json().to_string()).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .args(["lens", "system", "--json", "--system"])
+        .arg(&path)
+        .output()
+        .map_err(|e| e.to_string())?;
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
+    let f = |k: &str| v[k].as_f64().ok_or(format!("no `{k}` in {v}"));
+    Ok(Paraxial {
+        efl: f("efl")?,
+        bfd: f("bfd")?,
+        ffd: f("ffd")?,
+        h: f("front_principal")?,
+        h_rear: f("rear_principal")?,
+    })
 }
 
 #[test]
-#[ignore = "`lens info` for systems has no format yet: wire crate_paraxial (issue #31)"]
-fn lens_info_systems_match_paraxial_reference() {
+fn lens_system_paraxial_data_match_the_reference() {
     for (name, spec) in paraxial_systems() {
         let want = paraxial::<DD>(&spec, D_LINE_UM).expect("power");
         let got = crate_paraxial(&spec).unwrap_or_else(|e| panic!("{name}: {e}"));

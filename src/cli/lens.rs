@@ -24,6 +24,9 @@ pub enum LensCommand {
     Spot(super::lens_figures::SpotArgs),
     /// Distortion (%) of the real chief ray against the paraxial image height, by field angle.
     Distortion(super::lens_figures::DistortionArgs),
+    /// First-order data of a lens system (EFL, BFD, FFD, H, H', pupils, f-number, axial colour)
+    /// from a JSON system, a prescription file or a preset.
+    System(super::lens_system::LensSystemArgs),
 }
 
 #[derive(Args, Debug)]
@@ -125,6 +128,7 @@ pub fn lens(c: LensCommand) -> Result<()> {
     match c {
         LensCommand::Trace { cases, branches } => lens_trace(&cases, branches),
         LensCommand::Info(a) => lens_info(&a),
+        LensCommand::System(a) => super::lens_system::lens_system(&a),
         LensCommand::Fan(a) => super::lens_figures::fan(&a),
         LensCommand::Spot(a) => super::lens_figures::spot(&a),
         LensCommand::Distortion(a) => super::lens_figures::distortion(&a),

@@ -16,6 +16,7 @@ mod bench;
 mod converge;
 mod lens;
 mod lens_figures;
+mod lens_system;
 mod progress;
 mod render;
 mod table;

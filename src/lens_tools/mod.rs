@@ -10,6 +10,7 @@ pub mod fan;
 pub mod setup;
 pub mod sketch;
 pub mod spot;
+pub mod system_info;
 pub mod system_trace;
 
 pub use distortion::{Distortion, distortion};

@@ -69,6 +69,27 @@ pub struct SystemRayOutput {
     pub exit_direction: Option<[f64; 3]>,
 }
 
+impl SystemSpec {
+    /// The system, or what is wrong with it (`surfaces[k].field: message`).
+    pub fn build(&self) -> Result<LensSystem, String> {
+        let surfaces = self
+            .surfaces
+            .iter()
+            .map(|s| SurfaceSpec {
+                radius: s.radius,
+                thickness: s.thickness,
+                n: index_of(s.n),
+                semi_aperture: s.semi_aperture,
+                stop: s.stop,
+            })
+            .collect();
+        LensSystem::new(DVec3::from(self.vertex), DVec3::from(self.axis), surfaces).map_err(|e| match e.surface {
+            Some(k) => format!("surfaces[{k}].{}: {}", e.field, e.message),
+            None => format!("{}: {}", e.field, e.message),
+        })
+    }
+}
+
 /// The system of case `ci`, or what is wrong with it.
 pub(super) fn case_system(ci: usize, case: &TraceCase) -> Result<LensSystem, TraceError> {
     let place = case_place(ci, case);
@@ -84,23 +105,9 @@ pub(super) fn case_system(ci: usize, case: &TraceCase) -> Result<LensSystem, Tra
             message: "gives both `lens` and `system`: one of the two".into(),
         });
     }
-    let surfaces = spec
-        .surfaces
-        .iter()
-        .map(|s| SurfaceSpec {
-            radius: s.radius,
-            thickness: s.thickness,
-            n: index_of(s.n),
-            semi_aperture: s.semi_aperture,
-            stop: s.stop,
-        })
-        .collect();
-    LensSystem::new(DVec3::from(spec.vertex), DVec3::from(spec.axis), surfaces).map_err(|e| TraceError {
-        place: match e.surface {
-            Some(k) => format!("{place}.system.surfaces[{k}].{}", e.field),
-            None => format!("{place}.system.{}", e.field),
-        },
-        message: e.message,
+    spec.build().map_err(|message| TraceError {
+        place: format!("{place}.system"),
+        message,
     })
 }
 

@@ -285,17 +285,26 @@ impl Validator {
     ) -> Option<(Vec<SurfaceSpec>, Box<dyn Fn(&SystemError) -> String>)> {
         let (key, text) = if s.kind == "preset" {
             let Some(name) = &s.preset else {
-                self.problem(p.key("preset"), format!("kind `preset` needs `preset`: one of {}", preset_names()));
+                self.problem(
+                    p.key("preset"),
+                    format!("kind `preset` needs `preset`: one of {}", preset_names()),
+                );
                 return None;
             };
             let Some(text) = prescription::preset(name) else {
-                self.problem(p.key("preset"), format!("no preset `{name}`: one of {}", preset_names()));
+                self.problem(
+                    p.key("preset"),
+                    format!("no preset `{name}`: one of {}", preset_names()),
+                );
                 return None;
             };
             ("preset", text)
         } else {
             let Some(text) = &s.prescription else {
-                self.problem(p.key("prescription"), "kind `prescription` needs `prescription`, the table as text");
+                self.problem(
+                    p.key("prescription"),
+                    "kind `prescription` needs `prescription`, the table as text",
+                );
                 return None;
             };
             ("prescription", text.as_str())
@@ -323,7 +332,11 @@ impl Validator {
 
 /// The names of the built-in prescriptions.
 fn preset_names() -> String {
-    prescription::PRESETS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    prescription::PRESETS
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The surfaces of a prescription's rows, lengths times `scale`.

@@ -143,6 +143,12 @@ impl LensSystem {
         let most = MAX_REFLECTIONS as usize + 8 * self.len() + 8;
         while let Some(c) = self.next_crossing(x, u, from, lo, f64::INFINITY) {
             let (kind, next) = self.real_step(&c, u, lambda_um);
+            // As the lens's tracer counts: MAX_REFLECTIONS are followed,
+            // one more makes the ray trapped (not listed).
+            if kind == EventKind::Reflect && out.reflections == MAX_REFLECTIONS {
+                out.status = RayStatus::Trapped;
+                return out;
+            }
             x = c.x;
             u = next;
             lo = 0.0;
@@ -159,7 +165,7 @@ impl LensSystem {
                 out.status = RayStatus::Absorbed;
                 return out;
             }
-            if out.reflections > MAX_REFLECTIONS || out.events.len() > most {
+            if out.events.len() > most {
                 out.status = RayStatus::Trapped;
                 return out;
             }

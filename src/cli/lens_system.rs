@@ -1,0 +1,95 @@
+//! `lensview lens system`: first-order data of a lens system given as a
+//! JSON system (as `lens trace` reads it), a prescription file in
+//! pbrt-v4's form, or a built-in preset.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use glam::DVec3;
+use lensview::geometry::{LensSystem, SurfaceSpec};
+use lensview::lens_tools::system_info::{DEFAULT_WAVELENGTH_UM, system_info};
+use lensview::prescription;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct LensSystemArgs {
+    /// A system as JSON: {"vertex", "axis", "surfaces": [{radius, thickness, n, semi_aperture, stop}]}.
+    #[arg(long, conflicts_with_all = ["prescription", "preset"])]
+    pub system: Option<PathBuf>,
+    /// A prescription file (pbrt-v4 lens format: radius, thickness, index after, aperture diameter).
+    #[arg(long, conflicts_with = "preset")]
+    pub prescription: Option<PathBuf>,
+    /// A built-in prescription: double-gauss-50mm, cooke-triplet-100mm, achromat-AC254-100-A, wide-22mm,
+    /// telephoto-250mm, fisheye-10mm.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Lengths of a prescription or preset multiplied by this.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Wavelength in µm (default: the helium d line, 0.5875618).
+    #[arg(long, default_value_t = DEFAULT_WAVELENGTH_UM)]
+    pub wavelength_um: f64,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The system the arguments name.
+fn load(a: &LensSystemArgs) -> Result<LensSystem> {
+    if !(a.scale > 0.0 && a.scale.is_finite()) {
+        bail!("--scale must be a positive number, got {}", a.scale);
+    }
+    let from_rows = |name: &str, text: &str| -> Result<LensSystem> {
+        let rows = prescription::parse(name, text).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let surfaces = rows
+            .iter()
+            .map(|r| SurfaceSpec {
+                radius: r.radius * a.scale,
+                thickness: r.thickness * a.scale,
+                n: r.n,
+                semi_aperture: 0.5 * r.aperture_diameter * a.scale,
+                stop: r.stop,
+            })
+            .collect();
+        LensSystem::new(DVec3::ZERO, DVec3::Z, surfaces).map_err(|e| match e.surface {
+            Some(k) => anyhow::anyhow!("{name}:{}: {}: {}", rows[k].line, e.field, e.message),
+            None => anyhow::anyhow!("{name}: {}: {}", e.field, e.message),
+        })
+    };
+    match (&a.system, &a.prescription, &a.preset) {
+        (Some(path), None, None) => {
+            let name = path.display().to_string();
+            let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;
+            let spec: lensview::lens_tools::system_trace::SystemSpec = serde_json::from_slice(&bytes)
+                .map_err(|e| anyhow::anyhow!("{name}:{}:{}: {e}", e.line(), e.column()))?;
+            spec.build().map_err(|e| anyhow::anyhow!("{name}: {e}"))
+        }
+        (None, Some(path), None) => {
+            let name = path.display().to_string();
+            let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;
+            let text = String::from_utf8(bytes).with_context(|| format!("{name}: not UTF-8 text"))?;
+            from_rows(&name, &text)
+        }
+        (None, None, Some(p)) => match prescription::preset(p) {
+            Some(text) => from_rows(p, text),
+            None => {
+                let names: Vec<&str> = prescription::PRESETS.iter().map(|(n, _)| *n).collect();
+                bail!("--preset: no preset `{p}`: one of {}", names.join(", "))
+            }
+        },
+        _ => bail!("give one of --system, --prescription or --preset"),
+    }
+}
+
+pub fn lens_system(a: &LensSystemArgs) -> Result<()> {
+    if !(a.wavelength_um > 0.0 && a.wavelength_um.is_finite()) {
+        bail!("--wavelength-um must be a positive number, got {}", a.wavelength_um);
+    }
+    let sys = load(a)?;
+    let info = system_info(&sys, a.wavelength_um);
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&info)?);
+    } else {
+        print!("{info}");
+    }
+    Ok(())
+}
