@@ -52,6 +52,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a checkerboard behind a plano-convex condenser, a biconcave diverger and a meniscus (lens systems)",
         text: include_str!("../../scenes/lens-family.toml"),
     },
+    Preset {
+        name: "achromat",
+        file: "achromat.toml",
+        about: "a cemented achromat (AC254-100-A) beside an N-BK7 singlet of the same focal length: the singlet's colour fringes",
+        text: include_str!("../../scenes/achromat.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).
