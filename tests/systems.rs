@@ -273,7 +273,7 @@ fn a_biconvex_system_renders_as_the_biconvex_lens() {
     eprintln!("biconvex system against the lens: mean {mean:.3e}, worst {worst:.3e} (linear RGB)");
     // The same light paths: only the order of additions and the branches
     // pruned near the weight bound differ.
-    assert!(mean < 1e-4 && worst < 2e-2, "mean {mean}, worst {worst}");
+    assert!(mean < 1e-10 && worst < 1e-8, "mean {mean}, worst {worst}");
     // And the lens is seen: a different picture without it.
     let none = render(&scene("").unwrap(), &s, None);
     let moved: f64 = a
