@@ -111,6 +111,10 @@ pub struct LensSystem {
     /// Each surface's ring (or diaphragm) outer radius: no ring where it is
     /// not above the semi-aperture.
     ring_outer: Vec<f64>,
+    /// Each surface's extent along the axis (cap and ring): `z_k` and its
+    /// sag at the aperture, in order. A ray whose stretch ahead does not
+    /// reach it cannot meet the surface ([`LensSystem::next_crossing`]).
+    span: Vec<(f64, f64)>,
     /// The largest radius of the system (apertures and rims).
     radius: f64,
     /// Square of 1.01 × the radius of a ball about `mid` holding the system.
@@ -180,12 +184,20 @@ impl LensSystem {
             c,
             rim,
             ring_outer,
+            span: Vec::new(),
             radius,
             reject_radius2: (1.01 * half).powi(2),
             mid,
             fast_radius2: (1e4 * size).powi(2),
         };
         sys.check_edges()?;
+        let mut sys = sys;
+        sys.span = (0..sys.len())
+            .map(|k| {
+                let (z, e) = (sys.z[k], sys.ring_z(k));
+                (z.min(e), z.max(e))
+            })
+            .collect();
         Ok(sys)
     }
 

@@ -99,66 +99,94 @@ impl LensSystem {
     /// one nearer 0 is left out; a plane has only that one).
     pub fn next_crossing(&self, p: DVec3, u: DVec3, from: Option<usize>, t_lo: f64, t_hi: f64) -> Option<Crossing> {
         let mut best: Option<Crossing> = None;
-        let mut take = |t: f64, piece: Piece, x: DVec3| {
+        let take = |best: &mut Option<Crossing>, t: f64, piece: Piece, x: DVec3| {
             if t > t_lo && t < t_hi && best.is_none_or(|b| t < b.t) {
-                best = Some(Crossing { t, piece, x });
+                *best = Some(Crossing { t, piece, x });
             }
         };
-        for k in 0..self.len() {
-            if self.cap_is_boundary(k) {
-                let mut ts = self.cap_roots(k, p, u);
-                if from == Some(k) {
-                    // The root at the start is the smaller in magnitude.
-                    let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
-                    ts[own] = f64::NAN;
+        for k in self.order(u.z) {
+            // The stretch of z the ray covers on (t_lo, nearest so far):
+            // a surface (or edge) wholly outside it is not tested. Exact:
+            // each piece lies within its span.
+            let bound = best.map_or(t_hi, |b| b.t);
+            let covers = |(lo, hi): (f64, f64)| {
+                if u.z == 0.0 {
+                    return p.z >= lo && p.z <= hi;
                 }
-                for t in ts {
+                let (a, b) = (p.z + t_lo * u.z, p.z + bound * u.z);
+                let (a, b) = if a <= b { (a, b) } else { (b, a) };
+                !(hi < a || lo > b)
+            };
+            if covers(self.span[k]) {
+                if self.cap_is_boundary(k) {
+                    let mut ts = self.cap_roots(k, p, u);
+                    if from == Some(k) {
+                        // The root at the start is the smaller in magnitude.
+                        let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
+                        ts[own] = f64::NAN;
+                    }
+                    for t in ts {
+                        let x = p + t * u;
+                        if self.on_cap(k, x) {
+                            take(
+                                &mut best,
+                                t,
+                                Piece {
+                                    surface: k,
+                                    kind: PieceKind::Cap,
+                                },
+                                x,
+                            );
+                        }
+                    }
+                }
+                if self.ring_outer[k] > self.surfaces[k].semi_aperture {
+                    let t = (self.ring_z(k) - p.z) / u.z;
                     let x = p + t * u;
-                    if self.on_cap(k, x) {
+                    let r2 = x.x * x.x + x.y * x.y;
+                    let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
+                    if r2 > a * a && r2 <= o * o {
+                        let at = DVec3::new(x.x, x.y, self.ring_z(k));
                         take(
+                            &mut best,
                             t,
                             Piece {
                                 surface: k,
-                                kind: PieceKind::Cap,
+                                kind: PieceKind::Ring,
                             },
-                            x,
+                            at,
                         );
                     }
                 }
             }
-            if self.ring_outer[k] > self.surfaces[k].semi_aperture {
-                let t = (self.ring_z(k) - p.z) / u.z;
-                let x = p + t * u;
-                let r2 = x.x * x.x + x.y * x.y;
-                let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
-                if r2 > a * a && r2 <= o * o {
-                    take(
-                        t,
-                        Piece {
-                            surface: k,
-                            kind: PieceKind::Ring,
-                        },
-                        DVec3::new(x.x, x.y, self.ring_z(k)),
-                    );
-                }
-            }
             if self.rim[k] > 0.0 {
-                for t in self.edge_roots(k, p, u) {
-                    let x = p + t * u;
-                    if x.z >= self.ring_z(k) && x.z <= self.ring_z(k + 1) {
-                        take(
-                            t,
-                            Piece {
-                                surface: k,
-                                kind: PieceKind::Edge,
-                            },
-                            x,
-                        );
+                let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
+                if covers((z0.min(z1), z0.max(z1))) {
+                    for t in self.edge_roots(k, p, u) {
+                        let x = p + t * u;
+                        if x.z >= z0 && x.z <= z1 {
+                            take(
+                                &mut best,
+                                t,
+                                Piece {
+                                    surface: k,
+                                    kind: PieceKind::Edge,
+                                },
+                                x,
+                            );
+                        }
                     }
                 }
             }
         }
         best
+    }
+
+    /// The surfaces in the order a ray along `u_z` meets their planes.
+    #[inline(always)]
+    fn order(&self, uz: f64) -> impl Iterator<Item = usize> {
+        let n = self.len();
+        (0..n).map(move |i| if uz >= 0.0 { i } else { n - 1 - i })
     }
 
     /// The roots along `p + t·u` of sphere `k` in vertex form,
