@@ -2,9 +2,10 @@
 # Times two builds side by side: ROUNDS rounds of `bench --frame-only`,
 # alternating which build goes first, then the median of the per-round
 # ratios B/A for the fastest and the median frame at 400x400 and 1280x720.
-# Usage: benches/alternate-frames.sh OLD_BINARY NEW_BINARY [ROUNDS] [RUNS]
+# Usage: benches/alternate-frames.sh OLD_BINARY NEW_BINARY [ROUNDS] [RUNS] [SCENE]
+# (SCENE: the cubes scene when absent.)
 set -euo pipefail
-A=$1; B=$2; ROUNDS=${3:-10}; RUNS=${4:-30}
+A=$1; B=$2; ROUNDS=${3:-10}; RUNS=${4:-30}; SCENE=${5:-}
 lscpu | grep 'Model name' || true
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
@@ -12,7 +13,7 @@ for r in $(seq 1 "$ROUNDS"); do
   if (( r % 2 )); then order=("$A" "$B"); else order=("$B" "$A"); fi
   for bin in "${order[@]}"; do
     tag=A; [[ $bin == "$B" ]] && tag=B
-    "$bin" bench --frame-only --runs "$RUNS" 2>&1 | awk -v r="$r" -v t="$tag" '/^frame/ {print r, t, $2, $8, $11}' >> "$log"
+    "$bin" bench --frame-only --runs "$RUNS" $SCENE 2>&1 | awk -v r="$r" -v t="$tag" '/^frame/ {print r, t, $2, $8, $11}' >> "$log"
   done
 done
 python3 - "$log" <<'PY'

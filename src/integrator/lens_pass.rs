@@ -12,7 +12,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::surface::{Surface, spawn_ray};
-use crate::geometry::{Inside, LaneExits, Lens, LensBranch, LensSystem, Pruning};
+use crate::geometry::{Inside, LaneExits, Lens, LensBranch, Pruning};
 use crate::math::Ray;
 use crate::optics;
 use crate::scene::Object;
@@ -80,29 +80,6 @@ pub fn transmitted_rays(
             factor: 1.0,
         }),
     }
-}
-
-/// Every ray out of the lens system `sys` (object `obj`) for the ray `ray`
-/// that meets it, at `lambda_um`: its Whitted tree
-/// ([`LensSystem::branches`], the reflection where it enters included),
-/// pruned by `prune`, each ray out handed to `emit` as it leaves the system
-/// for good.
-#[inline]
-pub fn system_rays(
-    obj: &Object,
-    sys: &LensSystem,
-    ray: &Ray,
-    lambda_um: f64,
-    prune: &Pruning,
-    mut emit: impl FnMut(Transmitted),
-) {
-    sys.branches(ray.origin, ray.dir, lambda_um, prune, &mut |b| {
-        emit(Transmitted {
-            ray: spawn_ray(b.point, b.normal, b.dir, obj.scale),
-            bounces: 2 + b.reflections,
-            factor: b.weight,
-        })
-    });
 }
 
 /// The first ray that carries on from [`transmitted_rays`], nothing

@@ -55,6 +55,7 @@ mod photons;
 mod scalar;
 mod shade;
 mod surface;
+mod system_pass;
 
 pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
 pub use packet::PacketScratch;

@@ -8,8 +8,9 @@
 //! and the pass keeps them in photon order, so a pass is the same on any
 //! number of threads.
 
-use super::lens_pass::{Transmitted, system_rays, transmitted_rays};
+use super::lens_pass::{Transmitted, transmitted_rays};
 use super::surface::{spawn_ray, surface};
+use super::system_pass::system_rays;
 use crate::color::Rgb;
 use crate::geometry::{LensSystem, MAX_INTERNAL_REFLECTIONS, Pruning, Shape};
 use crate::light::Light;

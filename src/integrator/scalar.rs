@@ -3,9 +3,10 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
-use super::lens_pass::{Transmitted, system_rays, transmitted_rays};
+use super::lens_pass::{Transmitted, transmitted_rays};
 use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
+use super::system_pass::system_rays;
 use crate::color::Rgb;
 use crate::geometry::{LensSystem, Pruning};
 use crate::light::LightSample;

@@ -207,7 +207,6 @@ impl Validator {
         }
         let n = self.index(&p.key("n"), n_file);
         let a = 0.5 * d;
-        let air = Index::Constant(1.0);
         let face = |radius: f64, thickness: f64, n: Index| SurfaceSpec {
             radius,
             thickness,
@@ -215,7 +214,40 @@ impl Validator {
             semi_aperture: a,
             stop: false,
         };
-        let surfaces = match kind {
+        let surfaces = self.shorthand_faces(p, s, kind, (t, n), &face, &missing)?;
+        if [d, t].iter().any(|v| v.is_nan()) {
+            return None;
+        }
+        let radii = sh.radii;
+        let fields = move |e: &SystemError| {
+            let k = e.surface.unwrap_or(0);
+            match e.field {
+                "radius" => radii.get(k).or(radii.last()).copied().unwrap_or("r").to_string(),
+                "thickness" if k == 1 => "thickness2".into(),
+                "thickness" => "thickness".into(),
+                "n" if k == 1 => "n2".into(),
+                "semi_aperture" => "d".into(),
+                f => f.to_string(),
+            }
+        };
+        Some((surfaces, Box::new(fields)))
+    }
+
+    /// The faces of a shorthand kind: centre thickness `t` and glass `n`
+    /// given, `face` making a surface of the kind's diameter, `missing`
+    /// reading a key that must be there.
+    #[allow(clippy::type_complexity)]
+    fn shorthand_faces(
+        &mut self,
+        p: &FieldPath,
+        s: &SystemFile,
+        kind: &str,
+        (t, n): (f64, Index),
+        face: &dyn Fn(f64, f64, Index) -> SurfaceSpec,
+        missing: &dyn Fn(&str, Option<f64>, &mut Self) -> f64,
+    ) -> Option<Vec<SurfaceSpec>> {
+        let air = Index::Constant(1.0);
+        Some(match kind {
             "plano-convex" | "plano-concave" => {
                 let r = missing("r", s.r, self).abs();
                 let flat_front = match s.flat.as_deref() {
@@ -257,23 +289,7 @@ impl Validator {
                 let n2 = self.index(&p.key("n2"), n2_file);
                 vec![face(r1, t, n), face(r2, t2, n2), face(r3, 0.0, air)]
             }
-        };
-        if [d, t].iter().any(|v| v.is_nan()) {
-            return None;
-        }
-        let radii = sh.radii;
-        let fields = move |e: &SystemError| {
-            let k = e.surface.unwrap_or(0);
-            match e.field {
-                "radius" => radii.get(k).or(radii.last()).copied().unwrap_or("r").to_string(),
-                "thickness" if k == 1 => "thickness2".into(),
-                "thickness" => "thickness".into(),
-                "n" if k == 1 => "n2".into(),
-                "semi_aperture" => "d".into(),
-                f => f.to_string(),
-            }
-        };
-        Some((surfaces, Box::new(fields)))
+        })
     }
 
     /// `kind = "prescription"` and `"preset"`.

@@ -115,6 +115,8 @@ pub struct LensSystem {
     /// sag at the aperture, in order. A ray whose stretch ahead does not
     /// reach it cannot meet the surface ([`LensSystem::next_crossing`]).
     span: Vec<(f64, f64)>,
+    /// Whether each cap separates two media.
+    boundary: Vec<bool>,
     /// The largest radius of the system (apertures and rims).
     radius: f64,
     /// Square of 1.01 × the radius of a ball about `mid` holding the system.
@@ -185,6 +187,7 @@ impl LensSystem {
             rim,
             ring_outer,
             span: Vec::new(),
+            boundary: Vec::new(),
             radius,
             reject_radius2: (1.01 * half).powi(2),
             mid,
@@ -192,6 +195,7 @@ impl LensSystem {
         };
         sys.check_edges()?;
         let mut sys = sys;
+        sys.boundary = (0..sys.len()).map(|k| sys.before(k) != sys.surfaces[k].n).collect();
         sys.span = (0..sys.len())
             .map(|k| {
                 let (z, e) = (sys.z[k], sys.ring_z(k));

@@ -76,6 +76,22 @@ fn roots(a: f64, b: f64, c: f64) -> [f64; 2] {
     [c / q, q / a]
 }
 
+/// The nearest crossing found so far on `(t_lo, t_hi)`.
+struct Nearest {
+    best: Option<Crossing>,
+    t_lo: f64,
+    t_hi: f64,
+}
+
+impl Nearest {
+    #[inline(always)]
+    fn take(&mut self, t: f64, piece: Piece, x: DVec3) {
+        if t > self.t_lo && t < self.t_hi && self.best.is_none_or(|b| t < b.t) {
+            self.best = Some(Crossing { t, piece, x });
+        }
+    }
+}
+
 impl LensSystem {
     /// The name of a piece as `lens trace` prints it.
     pub fn piece_name(&self, piece: Piece) -> &'static str {
@@ -89,8 +105,9 @@ impl LensSystem {
 
     /// Whether cap `k` separates two media (a stop's opening or a dummy
     /// surface in one medium is not a boundary).
+    #[inline(always)]
     pub fn cap_is_boundary(&self, k: usize) -> bool {
-        self.before(k) != self.surfaces[k].n
+        self.boundary[k]
     }
 
     /// The nearest crossing with `t` in `(t_lo, t_hi)` of the ray from the
@@ -98,17 +115,12 @@ impl LensSystem {
     /// on: its root at the start is not a crossing (of its two roots, the
     /// one nearer 0 is left out; a plane has only that one).
     pub fn next_crossing(&self, p: DVec3, u: DVec3, from: Option<usize>, t_lo: f64, t_hi: f64) -> Option<Crossing> {
-        let mut best: Option<Crossing> = None;
-        let take = |best: &mut Option<Crossing>, t: f64, piece: Piece, x: DVec3| {
-            if t > t_lo && t < t_hi && best.is_none_or(|b| t < b.t) {
-                *best = Some(Crossing { t, piece, x });
-            }
-        };
+        let mut best = Nearest { best: None, t_lo, t_hi };
         for k in self.order(u.z) {
             // The stretch of z the ray covers on (t_lo, nearest so far):
             // a surface (or edge) wholly outside it is not tested. Exact:
             // each piece lies within its span.
-            let bound = best.map_or(t_hi, |b| b.t);
+            let bound = best.best.map_or(t_hi, |b| b.t);
             let covers = |(lo, hi): (f64, f64)| {
                 if u.z == 0.0 {
                     return p.z >= lo && p.z <= hi;
@@ -118,46 +130,7 @@ impl LensSystem {
                 !(hi < a || lo > b)
             };
             if covers(self.span[k]) {
-                if self.cap_is_boundary(k) {
-                    let mut ts = self.cap_roots(k, p, u);
-                    if from == Some(k) {
-                        // The root at the start is the smaller in magnitude.
-                        let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
-                        ts[own] = f64::NAN;
-                    }
-                    for t in ts {
-                        let x = p + t * u;
-                        if self.on_cap(k, x) {
-                            take(
-                                &mut best,
-                                t,
-                                Piece {
-                                    surface: k,
-                                    kind: PieceKind::Cap,
-                                },
-                                x,
-                            );
-                        }
-                    }
-                }
-                if self.ring_outer[k] > self.surfaces[k].semi_aperture {
-                    let t = (self.ring_z(k) - p.z) / u.z;
-                    let x = p + t * u;
-                    let r2 = x.x * x.x + x.y * x.y;
-                    let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
-                    if r2 > a * a && r2 <= o * o {
-                        let at = DVec3::new(x.x, x.y, self.ring_z(k));
-                        take(
-                            &mut best,
-                            t,
-                            Piece {
-                                surface: k,
-                                kind: PieceKind::Ring,
-                            },
-                            at,
-                        );
-                    }
-                }
+                self.cap_and_ring(k, p, u, from, &mut best);
             }
             if self.rim[k] > 0.0 {
                 let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
@@ -165,8 +138,7 @@ impl LensSystem {
                     for t in self.edge_roots(k, p, u) {
                         let x = p + t * u;
                         if x.z >= z0 && x.z <= z1 {
-                            take(
-                                &mut best,
+                            best.take(
                                 t,
                                 Piece {
                                     surface: k,
@@ -179,7 +151,49 @@ impl LensSystem {
                 }
             }
         }
-        best
+        best.best
+    }
+
+    /// [`LensSystem::next_crossing`]'s test of cap `k` and its ring.
+    #[inline(always)]
+    fn cap_and_ring(&self, k: usize, p: DVec3, u: DVec3, from: Option<usize>, best: &mut Nearest) {
+        if self.cap_is_boundary(k) {
+            let mut ts = self.cap_roots(k, p, u);
+            if from == Some(k) {
+                // The root at the start is the smaller in magnitude.
+                let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
+                ts[own] = f64::NAN;
+            }
+            for t in ts {
+                let x = p + t * u;
+                if self.on_cap(k, x) {
+                    best.take(
+                        t,
+                        Piece {
+                            surface: k,
+                            kind: PieceKind::Cap,
+                        },
+                        x,
+                    );
+                }
+            }
+        }
+        if self.ring_outer[k] > self.surfaces[k].semi_aperture {
+            let t = (self.ring_z(k) - p.z) / u.z;
+            let x = p + t * u;
+            let r2 = x.x * x.x + x.y * x.y;
+            let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
+            if r2 > a * a && r2 <= o * o {
+                best.take(
+                    t,
+                    Piece {
+                        surface: k,
+                        kind: PieceKind::Ring,
+                    },
+                    DVec3::new(x.x, x.y, self.ring_z(k)),
+                );
+            }
+        }
     }
 
     /// The surfaces in the order a ray along `u_z` meets their planes.

@@ -4,8 +4,8 @@
 //! (a Fresnel split at every cap, each branch pruned by its weight). Both
 //! take the same step at a cap ([`LensSystem::interface`]).
 
-use super::LensSystem;
 use super::pieces::{Crossing, Piece};
+use super::{LensSystem, MAX_SURFACES};
 use crate::geometry::Pruning;
 use crate::optics;
 use glam::DVec3;
@@ -104,13 +104,24 @@ pub struct Interface {
 }
 
 impl LensSystem {
+    /// Every medium's index at `lambda_um`, in order: air before the first
+    /// surface, then the medium after each (what [`LensSystem::interface`]
+    /// reads; evaluated once a ray, not at each crossing).
+    pub fn media(&self, lambda_um: f64) -> [f64; MAX_SURFACES + 1] {
+        let mut m = [1.0; MAX_SURFACES + 1];
+        for (k, s) in self.surfaces.iter().enumerate() {
+            m[k + 1] = s.n.at(lambda_um);
+        }
+        m
+    }
+
     /// The step at a cap: which way the ray crosses cap `k` at the local
     /// point `x` (the cap's normal points to the side before it), from which
-    /// medium into which, at wavelength `lambda_um`.
+    /// medium into which (`media`: [`LensSystem::media`]).
     #[inline]
-    pub fn interface(&self, k: usize, x: DVec3, u: DVec3, lambda_um: f64) -> Interface {
+    pub fn interface(&self, k: usize, x: DVec3, u: DVec3, media: &[f64]) -> Interface {
         let g = self.cap_normal(k, x);
-        let (before, after) = (self.before(k).at(lambda_um), self.surfaces[k].n.at(lambda_um));
+        let (before, after) = (media[k], media[k + 1]);
         // Along the light (u·g < 0) from before into after.
         let (nf, n1, n2) = if u.dot(g) < 0.0 {
             (g, before, after)
@@ -129,6 +140,7 @@ impl LensSystem {
     /// `lambda_um`: refraction at each cap, reflection under TIR.
     pub fn trace(&self, origin: DVec3, dir: DVec3, lambda_um: f64) -> RealRay {
         let (mut x, mut u, t0) = self.localize(origin, dir);
+        let media = self.media(lambda_um);
         let mut lo = -t0;
         let mut from = None;
         let mut out = RealRay {
@@ -142,7 +154,7 @@ impl LensSystem {
         // way; reflections by MAX_REFLECTIONS.
         let most = MAX_REFLECTIONS as usize + 8 * self.len() + 8;
         while let Some(c) = self.next_crossing(x, u, from, lo, f64::INFINITY) {
-            let (kind, next) = self.real_step(&c, u, lambda_um);
+            let (kind, next) = self.real_step(&c, u, &media);
             // As the lens's tracer counts: MAX_REFLECTIONS are followed,
             // one more makes the ray trapped (not listed).
             if kind == EventKind::Reflect && out.reflections == MAX_REFLECTIONS {
@@ -179,11 +191,11 @@ impl LensSystem {
 
     /// What a real ray along `u` does at crossing `c`, and its direction
     /// after.
-    fn real_step(&self, c: &Crossing, u: DVec3, lambda_um: f64) -> (EventKind, DVec3) {
+    fn real_step(&self, c: &Crossing, u: DVec3, media: &[f64]) -> (EventKind, DVec3) {
         if c.piece.is_opaque() {
             return (EventKind::Absorb, u);
         }
-        let i = self.interface(c.piece.surface, c.x, u, lambda_um);
+        let i = self.interface(c.piece.surface, c.x, u, media);
         if i.crossing.total {
             (EventKind::Reflect, optics::reflect(u, i.nf))
         } else {
@@ -206,7 +218,7 @@ struct Live {
 }
 
 /// Branches held at once; a tree that would hold more drops its lightest.
-const STACK: usize = 48;
+const STACK: usize = 32;
 
 impl LensSystem {
     /// Every ray out of the system for light arriving from outside along
@@ -224,6 +236,7 @@ impl LensSystem {
         emit: &mut impl FnMut(SystemBranch),
     ) -> f64 {
         let (x, u, t0) = self.localize(origin, dir);
+        let media = self.media(lambda_um);
         let mut stack = [Live {
             x,
             u,
@@ -252,7 +265,7 @@ impl LensSystem {
                 dropped += b.weight;
                 continue;
             }
-            let i = self.interface(c.piece.surface, c.x, b.u, lambda_um);
+            let i = self.interface(c.piece.surface, c.x, b.u, &media);
             let r = if i.crossing.total { 1.0 } else { i.crossing.reflectance };
             let next = |u, weight, reflections| Live {
                 x: c.x,
