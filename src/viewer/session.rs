@@ -102,8 +102,13 @@ impl Session {
     }
 
     /// A key edit: its line, or why it was refused, on the message line.
+    /// With a lens system selected, the lens keys act on it.
     pub fn apply_edit(&mut self, e: Edit) {
-        match self.doc.apply_edit(e) {
+        let r = match self.ui.selected {
+            Some(Item::System(i)) if e.is_lens() => self.doc.apply_system_edit(i, e),
+            _ => self.doc.apply_edit(e),
+        };
+        match r {
             Ok((msg, c)) => {
                 self.message = msg;
                 self.changed(c);
@@ -302,8 +307,10 @@ impl Session {
     /// Selects a new item; a lens is also the one the *Lens* section shows.
     pub fn select(&mut self, item: Item) {
         self.ui.selected = Some(item);
-        if let Item::Lens(i) = item {
-            self.ui.lens = i;
+        match item {
+            Item::Lens(i) => self.ui.lens = i,
+            Item::System(_) => self.ui.open_system(),
+            Item::Object(_) => {}
         }
     }
 }
