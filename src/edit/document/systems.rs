@@ -64,8 +64,12 @@ impl Document {
             return Ok(Change::None);
         };
         let last = k + 1 == list.len();
+        // After the last: clear of its sag at the aperture.
+        let a = after.semi_aperture;
+        let c = if after.radius == 0.0 { 0.0 } else { 1.0 / after.radius };
+        let sag = c * a * a / (1.0 + (1.0 - c * c * a * a).max(0.0).sqrt());
         let half = if last {
-            0.1 * after.semi_aperture
+            sag.max(0.0) + 0.1 * a
         } else {
             0.5 * after.thickness
         };
