@@ -393,4 +393,24 @@ mod tests {
         assert_eq!(s.doc.scene().lenses.len(), 1);
         assert!(s.message.starts_with("deleted lens copy"), "{}", s.message);
     }
+
+    /// With a lens system selected the lens keys move it; without, they
+    /// look for a `[[lenses]]` lens (the lens family has none).
+    #[test]
+    fn lens_keys_act_on_a_selected_system() {
+        let mut s = Session::new(Document::preset("lens family").unwrap(), UiState::new(None));
+        s.apply_edit(Edit::LensAlongAxis(0.5));
+        assert_eq!(s.message, "the scene has no lens");
+        s.select(Item::System(2));
+        let z = s.doc.scene().systems[2].center.unwrap()[2];
+        s.apply_edit(Edit::LensAlongAxis(0.5));
+        assert!(s.message.starts_with("meniscus: centre"), "{}", s.message);
+        assert_eq!(s.doc.scene().systems[2].center.unwrap()[2], z + 0.5);
+        s.apply_edit(Edit::LensDiameter(10.0));
+        assert!(s.message.starts_with("not applied: systems[2]"), "{}", s.message);
+        s.duplicate_selected();
+        assert_eq!(s.ui.selected, Some(Item::System(3)));
+        s.delete_selected();
+        assert_eq!(s.doc.scene().systems.len(), 3);
+    }
 }
