@@ -191,16 +191,27 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     let header = egui::CollapsingHeader::new("Add").default_open(true);
     super::section(ui, cx, header, "Add", |ui, cx| {
         let f = &mut cx.session.ui.add;
-        ui.horizontal_wrapped(|ui| {
-            for k in AddKind::ALL {
-                ui.selectable_value(&mut f.kind, k, k.name());
-            }
-        });
+        let kinds: Vec<(String, egui::Response)> = ui
+            .horizontal_wrapped(|ui| {
+                AddKind::ALL
+                    .iter()
+                    .map(|k| {
+                        (
+                            format!("kind {}", k.name()),
+                            ui.selectable_value(&mut f.kind, *k, k.name()),
+                        )
+                    })
+                    .collect()
+            })
+            .inner;
         egui::Grid::new("add-form").num_columns(2).show(ui, |ui| {
             f.size_rows(ui);
             f.where_rows(ui);
         });
         let label = format!("Add {}", f.kind.name());
+        for (name, r) in &kinds {
+            cx.session.ui.rect(ui, name, r);
+        }
         let r = ui.button(&label);
         cx.ui.rect(ui, &label, &r);
         if r.clicked() {

@@ -67,7 +67,9 @@ fn list(ui: &mut egui::Ui, cx: &mut Ctx, items: &[(Item, String)]) {
                 .map_or_else(String::new, system_kind_label),
         };
         let sel = cx.ui.selected == Some(*item);
-        if ui.selectable_label(sel, format!("{name}   ({kind})")).clicked() {
+        let r = ui.selectable_label(sel, format!("{name}   ({kind})"));
+        cx.ui.rect(ui, &format!("item {name}"), &r);
+        if r.clicked() {
             cx.ui.selected = if sel { None } else { Some(*item) };
             match item {
                 Item::Lens(i) => {
