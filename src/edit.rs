@@ -12,12 +12,15 @@
 
 pub mod document;
 pub mod presets;
+mod system_keys;
+
+pub use system_keys::apply_system;
 
 pub use document::{Change, Document, Item, Placement, Rejected, Source, Unsaved};
 
 use crate::color::{Rgb, blackbody};
 use crate::math::{domain, rotation_from_degrees};
-use crate::scene::file::{IndexFile, LensFile, LightFile, LightKind, SceneFile};
+use crate::scene::file::{IndexFile, LensFile, LightFile, LightKind, SceneFile, V3};
 use glam::DVec3;
 
 /// Smallest lens diameter the keys go down to.
@@ -66,6 +69,17 @@ pub enum Edit {
     LensR1(f64),
     LensR2(f64),
     LensIndex(f64),
+}
+
+impl Edit {
+    /// Whether the edit changes a lens (the lens keys), rather than the
+    /// light: with a lens system selected, these act on it.
+    pub fn is_lens(&self) -> bool {
+        !matches!(
+            self,
+            Edit::LightMove(_) | Edit::LightIntensity(_) | Edit::LightPreset(_) | Edit::LightTemperature(_)
+        )
+    }
 }
 
 fn first_light(sf: &mut SceneFile) -> Option<&mut LightFile> {
@@ -157,12 +171,7 @@ fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
             said(format!("lens centre {}", fmt3(l.center)), clamped)
         }
         Edit::LensTurn { yaw, pitch } => {
-            let a = DVec3::from(l.axis).normalize_or(DVec3::Z);
-            let turned = rotation_from_degrees(DVec3::new(0.0, yaw, 0.0)) * a;
-            // Pitch about the horizontal axis perpendicular to the lens axis.
-            let side = turned.cross(DVec3::Y).normalize_or(DVec3::X);
-            let turned = glam::DQuat::from_axis_angle(side, pitch.to_radians()) * turned;
-            l.axis = turned.normalize().to_array();
+            l.axis = turn_axis(l.axis, yaw, pitch);
             format!("lens axis {}", fmt3(l.axis))
         }
         Edit::LensDiameter(delta) => {
@@ -194,6 +203,16 @@ fn edit_lens(l: &mut LensFile, edit: Edit) -> String {
         Edit::LensIndex(delta) => edit_index(&mut l.n, delta),
         _ => String::new(),
     }
+}
+
+/// `axis` turned by yaw (about world y) and then pitch (about the
+/// horizontal perpendicular to it), degrees; a unit vector.
+fn turn_axis(axis: V3, yaw: f64, pitch: f64) -> V3 {
+    let a = DVec3::from(axis).normalize_or(DVec3::Z);
+    let turned = rotation_from_degrees(DVec3::new(0.0, yaw, 0.0)) * a;
+    let side = turned.cross(DVec3::Y).normalize_or(DVec3::X);
+    let turned = glam::DQuat::from_axis_angle(side, pitch.to_radians()) * turned;
+    turned.normalize().to_array()
 }
 
 /// The lens index changed by `delta` (its Cauchy A for a Cauchy pair),

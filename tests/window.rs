@@ -944,3 +944,38 @@ fn holding_a_key_shows_the_flight_and_converges_after_it() {
     let end = s.frames().into_iter().rev().find(|f| f["generation"] == last).unwrap();
     assert!(dist(pos(&end)) >= *ds.last().unwrap(), "{end}");
 }
+
+/// The lens family (three `[[systems]]`): the window shows it; *Add
+/// system* puts a biconvex system in front of the camera and selects it;
+/// the lens key X moves it (a new frame each); Ctrl+Z twice undoes both.
+#[test]
+fn the_lens_family_shows_and_an_added_system_moves_with_the_lens_keys() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, ui_log) = test_dir("lens-family");
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/lens-family.toml");
+    let args = ui_args(W + 340, H, 240, &ui_log);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let g1 = s.wait_frame(0, 1, "start");
+    let shot = s.screenshot("start.png");
+    assert!(spread(&shot) > 20.0, "the window is blank");
+    s.click(&ui_log, "kind system");
+    s.click(&ui_log, "Add system");
+    let g2 = s.wait_frame(g1, 1, "Add system");
+    assert!(s.title().ends_with('*'), "no unsaved mark: {}", s.title());
+    s.key("x");
+    let g3 = s.wait_frame(g2, 1, "the lens key on the selected system");
+    s.chord("ctrl+z");
+    let g4 = s.wait_frame(g3, 1, "undo the move");
+    s.chord("ctrl+z");
+    s.wait_frame(g4, 1, "undo the add");
+    assert!(
+        wait_until(Duration::from_secs(30), || !s.title().ends_with('*')),
+        "{}",
+        s.title()
+    );
+    s.key("Escape");
+    let (status, err) = s.wait_exit("Escape");
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+}

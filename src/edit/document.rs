@@ -10,6 +10,8 @@
 //!
 //! - This file: the document, its undo history and what a change did.
 //! - `items`: the *Objects* list — add, delete, duplicate, names.
+//! - `systems`: lens systems (`[[systems]]`): new ones of each kind or
+//!   preset, their fields, their table of surfaces and their key edits.
 //! - `scene_edits`: every other change the panel and keys make (camera,
 //!   lens, light, material, render settings, the key edits of
 //!   [`super::Edit`]), each one method.
@@ -18,6 +20,7 @@
 mod files;
 mod items;
 mod scene_edits;
+mod systems;
 mod unsaved;
 
 pub use unsaved::Unsaved;
@@ -27,6 +30,7 @@ pub use items::{Placement, free_name, in_front_of_camera, new_lens, new_material
 pub use scene_edits::{
     axis_angles, axis_from_angles, index_with_dispersion, new_point_light, set_camera_pose, switch_light_kind,
 };
+pub use systems::{new_preset_system, new_system, preset_scale, system_kind_label};
 
 use crate::scene::file::MaterialFile;
 use crate::scene::{Problem, Scene, SceneError, SceneFile};
@@ -117,11 +121,13 @@ impl Change {
     }
 }
 
-/// One item of the *Objects* list: a primitive or a lens.
+/// One item of the *Objects* list: a primitive, a lens (`[[lenses]]`) or
+/// a lens system (`[[systems]]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Item {
     Object(usize),
     Lens(usize),
+    System(usize),
 }
 
 #[derive(Clone, Debug)]
@@ -359,6 +365,9 @@ pub fn same_picture(a: &SceneFile, b: &SceneFile) -> bool {
         }
         for l in &mut k.lenses {
             l.name = None;
+        }
+        for s in &mut k.systems {
+            s.name = None;
         }
         (k, mats)
     }

@@ -414,13 +414,18 @@ impl Validator {
 }
 
 /// What messages call the `i`-th object of the render model (the file's
-/// objects, then its lenses, when none was refused): its name, else its
-/// kind and number in its list (`cuboid 3`, `lens 1`).
+/// objects, then its lenses, then its systems, when none was refused): its
+/// name, else its kind and number in its list (`cuboid 3`, `lens 1`,
+/// `system 2`).
 pub(super) fn label(sf: &SceneFile, i: usize) -> String {
-    let n = sf.objects.len();
-    let (name, kind, k) = match sf.objects.get(i) {
-        Some(o) => (&o.name, o.kind.name(), i),
-        None => (sf.lenses.get(i - n).map_or(&None, |l| &l.name), "lens", i - n),
+    let (n, m) = (sf.objects.len(), sf.lenses.len());
+    let (name, kind, k) = if let Some(o) = sf.objects.get(i) {
+        (&o.name, o.kind.name(), i)
+    } else if i < n + m {
+        (&sf.lenses[i - n].name, "lens", i - n)
+    } else {
+        let k = i - n - m;
+        (sf.systems.get(k).map_or(&None, |s| &s.name), "system", k)
     };
     name.clone().unwrap_or_else(|| format!("{kind} {}", k + 1))
 }

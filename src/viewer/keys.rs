@@ -146,7 +146,7 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         KeyCode::KeyZ,
         "Z/X",
         Action::LensAlongAxis(-0.1),
-        "lens along its axis -/+",
+        "lens (or selected system) along its axis -/+",
     ),
     (KeyCode::KeyX, "", Action::LensAlongAxis(0.1), ""),
     (KeyCode::KeyV, "V/B", Action::LensSideways(-0.1), "lens x -/+"),

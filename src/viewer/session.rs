@@ -102,8 +102,13 @@ impl Session {
     }
 
     /// A key edit: its line, or why it was refused, on the message line.
+    /// With a lens system selected, the lens keys act on it.
     pub fn apply_edit(&mut self, e: Edit) {
-        match self.doc.apply_edit(e) {
+        let r = match self.ui.selected {
+            Some(Item::System(i)) if e.is_lens() => self.doc.apply_system_edit(i, e),
+            _ => self.doc.apply_edit(e),
+        };
+        match r {
             Ok((msg, c)) => {
                 self.message = msg;
                 self.changed(c);
@@ -302,8 +307,10 @@ impl Session {
     /// Selects a new item; a lens is also the one the *Lens* section shows.
     pub fn select(&mut self, item: Item) {
         self.ui.selected = Some(item);
-        if let Item::Lens(i) = item {
-            self.ui.lens = i;
+        match item {
+            Item::Lens(i) => self.ui.lens = i,
+            Item::System(_) => self.ui.open_system(),
+            Item::Object(_) => {}
         }
     }
 }
@@ -385,5 +392,25 @@ mod tests {
         assert_eq!(s.ui.selected, None);
         assert_eq!(s.doc.scene().lenses.len(), 1);
         assert!(s.message.starts_with("deleted lens copy"), "{}", s.message);
+    }
+
+    /// With a lens system selected the lens keys move it; without, they
+    /// look for a `[[lenses]]` lens (the lens family has none).
+    #[test]
+    fn lens_keys_act_on_a_selected_system() {
+        let mut s = Session::new(Document::preset("lens family").unwrap(), UiState::new(None));
+        s.apply_edit(Edit::LensAlongAxis(0.5));
+        assert_eq!(s.message, "the scene has no lens");
+        s.select(Item::System(2));
+        let z = s.doc.scene().systems[2].center.unwrap()[2];
+        s.apply_edit(Edit::LensAlongAxis(0.5));
+        assert!(s.message.starts_with("meniscus: centre"), "{}", s.message);
+        assert_eq!(s.doc.scene().systems[2].center.unwrap()[2], z + 0.5);
+        s.apply_edit(Edit::LensDiameter(10.0));
+        assert!(s.message.starts_with("not applied: systems[2]"), "{}", s.message);
+        s.duplicate_selected();
+        assert_eq!(s.ui.selected, Some(Item::System(3)));
+        s.delete_selected();
+        assert_eq!(s.doc.scene().systems.len(), 3);
     }
 }

@@ -1,4 +1,5 @@
-//! The *Objects* list of a [`Document`]: primitives and lenses, their
+//! The *Objects* list of a [`Document`]: primitives, lenses and lens
+//! systems, their
 //! displayed names, and adding, deleting and duplicating them; the default
 //! new items of the *Add* form.
 
@@ -16,13 +17,14 @@ pub enum Placement {
 }
 
 impl Document {
-    /// The items of the *Objects* list: primitives, then lenses, with the
-    /// names the renderer uses.
+    /// The items of the *Objects* list: primitives, then lenses, then lens
+    /// systems, with the names the renderer uses.
     pub fn items(&self) -> Vec<(Item, String)> {
         let mut v: Vec<(Item, String)> = (0..self.scene.objects.len())
             .map(|i| (Item::Object(i), self.item_name(Item::Object(i))))
             .collect();
         v.extend((0..self.scene.lenses.len()).map(|i| (Item::Lens(i), self.item_name(Item::Lens(i)))));
+        v.extend((0..self.scene.systems.len()).map(|i| (Item::System(i), self.item_name(Item::System(i)))));
         v
     }
 
@@ -36,6 +38,9 @@ impl Document {
             Item::Lens(i) => self.scene.lenses.get(i).map_or_else(String::new, |l| {
                 l.name.clone().unwrap_or_else(|| format!("lens {}", i + 1))
             }),
+            Item::System(i) => self.scene.systems.get(i).map_or_else(String::new, |s| {
+                s.name.clone().unwrap_or_else(|| format!("system {}", i + 1))
+            }),
         }
     }
 
@@ -43,6 +48,7 @@ impl Document {
         match item {
             Item::Object(i) => i < self.scene.objects.len(),
             Item::Lens(i) => i < self.scene.lenses.len(),
+            Item::System(i) => i < self.scene.systems.len(),
         }
     }
 
@@ -116,6 +122,9 @@ impl Document {
             Item::Lens(i) => {
                 sf.lenses.remove(i);
             }
+            Item::System(i) => {
+                sf.systems.remove(i);
+            }
         })
     }
 
@@ -144,6 +153,17 @@ impl Document {
                 let at = self.scene.lenses.len();
                 self.edit(&label, |sf| sf.lenses.push(l))?;
                 Ok(Some(Item::Lens(at)))
+            }
+            Item::System(i) => {
+                let mut s = self.scene.systems[i].clone();
+                s.name = Some(name);
+                let width = super::systems::system_width(&self.built, i).unwrap_or(2.0);
+                for p in [&mut s.vertex, &mut s.center].into_iter().flatten() {
+                    p[0] += width + 0.25;
+                }
+                let at = self.scene.systems.len();
+                self.edit(&label, |sf| sf.systems.push(s))?;
+                Ok(Some(Item::System(at)))
             }
         }
     }

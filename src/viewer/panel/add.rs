@@ -1,11 +1,14 @@
 //! The *Add* section: a form per kind of item (its sizes kept per kind),
 //! where to put it, and the button. The new item itself is made by
-//! `Document::add_primitive` / `add_lens_facing_camera`.
+//! `Document::add_primitive` / `add_lens_facing_camera` /
+//! `add_system_facing_camera`.
 
 use super::Ctx;
 use super::widgets::{Field, positive, vec3};
 use lensview::edit::Placement;
-use lensview::edit::document::{new_lens, new_object};
+use lensview::edit::document::{new_lens, new_object, new_preset_system, new_system};
+use lensview::prescription::PRESETS;
+use lensview::scene::SYSTEM_KINDS;
 use lensview::scene::file::{IndexFile, ShapeKind, V3};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -15,15 +18,17 @@ enum AddKind {
     Sphere,
     Pyramid,
     Lens,
+    System,
 }
 
 impl AddKind {
-    const ALL: [AddKind; 5] = [
+    const ALL: [AddKind; 6] = [
         AddKind::Cuboid,
         AddKind::Prism,
         AddKind::Sphere,
         AddKind::Pyramid,
         AddKind::Lens,
+        AddKind::System,
     ];
 
     fn name(self) -> &'static str {
@@ -33,6 +38,7 @@ impl AddKind {
             AddKind::Sphere => "sphere",
             AddKind::Pyramid => "pyramid",
             AddKind::Lens => "lens",
+            AddKind::System => "system",
         }
     }
 
@@ -42,7 +48,7 @@ impl AddKind {
             AddKind::Prism => Some(ShapeKind::Prism),
             AddKind::Sphere => Some(ShapeKind::Sphere),
             AddKind::Pyramid => Some(ShapeKind::Pyramid),
-            AddKind::Lens => None,
+            AddKind::Lens | AddKind::System => None,
         }
     }
 }
@@ -56,6 +62,9 @@ pub struct AddForm {
     pyramid: [f64; 2],
     /// d, r1, r2, n.
     lens: [f64; 4],
+    /// The system's kind (one of `SYSTEM_KINDS`) and, for `preset`, which.
+    system: &'static str,
+    preset: &'static str,
     color: [f32; 3],
     in_front: bool,
     distance: f64,
@@ -71,6 +80,8 @@ impl Default for AddForm {
             prism: [1.0, 1.0],
             pyramid: [1.0, 1.0],
             lens: [2.0, 5.0, 5.0, 1.5],
+            system: "biconvex",
+            preset: PRESETS[0].0,
             color: [0.8, 0.25, 0.15],
             in_front: true,
             distance: 6.0,
@@ -125,12 +136,38 @@ impl AddForm {
                     ui.end_row();
                 }
             }
+            AddKind::System => self.system_rows(ui),
+        }
+    }
+
+    /// The system's kind and preset (sized 2 units across; edited under
+    /// *System* once added).
+    fn system_rows(&mut self, ui: &mut egui::Ui) {
+        ui.label("kind");
+        egui::ComboBox::from_id_salt("add-system-kind")
+            .selected_text(self.system)
+            .show_ui(ui, |ui| {
+                for k in SYSTEM_KINDS {
+                    ui.selectable_value(&mut self.system, *k, *k);
+                }
+            });
+        ui.end_row();
+        if self.system == "preset" {
+            ui.label("preset");
+            egui::ComboBox::from_id_salt("add-system-preset")
+                .selected_text(self.preset)
+                .show_ui(ui, |ui| {
+                    for (p, _) in PRESETS {
+                        ui.selectable_value(&mut self.preset, *p, *p);
+                    }
+                });
+            ui.end_row();
         }
     }
 
     /// The colour and placement rows.
     fn where_rows(&mut self, ui: &mut egui::Ui) {
-        if self.kind != AddKind::Lens {
+        if !matches!(self.kind, AddKind::Lens | AddKind::System) {
             ui.label("colour");
             ui.color_edit_button_rgb(&mut self.color);
             ui.end_row();
@@ -154,16 +191,27 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     let header = egui::CollapsingHeader::new("Add").default_open(true);
     super::section(ui, cx, header, "Add", |ui, cx| {
         let f = &mut cx.session.ui.add;
-        ui.horizontal_wrapped(|ui| {
-            for k in AddKind::ALL {
-                ui.selectable_value(&mut f.kind, k, k.name());
-            }
-        });
+        let kinds: Vec<(String, egui::Response)> = ui
+            .horizontal_wrapped(|ui| {
+                AddKind::ALL
+                    .iter()
+                    .map(|k| {
+                        (
+                            format!("kind {}", k.name()),
+                            ui.selectable_value(&mut f.kind, *k, k.name()),
+                        )
+                    })
+                    .collect()
+            })
+            .inner;
         egui::Grid::new("add-form").num_columns(2).show(ui, |ui| {
             f.size_rows(ui);
             f.where_rows(ui);
         });
         let label = format!("Add {}", f.kind.name());
+        for (name, r) in &kinds {
+            cx.session.ui.rect(ui, name, r);
+        }
         let r = ui.button(&label);
         cx.ui.rect(ui, &label, &r);
         if r.clicked() {
@@ -187,6 +235,17 @@ fn add_from_form(cx: &mut Ctx) {
             }
             let colour = f.color.map(|x| x as f64);
             s.doc.add_primitive(o, colour)
+        }
+        None if f.kind == AddKind::System => {
+            let new = if f.system == "preset" {
+                new_preset_system(f.preset, position, [0.0, 0.0, 1.0])
+            } else {
+                new_system(f.system, position, [0.0, 0.0, 1.0])
+            };
+            match new {
+                Some(sys) => s.doc.add_system_facing_camera(sys),
+                None => return,
+            }
         }
         None => {
             let mut l = new_lens(position, [0.0, 0.0, 1.0]);

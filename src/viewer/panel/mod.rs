@@ -1,7 +1,7 @@
 //! The editing panel (egui): the menu bar and status lines (`menu`), the
 //! sections *Add* (`add`), *Objects* (`objects`, with the material
 //! editor in `material`), *Camera* (`camera`), *Lens* (`lens`),
-//! *Light* (`light`) and *Render* (`render`), the file dialog
+//! *System* (`system`: the selected lens system), *Light* (`light`) and *Render* (`render`), the file dialog
 //! (`file_dialog`) and the unsaved-changes question (`confirm`).
 //!
 //! A section gets a [`Ctx`]: the editing session (document, the panel's
@@ -29,6 +29,7 @@ mod menu;
 mod objects;
 mod plots;
 mod render;
+mod system;
 mod widgets;
 
 pub use analysis::AnalysisState;
@@ -120,6 +121,8 @@ pub struct UiState {
     /// The lens the *Lens* section shows, and whether to open it.
     pub lens: usize,
     open_lens: bool,
+    /// Whether to open the *System* section (a system was selected).
+    open_system: bool,
     /// The light the *Light* section shows.
     light: usize,
     /// The last black-body colour chosen (slider, or the , and . keys).
@@ -152,6 +155,7 @@ impl UiState {
             drafts: Drafts::default(),
             lens: 0,
             open_lens: false,
+            open_system: false,
             light: 0,
             temperature: 6500.0,
             preset: 0,
@@ -170,6 +174,11 @@ impl UiState {
         self.drafts.values.clear();
         self.lens = 0;
         self.light = 0;
+    }
+
+    /// Opens the *System* section at the next frame.
+    pub fn open_system(&mut self) {
+        self.open_system = true;
     }
 
     pub fn open_file_dialog(&mut self, mode: DialogMode, source: &Source) {
@@ -225,6 +234,7 @@ pub fn show(ui: &mut egui::Ui, cx: &mut Ctx) {
                     objects::section(ui, cx);
                     camera::section(ui, cx);
                     lens::section(ui, cx);
+                    system::section(ui, cx);
                     light::section(ui, cx);
                     render::section(ui, cx);
                 });

@@ -1,10 +1,12 @@
-//! The *Objects* section: the list of primitives and lenses, the editor of
+//! The *Objects* section: the list of primitives, lenses and lens
+//! systems, the editor of
 //! the selected primitive (its material below it, see `material.rs`),
 //! and *Duplicate* / *Delete*.
 
 use super::widgets::{Field, name, number, vec3};
 use super::{Ctx, drafted, material};
 use lensview::edit::Item;
+use lensview::edit::document::system_kind_label;
 use lensview::scene::file::{ObjectFile, ShapeKind};
 
 pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
@@ -30,6 +32,12 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
                     cx.doc.item_name(Item::Lens(i))
                 ));
             }
+            Some(Item::System(i)) => {
+                ui.label(format!(
+                    "{}: its pose, shape and glasses are under System; the lens keys move and reshape it.",
+                    cx.doc.item_name(Item::System(i))
+                ));
+            }
         }
         if cx.ui.selected.is_some() {
             ui.horizontal(|ui| {
@@ -44,19 +52,32 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     });
 }
 
-/// The items, one selectable line each; a lens also opens *Lens*.
+/// The items, one selectable line each; a lens also opens *Lens*, a
+/// system *System*.
 fn list(ui: &mut egui::Ui, cx: &mut Ctx, items: &[(Item, String)]) {
     for (item, name) in items {
         let kind = match item {
-            Item::Object(i) => cx.doc.scene().objects[*i].kind.name(),
-            Item::Lens(_) => "lens",
+            Item::Object(i) => cx.doc.scene().objects.get(*i).map_or("", |o| o.kind.name()).to_string(),
+            Item::Lens(_) => "lens".to_string(),
+            Item::System(i) => cx
+                .doc
+                .scene()
+                .systems
+                .get(*i)
+                .map_or_else(String::new, system_kind_label),
         };
         let sel = cx.ui.selected == Some(*item);
-        if ui.selectable_label(sel, format!("{name}   ({kind})")).clicked() {
+        let r = ui.selectable_label(sel, format!("{name}   ({kind})"));
+        cx.ui.rect(ui, &format!("item {name}"), &r);
+        if r.clicked() {
             cx.ui.selected = if sel { None } else { Some(*item) };
-            if let Item::Lens(i) = item {
-                cx.ui.lens = *i;
-                cx.ui.open_lens = true;
+            match item {
+                Item::Lens(i) => {
+                    cx.ui.lens = *i;
+                    cx.ui.open_lens = true;
+                }
+                Item::System(_) => cx.ui.open_system = true,
+                Item::Object(_) => {}
             }
         }
     }

@@ -155,6 +155,32 @@ pub fn index(ui: &mut egui::Ui, n: &mut IndexFile) {
     }
 }
 
+/// [`index`], and a choice of a catalogue glass ([`lensview::glass`]);
+/// `id` tells the choices of several apart.
+pub fn index_or_glass(ui: &mut egui::Ui, id: impl std::hash::Hash + std::fmt::Debug, n: &mut IndexFile) {
+    index(ui, n);
+    glass_choice(ui, id, n);
+}
+
+/// A menu of the catalogue's glasses; choosing one makes `n` that glass.
+pub fn glass_choice(ui: &mut egui::Ui, id: impl std::hash::Hash + std::fmt::Debug, n: &mut IndexFile) {
+    let shown = match n {
+        IndexFile::Glass(g) => g.name.to_string(),
+        _ => "catalogue glass…".to_string(),
+    };
+    egui::ComboBox::from_id_salt(("glass", id))
+        .selected_text(shown)
+        .show_ui(ui, |ui| {
+            for g in lensview::glass::CATALOGUE {
+                let on = matches!(n, IndexFile::Glass(h) if h.name == g.name);
+                let text = format!("{}  (nd {:.4}, vd {:.1})", g.name, g.nd(), g.abbe());
+                if ui.selectable_label(on, text).clicked() {
+                    *n = IndexFile::Glass(g);
+                }
+            }
+        });
+}
+
 /// A frame around `add`, red when it shows a draft that did not validate.
 pub fn draft_frame<R>(ui: &mut egui::Ui, is_draft: bool, add: impl FnOnce(&mut egui::Ui) -> R) -> R {
     let stroke = if is_draft {
