@@ -35,7 +35,12 @@ pub struct LensSystemArgs {
 
 /// The system the arguments name.
 fn load(a: &LensSystemArgs) -> Result<LensSystem> {
-    load_system(a.system.as_deref(), a.prescription.as_deref(), a.preset.as_deref(), a.scale)
+    load_system(
+        a.system.as_deref(),
+        a.prescription.as_deref(),
+        a.preset.as_deref(),
+        a.scale,
+    )
 }
 
 /// The system of exactly one of a JSON file, a prescription file or a

@@ -141,11 +141,7 @@ pub fn spot(a: &SpotArgs, sys: LensSystem) -> Result<()> {
     }
     println!(
         "spot diagram: hexapolar, {} rings over the entrance pupil (radius {} at {} from the first vertex); image plane {} after the last vertex; field {}°",
-        spot.rings,
-        spot.pupil.radius,
-        spot.pupil.z,
-        spot.image_plane_from_last_vertex,
-        spot.field_deg
+        spot.rings, spot.pupil.radius, spot.pupil.z, spot.image_plane_from_last_vertex, spot.field_deg
     );
     for sp in &spot.spots {
         let c = sp

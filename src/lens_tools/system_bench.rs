@@ -194,7 +194,10 @@ impl SystemBench {
         let caps = (0..s.len()).filter(|&k| s.cap_is_boundary(k)).count();
         ray.status == RayStatus::Transmitted
             && ray.events.len() == caps
-            && ray.events.iter().all(|e| e.piece.kind == PieceKind::Cap && e.kind == EventKind::Refract)
+            && ray
+                .events
+                .iter()
+                .all(|e| e.piece.kind == PieceKind::Cap && e.kind == EventKind::Refract)
             && ray.events.windows(2).all(|w| w[0].piece.surface < w[1].piece.surface)
     }
 
@@ -387,9 +390,7 @@ impl SystemRay {
         lambda_um: f64,
         plane_z: f64,
     ) -> SystemRay {
-        let absorbed = (ray.status == RayStatus::Absorbed)
-            .then(|| ray.events.last())
-            .flatten();
+        let absorbed = (ray.status == RayStatus::Absorbed).then(|| ray.events.last()).flatten();
         SystemRay {
             pupil,
             origin: o.to_array(),

@@ -128,7 +128,9 @@ pub fn system_fan(bench: &SystemBench, rays: u32, image_plane: Option<f64>) -> R
         if real.status == RayStatus::Transmitted {
             let (x, u) = real.local;
             // Off to the image plane, or a while along the way it leaves.
-            let end = ray.image_point.unwrap_or_else(|| (x + u * bench.system.radius()).to_array());
+            let end = ray
+                .image_point
+                .unwrap_or_else(|| (x + u * bench.system.radius()).to_array());
             path.push(end);
         }
         SystemFanRay { ray, path }
@@ -155,7 +157,9 @@ pub fn element_outline(sys: &LensSystem, k: usize, points_per_face: u32) -> Vec<
     let a = [sys.surfaces[k].semi_aperture, sys.surfaces[k + 1].semi_aperture];
     let rim = a[0].max(a[1]);
     let m = points_per_face.max(2);
-    let mut xs: Vec<f64> = (0..m).map(|i| -rim + 2.0 * rim * f64::from(i) / f64::from(m - 1)).collect();
+    let mut xs: Vec<f64> = (0..m)
+        .map(|i| -rim + 2.0 * rim * f64::from(i) / f64::from(m - 1))
+        .collect();
     xs.extend([-a[0], a[0], -a[1], a[1]]);
     xs.sort_by(f64::total_cmp);
     xs.dedup();

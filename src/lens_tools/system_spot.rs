@@ -173,7 +173,11 @@ impl fmt::Display for SystemDistortion {
         let obj = self
             .object_distance
             .map_or("infinity".to_string(), |d| format!("{d} before the first vertex"));
-        writeln!(f, "distortion: lens system of {} surfaces; object at {obj}", self.surfaces)?;
+        writeln!(
+            f,
+            "distortion: lens system of {} surfaces; object at {obj}",
+            self.surfaces
+        )?;
         writeln!(
             f,
             "  chief ray through the centre of the stop (surface {}); paraxial image plane {} after the last vertex; EFL {}",
