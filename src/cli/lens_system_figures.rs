@@ -48,7 +48,7 @@ pub struct FigureLens {
 /// What the flags name.
 pub enum Which {
     Lens((f64, f64, f64, Index)),
-    System(LensSystem),
+    System(Box<LensSystem>),
 }
 
 impl FigureLens {
@@ -112,13 +112,13 @@ impl FigureLens {
             })
             .collect();
         let sys = LensSystem::new(DVec3::ZERO, DVec3::Z, surfaces).map_err(|e| anyhow::anyhow!("--scale: {e}"))?;
-        Ok(Which::System(sys))
+        Ok(Which::System(Box::new(sys)))
     }
 }
 
-pub fn fan(a: &FanArgs, sys: LensSystem) -> Result<()> {
+pub fn fan(a: &FanArgs, sys: Box<LensSystem>) -> Result<()> {
     let b = &a.bench;
-    let bench = SystemBench::new(sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
     if a.output.is_none() && !a.json {
         bail!("give -o fan.svg|fan.png, --json, or both");
     }
@@ -132,9 +132,9 @@ pub fn fan(a: &FanArgs, sys: LensSystem) -> Result<()> {
     Ok(())
 }
 
-pub fn spot(a: &SpotArgs, sys: LensSystem) -> Result<()> {
+pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
     let b = &a.bench;
-    let bench = SystemBench::new(sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
     let spot = system_spot(&bench, a.image_plane, a.rings).map_err(refuse)?;
     if a.json {
         return print_json(&spot);
@@ -159,8 +159,8 @@ pub fn spot(a: &SpotArgs, sys: LensSystem) -> Result<()> {
     Ok(())
 }
 
-pub fn distortion(a: &DistortionArgs, sys: LensSystem) -> Result<()> {
-    let bench = SystemBench::new(sys, a.object_distance, 0.0).map_err(refuse)?;
+pub fn distortion(a: &DistortionArgs, sys: Box<LensSystem>) -> Result<()> {
+    let bench = SystemBench::new(*sys, a.object_distance, 0.0).map_err(refuse)?;
     let dist = system_distortion(&bench, a.max_field_deg, a.steps).map_err(refuse)?;
     if a.json {
         return print_json(&dist);
