@@ -426,3 +426,50 @@ fn the_double_gauss_fan_is_drawn_with_its_elements_stop_and_marks() {
     }
     assert_eq!(v["lsa"].as_array().unwrap().len(), 32);
 }
+
+#[test]
+fn aiming_at_the_real_chief_ray_lets_a_fisheye_image_a_wide_field() {
+    let count = |extra: &[&str]| -> u64 {
+        let mut args = vec![
+            "lens",
+            "spot",
+            "--preset",
+            "fisheye-10mm",
+            "--field-deg",
+            "60",
+            "--json",
+        ];
+        args.extend(extra);
+        let (ok, out, err) = run(&args);
+        assert!(ok, "{err}");
+        let v: Value = serde_json::from_str(&out).unwrap();
+        v["spots"][1]["ray_count"].as_u64().unwrap()
+    };
+    // Through the paraxial pupil every ray is stopped; around the real
+    // chief ray most get there.
+    assert_eq!(count(&[]), 0);
+    assert!(count(&["--aim-chief"]) > 90);
+    // Equidistant (f·θ) mapping: the real height at 60° is f·π/3 within 1 %.
+    let bench = SystemBench::new(preset("fisheye-10mm"), None, 0.0).unwrap();
+    let d = system_distortion(&bench, 60.0, 1).unwrap();
+    let h = d.points[0].real_height.unwrap().abs();
+    let f_theta = d.efl * std::f64::consts::FRAC_PI_3;
+    assert!((h / f_theta - 1.0).abs() < 0.01, "{h} {f_theta}");
+    let (ok, _, err) = run(&[
+        "lens",
+        "spot",
+        "--d",
+        "2",
+        "--r1",
+        "5",
+        "--r2",
+        "5",
+        "--n",
+        "1.5",
+        "--aim-chief",
+    ]);
+    assert!(
+        !ok && err.trim().lines().count() == 1 && err.contains("--aim-chief"),
+        "{err}"
+    );
+}

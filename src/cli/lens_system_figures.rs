@@ -43,6 +43,10 @@ pub struct FigureLens {
     /// Lengths of the system multiplied by this.
     #[arg(long)]
     pub scale: Option<f64>,
+    /// Centre a system's pupil rays on the real chief ray (through the stop's centre) instead of the
+    /// paraxial entrance pupil's centre.
+    #[arg(long)]
+    pub aim_chief: bool,
 }
 
 /// What the flags name.
@@ -79,8 +83,12 @@ impl FigureLens {
             bail!("{}: {both}, only one", system.join(" and "));
         }
         if system.is_empty() {
-            if self.scale.is_some() {
-                bail!("--scale: applies to a system (--system, --prescription or --preset), not to the biconvex lens");
+            for (flag, given) in [("--scale", self.scale.is_some()), ("--aim-chief", self.aim_chief)] {
+                if given {
+                    bail!(
+                        "{flag}: applies to a system (--system, --prescription or --preset), not to the biconvex lens"
+                    );
+                }
             }
             return match (self.d, self.r1, self.r2, self.n) {
                 (Some(d), Some(r1), Some(r2), Some(n)) => Ok(Which::Lens((d, r1, r2, n))),
@@ -119,6 +127,7 @@ impl FigureLens {
 pub fn fan(a: &FanArgs, sys: Box<LensSystem>) -> Result<()> {
     let b = &a.bench;
     let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
     if a.output.is_none() && !a.json {
         bail!("give -o fan.svg|fan.png, --json, or both");
     }
@@ -135,6 +144,7 @@ pub fn fan(a: &FanArgs, sys: Box<LensSystem>) -> Result<()> {
 pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
     let b = &a.bench;
     let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
     let spot = system_spot(&bench, a.image_plane, a.rings).map_err(refuse)?;
     if a.json {
         return print_json(&spot);

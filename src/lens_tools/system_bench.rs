@@ -48,6 +48,9 @@ pub struct SystemBench {
     pub aim: Aim,
     /// First-order data at the d line.
     pub paraxial: Paraxial,
+    /// The pupil's centre, x in units of the aim radius: 0 (the paraxial
+    /// chief ray), or the real chief ray's ([`SystemBench::aimed`]).
+    pub centre: f64,
 }
 
 impl SystemBench {
@@ -96,6 +99,7 @@ impl SystemBench {
                 radius: ep.semi_diameter * PUPIL_EDGE,
             },
             paraxial,
+            centre: 0.0,
         };
         if let Some(dist) = object_distance {
             let o = bench.object_point(dist);
@@ -112,6 +116,17 @@ impl SystemBench {
     /// The same bench aiming at another pupil.
     pub fn with_aim(self, aim: Aim) -> SystemBench {
         SystemBench { aim, ..self }
+    }
+
+    /// The same bench with its pupil centred on the real chief ray at the
+    /// d line (ray aiming: at wide fields pupil aberration moves the beam
+    /// through the stop's centre far from the paraxial one); unchanged when
+    /// no chief ray is found.
+    pub fn aimed(self) -> SystemBench {
+        match self.chief_ray(WAVELENGTH_D_UM) {
+            Some(c) => SystemBench { centre: c.px, ..self },
+            None => self,
+        }
     }
 
     /// The smallest `z` any piece of the system reaches (a concave first
@@ -138,7 +153,7 @@ impl SystemBench {
     /// The local ray for the pupil point (px, py): origin and unit direction.
     pub fn ray(&self, px: f64, py: f64) -> (DVec3, DVec3) {
         let rho = self.aim.radius;
-        let aim = DVec3::new(px * rho, py * rho, self.aim.z);
+        let aim = DVec3::new((self.centre + px) * rho, py * rho, self.aim.z);
         match self.object_distance {
             Some(dist) => {
                 let o = self.object_point(dist);
@@ -304,9 +319,13 @@ impl SystemBench {
     /// or the steps do not settle.
     pub fn chief_ray(&self, lambda_um: f64) -> Option<ChiefRay> {
         let z_stop = self.system.vertex_z(self.paraxial.stop);
+        let probe = SystemBench {
+            centre: 0.0,
+            ..self.clone()
+        };
         let at = |px: f64| {
-            let (o, u, ray) = self.trace(px, 0.0, lambda_um);
-            let h = self.plane_crossing(o, &ray, z_stop)?.x;
+            let (o, u, ray) = probe.trace(px, 0.0, lambda_um);
+            let h = probe.plane_crossing(o, &ray, z_stop)?.x;
             Some(ChiefRay {
                 px,
                 origin: o,
@@ -316,11 +335,20 @@ impl SystemBench {
             })
         };
         let tol = 1e-13 * self.system.radius().max(self.aim.radius);
-        let mut a = at(0.0)?;
-        if a.stop_height.abs() <= tol {
-            return Some(a);
-        }
-        let mut b = at(0.01_f64.copysign(-a.stop_height))?;
+        let (mut a, mut b) = match at(0.0) {
+            Some(a) if a.stop_height.abs() <= tol => return Some(a),
+            Some(a) => {
+                let b = at(0.01_f64.copysign(-a.stop_height))?;
+                (a, b)
+            }
+            // Lost on the way (wide fields): a bracket from a scan of the
+            // pupil plane, 8 radii each side.
+            None => {
+                let found: Vec<ChiefRay> = (-80..=80).filter_map(|i| at(f64::from(i) / 10.0)).collect();
+                let pair = found.windows(2).find(|w| w[0].stop_height * w[1].stop_height <= 0.0)?;
+                (pair[0].clone(), pair[1].clone())
+            }
+        };
         for _ in 0..60 {
             if b.stop_height.abs() <= tol {
                 return Some(b);

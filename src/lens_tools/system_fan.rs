@@ -55,6 +55,9 @@ pub struct SystemFan {
     pub wavelength_um: f64,
     /// The pupil the rays fill (local z along the light, radius).
     pub pupil: Aim,
+    /// The pupil's centre (x, in units of its radius): 0, or the real
+    /// chief ray's with `--aim-chief`.
+    pub pupil_centre: f64,
     /// The plane the rays are followed to (their `image_point`), from the
     /// last vertex.
     pub image_plane_from_last_vertex: f64,
@@ -67,6 +70,7 @@ pub struct SystemFan {
 fn axial(bench: &SystemBench) -> SystemBench {
     SystemBench {
         field_deg: 0.0,
+        centre: 0.0,
         ..bench.clone()
     }
 }
@@ -142,6 +146,7 @@ pub fn system_fan(bench: &SystemBench, rays: u32, image_plane: Option<f64>) -> R
         field_deg: bench.field_deg,
         wavelength_um: WAVELENGTH_D_UM,
         pupil: bench.aim,
+        pupil_centre: bench.centre,
         image_plane_from_last_vertex: from_last,
         cardinal: system_cardinal(bench),
         rays: (0..rays).map(|k| fan_ray(px(k))).collect(),

@@ -32,6 +32,9 @@ pub struct SystemSpotDiagram {
     pub sampling: &'static str,
     pub rings: u32,
     pub pupil: Aim,
+    /// The pupil's centre (x, in units of its radius): 0, or the real
+    /// chief ray's with `--aim-chief`.
+    pub pupil_centre: f64,
     /// The image plane from the last vertex, and its local z.
     pub image_plane_from_last_vertex: f64,
     pub image_plane_z: f64,
@@ -74,6 +77,7 @@ pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) ->
         sampling: "hexapolar",
         rings,
         pupil: bench.aim,
+        pupil_centre: bench.centre,
         image_plane_from_last_vertex: from_last,
         image_plane_z: plane_z,
         paraxial_image_from_last_vertex: bench.paraxial_image().map(|p| p.0),
