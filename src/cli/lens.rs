@@ -59,7 +59,7 @@ pub struct LensShape {
     pub n: lensview::optics::Index,
 }
 
-fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
+pub(super) fn parse_index(s: &str) -> Result<lensview::optics::Index, String> {
     let num = |t: &str| {
         t.trim()
             .parse::<f64>()

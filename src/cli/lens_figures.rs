@@ -1,8 +1,10 @@
 //! `lensview lens fan | spot | distortion`: the lens's figures, computed by
 //! `lensview::lens_tools` (every ray by `Lens::trace`), written as JSON on
-//! stdout, a table, or a drawing (`lens fan -o fan.svg|fan.png`).
+//! stdout, a table, or a drawing (`lens fan -o fan.svg|fan.png`). A lens
+//! system (`--preset`, `--prescription`, `--system`) is handed to
+//! `lens_system_figures.rs`.
 
-use super::lens::LensShape;
+use super::lens_system_figures::{FigureLens, Which};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use lensview::lens_tools::sketch::Sketch;
@@ -14,8 +16,8 @@ use std::path::{Path, PathBuf};
 #[derive(Args, Debug)]
 pub struct Bench {
     #[command(flatten)]
-    pub shape: LensShape,
-    /// Object distance before the vertex V1 (default: at infinity).
+    pub shape: FigureLens,
+    /// Object distance before the vertex V1, or a system's first vertex (default: at infinity).
     #[arg(long, allow_negative_numbers = true)]
     pub object_distance: Option<f64>,
     /// Field angle in degrees: the chief ray's angle to the axis (aimed at the lens centre).
@@ -59,8 +61,8 @@ pub struct SpotArgs {
 #[derive(Args, Debug)]
 pub struct DistortionArgs {
     #[command(flatten)]
-    pub shape: LensShape,
-    /// Object distance before the vertex V1 (default: at infinity).
+    pub shape: FigureLens,
+    /// Object distance before the vertex V1, or a system's first vertex (default: at infinity).
     #[arg(long, allow_negative_numbers = true)]
     pub object_distance: Option<f64>,
     /// Largest field angle, degrees.
@@ -75,15 +77,15 @@ pub struct DistortionArgs {
 }
 
 /// A bad value: one line naming the option.
-fn refuse(e: SetupError) -> anyhow::Error {
+pub(super) fn refuse(e: SetupError) -> anyhow::Error {
     anyhow!("{e}")
 }
 
-fn setup(shape: &LensShape, object_distance: Option<f64>, field_deg: f64) -> Result<Setup> {
-    Setup::new(shape.d, shape.r1, shape.r2, shape.n, object_distance, field_deg).map_err(refuse)
+fn setup(l: (f64, f64, f64, lensview::optics::Index), object_distance: Option<f64>, field_deg: f64) -> Result<Setup> {
+    Setup::new(l.0, l.1, l.2, l.3, object_distance, field_deg).map_err(refuse)
 }
 
-fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
+pub(super) fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
     use std::io::Write;
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     serde_json::to_writer_pretty(&mut out, value)?;
@@ -94,23 +96,17 @@ fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
 
 pub fn fan(a: &FanArgs) -> Result<()> {
     let b = &a.bench;
-    let s = setup(&b.shape, b.object_distance, b.field_deg)?;
+    let l = match b.shape.which()? {
+        Which::Lens(l) => l,
+        Which::System(sys) => return super::lens_system_figures::fan(a, sys),
+    };
+    let s = setup(l, b.object_distance, b.field_deg)?;
     if a.output.is_none() && !a.json {
         bail!("give -o fan.svg|fan.png, --json, or both");
     }
     let fan = lensview::lens_tools::fan(&s, a.rays, a.image_plane).map_err(refuse)?;
     if let Some(path) = &a.output {
-        let sketch = fan.sketch(&s);
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("svg") => write_file(path, sketch.svg(1200.0).as_bytes())?,
-            Some("png") => sketch_png(path, &sketch)?,
-            _ => bail!("-o {}: the drawing is written as .svg or .png", path.display()),
-        }
+        write_sketch(path, &fan.sketch(&s))?;
     }
     if a.json {
         print_json(&fan)?;
@@ -118,9 +114,28 @@ pub fn fan(a: &FanArgs) -> Result<()> {
     Ok(())
 }
 
+/// The drawing as .svg or .png, by the file's extension.
+pub(super) fn write_sketch(path: &Path, sketch: &Sketch) -> Result<()> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg") => write_file(path, sketch.svg(1200.0).as_bytes())?,
+        Some("png") => sketch_png(path, sketch)?,
+        _ => bail!("-o {}: the drawing is written as .svg or .png", path.display()),
+    }
+    Ok(())
+}
+
 pub fn spot(a: &SpotArgs) -> Result<()> {
     let b = &a.bench;
-    let s = setup(&b.shape, b.object_distance, b.field_deg)?;
+    let l = match b.shape.which()? {
+        Which::Lens(l) => l,
+        Which::System(sys) => return super::lens_system_figures::spot(a, sys),
+    };
+    let s = setup(l, b.object_distance, b.field_deg)?;
     let spot = lensview::lens_tools::spot_diagram(&s, a.image_plane, a.rings).map_err(refuse)?;
     if a.json {
         return print_json(&spot);
@@ -147,7 +162,11 @@ pub fn spot(a: &SpotArgs) -> Result<()> {
 }
 
 pub fn distortion(a: &DistortionArgs) -> Result<()> {
-    let s = setup(&a.shape, a.object_distance, 0.0)?;
+    let l = match a.shape.which()? {
+        Which::Lens(l) => l,
+        Which::System(sys) => return super::lens_system_figures::distortion(a, sys),
+    };
+    let s = setup(l, a.object_distance, 0.0)?;
     let dist = lensview::lens_tools::distortion(&s, a.max_field_deg, a.steps).map_err(refuse)?;
     if a.json {
         return print_json(&dist);

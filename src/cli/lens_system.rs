@@ -8,7 +8,7 @@ use glam::DVec3;
 use lensview::geometry::{LensSystem, SurfaceSpec};
 use lensview::lens_tools::system_info::{DEFAULT_WAVELENGTH_UM, system_info};
 use lensview::prescription;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct LensSystemArgs {
@@ -35,18 +35,34 @@ pub struct LensSystemArgs {
 
 /// The system the arguments name.
 fn load(a: &LensSystemArgs) -> Result<LensSystem> {
-    if !(a.scale > 0.0 && a.scale.is_finite()) {
-        bail!("--scale must be a positive number, got {}", a.scale);
+    load_system(
+        a.system.as_deref(),
+        a.prescription.as_deref(),
+        a.preset.as_deref(),
+        a.scale,
+    )
+}
+
+/// The system of exactly one of a JSON file, a prescription file or a
+/// preset; `scale` multiplies the lengths of a prescription or preset.
+pub(super) fn load_system(
+    system: Option<&Path>,
+    prescription: Option<&Path>,
+    preset: Option<&str>,
+    scale: f64,
+) -> Result<LensSystem> {
+    if !(scale > 0.0 && scale.is_finite()) {
+        bail!("--scale must be a positive number, got {scale}");
     }
     let from_rows = |name: &str, text: &str| -> Result<LensSystem> {
         let rows = prescription::parse(name, text).map_err(|e| anyhow::anyhow!("{e}"))?;
         let surfaces = rows
             .iter()
             .map(|r| SurfaceSpec {
-                radius: r.radius * a.scale,
-                thickness: r.thickness * a.scale,
+                radius: r.radius * scale,
+                thickness: r.thickness * scale,
                 n: r.n,
-                semi_aperture: 0.5 * r.aperture_diameter * a.scale,
+                semi_aperture: 0.5 * r.aperture_diameter * scale,
                 stop: r.stop,
             })
             .collect();
@@ -55,7 +71,7 @@ fn load(a: &LensSystemArgs) -> Result<LensSystem> {
             None => anyhow::anyhow!("{name}: {}: {}", e.field, e.message),
         })
     };
-    match (&a.system, &a.prescription, &a.preset) {
+    match (system, prescription, preset) {
         (Some(path), None, None) => {
             let name = path.display().to_string();
             let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;

@@ -17,6 +17,7 @@ mod converge;
 mod lens;
 mod lens_figures;
 mod lens_system;
+mod lens_system_figures;
 mod progress;
 mod render;
 mod table;

@@ -10,7 +10,10 @@ pub mod fan;
 pub mod setup;
 pub mod sketch;
 pub mod spot;
+pub mod system_bench;
+pub mod system_fan;
 pub mod system_info;
+pub mod system_spot;
 pub mod system_trace;
 
 pub use distortion::{Distortion, distortion};

@@ -11,6 +11,8 @@ pub enum Kind {
     Ray,
     Plane,
     Principal,
+    /// A system's aperture stop (the diaphragm).
+    Stop,
 }
 
 impl Kind {
@@ -22,6 +24,7 @@ impl Kind {
             Kind::Ray => ([220, 60, 20], 1.2),
             Kind::Plane => ([40, 150, 60], 1.0),
             Kind::Principal => ([150, 80, 180], 1.0),
+            Kind::Stop => ([0, 0, 0], 3.0),
         }
     }
 }

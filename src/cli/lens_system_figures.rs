@@ -1,0 +1,180 @@
+//! `lensview lens fan | spot | distortion` for a lens system: which lens
+//! the flags name (the biconvex lens of `--d --r1 --r2 --n`, or a system
+//! from `--system`, `--prescription` or `--preset`, never both), and the
+//! system's figures ([`lensview::lens_tools::system_fan`],
+//! [`lensview::lens_tools::system_spot`]).
+
+use super::lens_figures::{DistortionArgs, FanArgs, SpotArgs, print_json, refuse, write_sketch};
+use anyhow::{Result, bail};
+use clap::Args;
+use glam::DVec3;
+use lensview::geometry::{LensSystem, SurfaceSpec};
+use lensview::lens_tools::system_bench::SystemBench;
+use lensview::lens_tools::system_fan::system_fan;
+use lensview::lens_tools::system_spot::{system_distortion, system_spot};
+use lensview::optics::Index;
+use std::path::PathBuf;
+
+/// The lens of a figure: a biconvex lens, or a lens system.
+#[derive(Args, Debug)]
+pub struct FigureLens {
+    /// Diameter of the biconvex lens.
+    #[arg(long)]
+    pub d: Option<f64>,
+    /// Radius of curvature of S1 (magnitude, ≥ d/2).
+    #[arg(long)]
+    pub r1: Option<f64>,
+    /// Radius of curvature of S2 (magnitude, ≥ d/2).
+    #[arg(long)]
+    pub r2: Option<f64>,
+    /// Refractive index (a number), Cauchy coefficients as A,B (n = A + B/λ², λ in µm), or a catalogue
+    /// glass's name (N-BK7, N-SF5, F2, …: Sellmeier dispersion).
+    #[arg(long, value_parser = super::lens::parse_index)]
+    pub n: Option<Index>,
+    /// A lens system as JSON (as `lens system --system` reads it) instead of the biconvex lens.
+    #[arg(long)]
+    pub system: Option<PathBuf>,
+    /// A prescription file (pbrt-v4 lens format) instead of the biconvex lens.
+    #[arg(long)]
+    pub prescription: Option<PathBuf>,
+    /// A built-in prescription (as `lens system --preset`) instead of the biconvex lens.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Lengths of the system multiplied by this.
+    #[arg(long)]
+    pub scale: Option<f64>,
+    /// Centre a system's pupil rays on the real chief ray (through the stop's centre) instead of the
+    /// paraxial entrance pupil's centre.
+    #[arg(long)]
+    pub aim_chief: bool,
+}
+
+/// What the flags name.
+pub enum Which {
+    Lens((f64, f64, f64, Index)),
+    System(Box<LensSystem>),
+}
+
+impl FigureLens {
+    /// The lens the flags name, or a one-line refusal.
+    pub fn which(&self) -> Result<Which> {
+        let lens: Vec<&str> = [
+            ("--d", self.d.is_some()),
+            ("--r1", self.r1.is_some()),
+            ("--r2", self.r2.is_some()),
+            ("--n", self.n.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(f, given)| given.then_some(f))
+        .collect();
+        let system: Vec<&str> = [
+            ("--system", self.system.is_some()),
+            ("--prescription", self.prescription.is_some()),
+            ("--preset", self.preset.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(f, given)| given.then_some(f))
+        .collect();
+        let both = "give the biconvex lens (--d --r1 --r2 --n) or one system (--system, --prescription or --preset)";
+        if !lens.is_empty() && !system.is_empty() {
+            bail!("{} with {}: {both}, not both", lens.join(" "), system.join(" "));
+        }
+        if system.len() > 1 {
+            bail!("{}: {both}, only one", system.join(" and "));
+        }
+        if system.is_empty() {
+            for (flag, given) in [("--scale", self.scale.is_some()), ("--aim-chief", self.aim_chief)] {
+                if given {
+                    bail!(
+                        "{flag}: applies to a system (--system, --prescription or --preset), not to the biconvex lens"
+                    );
+                }
+            }
+            return match (self.d, self.r1, self.r2, self.n) {
+                (Some(d), Some(r1), Some(r2), Some(n)) => Ok(Which::Lens((d, r1, r2, n))),
+                _ => {
+                    let missing: Vec<&str> = ["--d", "--r1", "--r2", "--n"]
+                        .into_iter()
+                        .filter(|f| !lens.contains(f))
+                        .collect();
+                    bail!("{} missing: {both}", missing.join(" "))
+                }
+            };
+        }
+        let scale = self.scale.unwrap_or(1.0);
+        let sys = super::lens_system::load_system(
+            self.system.as_deref(),
+            self.prescription.as_deref(),
+            self.preset.as_deref(),
+            scale,
+        )?;
+        // The figures measure in the system's own frame; a JSON system's
+        // lengths are scaled here (a prescription's were as it was read).
+        let s = if self.system.is_some() { scale } else { 1.0 };
+        let surfaces = (sys.surfaces.iter())
+            .map(|f| SurfaceSpec {
+                radius: f.radius * s,
+                thickness: f.thickness * s,
+                semi_aperture: f.semi_aperture * s,
+                ..*f
+            })
+            .collect();
+        let sys = LensSystem::new(DVec3::ZERO, DVec3::Z, surfaces).map_err(|e| anyhow::anyhow!("--scale: {e}"))?;
+        Ok(Which::System(Box::new(sys)))
+    }
+}
+
+pub fn fan(a: &FanArgs, sys: Box<LensSystem>) -> Result<()> {
+    let b = &a.bench;
+    let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
+    if a.output.is_none() && !a.json {
+        bail!("give -o fan.svg|fan.png, --json, or both");
+    }
+    let fan = system_fan(&bench, a.rays, a.image_plane).map_err(refuse)?;
+    if let Some(path) = &a.output {
+        write_sketch(path, &fan.sketch(&bench))?;
+    }
+    if a.json {
+        print_json(&fan)?;
+    }
+    Ok(())
+}
+
+pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
+    let b = &a.bench;
+    let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
+    let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
+    let spot = system_spot(&bench, a.image_plane, a.rings).map_err(refuse)?;
+    if a.json {
+        return print_json(&spot);
+    }
+    println!(
+        "spot diagram: hexapolar, {} rings over the entrance pupil (radius {} at {} from the first vertex); image plane {} after the last vertex; field {}°",
+        spot.rings, spot.pupil.radius, spot.pupil.z, spot.image_plane_from_last_vertex, spot.field_deg
+    );
+    for sp in &spot.spots {
+        let c = sp
+            .centroid
+            .map_or("—".into(), |c| format!("({:.6e}, {:.6e})", c[0], c[1]));
+        let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.9e}"));
+        println!(
+            "  {} {:.4} µm  rays {}/{}  centroid {c}  RMS radius {r}",
+            sp.line,
+            sp.wavelength_um,
+            sp.ray_count,
+            sp.rays.len()
+        );
+    }
+    Ok(())
+}
+
+pub fn distortion(a: &DistortionArgs, sys: Box<LensSystem>) -> Result<()> {
+    let bench = SystemBench::new(*sys, a.object_distance, 0.0).map_err(refuse)?;
+    let dist = system_distortion(&bench, a.max_field_deg, a.steps).map_err(refuse)?;
+    if a.json {
+        return print_json(&dist);
+    }
+    print!("{dist}");
+    Ok(())
+}

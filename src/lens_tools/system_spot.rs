@@ -1,0 +1,208 @@
+//! The spot diagram (C, d and F lines, hexapolar pupil) and the distortion
+//! of the real chief ray for a lens system, on [`SystemBench`].
+
+use super::setup::{SPOT_WAVELENGTHS_UM, SetupError, bad};
+use super::spot::{MAX_RINGS, hexapolar, rms_and_centroid};
+use super::system_bench::{Aim, SystemBench, SystemRay};
+use crate::optics::WAVELENGTH_D_UM;
+use serde::Serialize;
+use std::fmt;
+
+/// One wavelength's spot.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SystemSpot {
+    /// `C`, `d` or `F`.
+    pub line: &'static str,
+    pub wavelength_um: f64,
+    /// Rays that reach the image plane (those with an `image_point`).
+    pub ray_count: usize,
+    /// Mean of the image points' x and y (local) over those rays.
+    pub centroid: Option<[f64; 2]>,
+    /// √(mean of |p − centroid|²) over those rays, in the plane.
+    pub rms_radius: Option<f64>,
+    pub rays: Vec<SystemRay>,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SystemSpotDiagram {
+    pub surfaces: usize,
+    pub object_distance: Option<f64>,
+    pub field_deg: f64,
+    /// `hexapolar`, with `rings` rings, over the pupil.
+    pub sampling: &'static str,
+    pub rings: u32,
+    pub pupil: Aim,
+    /// The pupil's centre (x, in units of its radius): 0, or the real
+    /// chief ray's with `--aim-chief`.
+    pub pupil_centre: f64,
+    /// The image plane from the last vertex, and its local z.
+    pub image_plane_from_last_vertex: f64,
+    pub image_plane_z: f64,
+    pub paraxial_image_from_last_vertex: Option<f64>,
+    pub spots: Vec<SystemSpot>,
+}
+
+pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) -> Result<SystemSpotDiagram, SetupError> {
+    if !(1..=MAX_RINGS).contains(&rings) {
+        return Err(bad("rings", format!("{rings} must be between 1 and {MAX_RINGS}")));
+    }
+    let from_last = bench.image_plane(image_plane)?;
+    let plane_z = bench.plane_z(from_last);
+    let pupil = hexapolar(rings);
+    let spots = SPOT_WAVELENGTHS_UM
+        .iter()
+        .map(|&(line, l)| {
+            let rays: Vec<SystemRay> = (pupil.iter())
+                .map(|p| SystemRay::traced(bench, p[0], p[1], l, plane_z).0)
+                .collect();
+            let hits: Vec<[f64; 2]> = rays
+                .iter()
+                .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
+                .collect();
+            let stats = rms_and_centroid(&hits);
+            SystemSpot {
+                line,
+                wavelength_um: l,
+                ray_count: hits.len(),
+                centroid: stats.map(|s| s.0),
+                rms_radius: stats.map(|s| s.1),
+                rays,
+            }
+        })
+        .collect();
+    Ok(SystemSpotDiagram {
+        surfaces: bench.system.len(),
+        object_distance: bench.object_distance,
+        field_deg: bench.field_deg,
+        sampling: "hexapolar",
+        rings,
+        pupil: bench.aim,
+        pupil_centre: bench.centre,
+        image_plane_from_last_vertex: from_last,
+        image_plane_z: plane_z,
+        paraxial_image_from_last_vertex: bench.paraxial_image().map(|p| p.0),
+        spots,
+    })
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SystemDistortionPoint {
+    pub field_deg: f64,
+    /// The real chief ray (aimed through the stop's centre), traced; its
+    /// `image_point` is in the paraxial image plane. `null` when no ray
+    /// through the stop's centre was found.
+    pub chief_ray: Option<SystemRay>,
+    /// Where that ray crosses the stop's vertex plane (≈ 0).
+    pub stop_height: Option<f64>,
+    /// The chief ray's height (x) in the image plane.
+    pub real_height: Option<f64>,
+    /// −EFL·tan A from infinity, m·(D + entrance pupil)·tan A from an object at D.
+    pub paraxial_height: f64,
+    /// 100·(real − paraxial)/paraxial.
+    pub distortion_percent: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SystemDistortion {
+    pub surfaces: usize,
+    pub object_distance: Option<f64>,
+    pub efl: f64,
+    /// The stop surface and its vertex from the first vertex.
+    pub stop: usize,
+    pub stop_z: f64,
+    /// The paraxial image plane, from the last vertex along the light.
+    pub image_plane_from_last_vertex: f64,
+    pub magnification: Option<f64>,
+    pub points: Vec<SystemDistortionPoint>,
+}
+
+/// Field angles max·k/steps, k = 1..steps, at the d line.
+pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) -> Result<SystemDistortion, SetupError> {
+    if !(max_field_deg > 0.0 && max_field_deg < 90.0) {
+        return Err(bad(
+            "max-field-deg",
+            format!("{max_field_deg} must lie strictly between 0 and 90"),
+        ));
+    }
+    if !(1..=super::distortion::MAX_STEPS).contains(&steps) {
+        return Err(bad(
+            "steps",
+            format!("{steps} must be between 1 and {}", super::distortion::MAX_STEPS),
+        ));
+    }
+    let (from_last, m) = bench.real_image()?;
+    let efl = bench.paraxial.efl;
+    let plane_z = bench.plane_z(from_last);
+    let points = (1..=steps)
+        .map(|k| {
+            let a = max_field_deg * f64::from(k) / f64::from(steps);
+            let s = SystemBench {
+                field_deg: a,
+                ..bench.clone()
+            };
+            let chief = s.chief_ray(WAVELENGTH_D_UM);
+            let chief_ray = chief
+                .as_ref()
+                .map(|c| SystemRay::listed([c.px, 0.0], c.origin, c.dir, &c.ray, &s, WAVELENGTH_D_UM, plane_z));
+            let t = a.to_radians().tan();
+            let paraxial_height = match (bench.object_distance, m) {
+                (Some(dist), Some(m)) => m * (dist + bench.aim.z) * t,
+                _ => -efl * t,
+            };
+            let real_height = chief_ray.as_ref().and_then(|r| r.image_point).map(|p| p[0]);
+            SystemDistortionPoint {
+                field_deg: a,
+                chief_ray,
+                stop_height: chief.map(|c| c.stop_height),
+                real_height,
+                paraxial_height,
+                distortion_percent: real_height.map(|h| 100.0 * (h - paraxial_height) / paraxial_height),
+            }
+        })
+        .collect();
+    Ok(SystemDistortion {
+        surfaces: bench.system.len(),
+        object_distance: bench.object_distance,
+        efl,
+        stop: bench.paraxial.stop,
+        stop_z: bench.system.vertex_z(bench.paraxial.stop),
+        image_plane_from_last_vertex: from_last,
+        magnification: m,
+        points,
+    })
+}
+
+impl fmt::Display for SystemDistortion {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        let obj = self
+            .object_distance
+            .map_or("infinity".to_string(), |d| format!("{d} before the first vertex"));
+        writeln!(
+            f,
+            "distortion: lens system of {} surfaces; object at {obj}",
+            self.surfaces
+        )?;
+        writeln!(
+            f,
+            "  chief ray through the centre of the stop (surface {}); paraxial image plane {} after the last vertex; EFL {}",
+            self.stop, self.image_plane_from_last_vertex, self.efl
+        )?;
+        writeln!(
+            f,
+            "  {:>10}  {:>24}  {:>24}  {:>14}",
+            "field °", "real height", "paraxial height", "distortion %"
+        )?;
+        for p in &self.points {
+            let opt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x}"));
+            writeln!(
+                f,
+                "  {:>10}  {:>24}  {:>24}  {:>14}",
+                p.field_deg,
+                opt(p.real_height),
+                p.paraxial_height,
+                opt(p.distortion_percent.map(|x| (x * 1e6).round() / 1e6))
+            )?;
+        }
+        Ok(())
+    }
+}
