@@ -13,10 +13,10 @@ use std::path::{Path, PathBuf};
 #[derive(Args, Debug)]
 pub struct LensSystemArgs {
     /// A system as JSON: {"vertex", "axis", "surfaces": [{radius, thickness, n, semi_aperture, stop}]}.
-    #[arg(long, conflicts_with_all = ["prescription", "preset"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["prescription", "preset"])]
     pub system: Option<PathBuf>,
     /// A prescription file (pbrt-v4 lens format: radius, thickness, index after, aperture diameter).
-    #[arg(long, conflicts_with = "preset")]
+    #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub prescription: Option<PathBuf>,
     /// A built-in prescription: double-gauss-50mm, cooke-triplet-100mm, achromat-AC254-100-A, wide-22mm,
     /// telephoto-250mm, fisheye-10mm.

@@ -32,10 +32,10 @@ pub struct FigureLens {
     #[arg(long, value_parser = super::lens::parse_index)]
     pub n: Option<Index>,
     /// A lens system as JSON (as `lens system --system` reads it) instead of the biconvex lens.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub system: Option<PathBuf>,
     /// A prescription file (pbrt-v4 lens format) instead of the biconvex lens.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub prescription: Option<PathBuf>,
     /// A built-in prescription (as `lens system --preset`) instead of the biconvex lens.
     #[arg(long)]
