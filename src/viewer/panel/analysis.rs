@@ -3,7 +3,8 @@
 //! cross-section to scale with the ray fan and F, F′, H, H′ and the real
 //! marginal focus M; the longitudinal spherical aberration; the spot
 //! diagram for the C, d and F lines at a chosen image plane; distortion
-//! against field angle. Everything is computed by `lensview::lens_tools`
+//! against field angle (for a selected lens system: `system_analysis.rs`).
+//! Everything is computed by `lensview::lens_tools`
 //! (every ray by `Lens::trace`) from the lens as it is in this very UI pass,
 //! so an edit by key, panel or undo shows in the same frame.
 
@@ -58,7 +59,7 @@ pub fn toggles(ui: &mut egui::Ui, cx: &mut Ctx) {
     });
 }
 
-const LINES: [Color32; 3] = [
+pub(super) const LINES: [Color32; 3] = [
     Color32::from_rgb(235, 70, 60),
     Color32::from_rgb(90, 210, 90),
     Color32::from_rgb(90, 140, 255),
@@ -70,14 +71,26 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         return;
     }
     let mut open = true;
+    // A selected lens system is analysed; else the lens of the *Lens*
+    // section; in a scene without one, its first system.
     let lens = (cx.doc.built().objects.iter().filter_map(|o| o.lens()))
         .nth(cx.ui.lens)
         .cloned();
+    let system = match cx.ui.selected {
+        Some(lensview::edit::Item::System(i)) => cx.doc.built_system(i).cloned(),
+        _ if lens.is_none() => cx.doc.built_system(0).cloned(),
+        _ => None,
+    };
     egui::Window::new("Lens analysis")
         .open(&mut open)
         .default_size([760.0, 640.0])
         .default_pos([360.0, 40.0])
         .show(ctx, |ui| {
+            if let Some(sys) = &system {
+                controls(ui, &mut cx.ui.analysis);
+                super::system_analysis::figures(ui, sys, &cx.ui.analysis);
+                return;
+            }
             let Some(lens) = lens else {
                 ui.label("No lens in this scene.");
                 return;

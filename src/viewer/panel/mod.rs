@@ -30,6 +30,7 @@ mod objects;
 mod plots;
 mod render;
 mod system;
+mod system_analysis;
 mod widgets;
 
 pub use analysis::AnalysisState;
