@@ -14,7 +14,8 @@
 
 use glam::DVec3;
 use lensview::camera::Camera;
-use lensview::geometry::{Lens, LensSurface};
+use lensview::geometry::{Lens, LensSurface, LensSystem};
+use lensview::optics::WAVELENGTH_D_UM;
 use lensview::scene::Scene;
 
 use super::screen::{Display, Screen};
@@ -145,6 +146,76 @@ pub fn figure(lens: &Lens, up_hint: DVec3, object_distance: Option<f64>) -> Figu
     fig
 }
 
+/// The figure of a lens system at the d line, as [`figure`] draws the
+/// lens: its axis, the vertices of its first and last surfaces, F and F′,
+/// the principal planes, the stop and both pupils as rings, and 7 real
+/// meridional rays through `LensSystem::trace` (ending where an edge, ring
+/// or the diaphragm absorbs them).
+pub fn system_figure(sys: &LensSystem, up_hint: DVec3, object_distance: Option<f64>) -> Figure {
+    let px = sys.paraxial(WAVELENGTH_D_UM);
+    let a = sys.axis;
+    let v1 = sys.vertex;
+    let vn = sys.world_point(DVec3::new(0.0, 0.0, sys.length()));
+    let mut e1 = up_hint - a * up_hint.dot(a);
+    if e1.length() < 1e-6 {
+        e1 = a.any_orthonormal_vector();
+    }
+    let e1 = e1.normalize();
+    let e2 = a.cross(e1);
+    let size = sys.radius().max(sys.length());
+    let power = px.efl.is_finite();
+    let reach = if power { px.bfd.abs().max(size) } else { 3.0 * size };
+    let before = if power { px.ffd.abs().max(size) } else { 3.0 * size };
+    let mut fig = Figure {
+        axis: vec![v1 + a * (1.2 * before), vn - a * (1.3 * reach)],
+        ..Figure::default()
+    };
+    let ep = px.entrance_pupil;
+    for k in 0..7 {
+        let h = (-1.0 + f64::from(k) / 3.0) * 0.9 * ep.semi_diameter;
+        let aim = v1 - a * ep.position + e1 * h;
+        let o = match object_distance {
+            Some(dist) => v1 + a * dist,
+            None => aim + a * (ep.position + size),
+        };
+        let u = if object_distance.is_some() {
+            (aim - o).normalize()
+        } else {
+            -a
+        };
+        let r = sys.trace(o, u, WAVELENGTH_D_UM);
+        let mut pts = vec![o];
+        pts.extend(r.events.iter().map(|e| e.point));
+        if let Some((_, x, dir)) = r.exit {
+            pts.push(x + dir * (1.3 * reach));
+        }
+        fig.rays.push(pts);
+    }
+    let ring = |c: DVec3, radius: f64| -> Vec<DVec3> {
+        (0..=48)
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 48.0;
+                c + (e1 * t.cos() + e2 * t.sin()) * radius
+            })
+            .collect()
+    };
+    let stop = sys.world_point(DVec3::new(0.0, 0.0, sys.vertex_z(px.stop)));
+    fig.rings
+        .push(("stop", ring(stop, sys.surfaces[px.stop].semi_aperture)));
+    fig.rings.push(("EP", ring(v1 - a * ep.position, ep.semi_diameter)));
+    let xp = px.exit_pupil;
+    fig.rings.push(("XP", ring(vn - a * xp.position, xp.semi_diameter)));
+    fig.marks.push(("V1", v1, VERTEX));
+    fig.marks.push(("Vn", vn, VERTEX));
+    if power {
+        fig.marks.push(("F", v1 + a * px.ffd, F_FRONT));
+        fig.marks.push(("F'", vn - a * px.bfd, F_BACK));
+        fig.rings.push(("H", ring(v1 - a * px.front_principal, sys.radius())));
+        fig.rings.push(("H'", ring(vn - a * px.rear_principal, sys.radius())));
+    }
+    fig
+}
+
 /// Paints `fig` over the picture.
 pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
     let ppp = f64::from(ctx.pixels_per_point());
@@ -209,12 +280,29 @@ pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
     }
 }
 
-/// The figure for lens `index` of `scene` (if it has one), painted.
-pub fn show(ctx: &egui::Context, scene: &Scene, index: usize, pic: Picture, object_distance: Option<f64>) {
-    let Some(lens) = scene.objects.iter().filter_map(|o| o.lens()).nth(index) else {
-        return;
+/// The figure for lens `index` of `scene` (if it has one), painted; for
+/// lens system `system` instead when given.
+pub fn show(
+    ctx: &egui::Context,
+    scene: &Scene,
+    (index, system): (usize, Option<usize>),
+    pic: Picture,
+    object_distance: Option<f64>,
+) {
+    let fig = match system {
+        Some(i) => {
+            let Some(sys) = scene.objects.iter().filter_map(|o| o.system()).nth(i) else {
+                return;
+            };
+            system_figure(sys, scene.camera.up(), object_distance)
+        }
+        None => {
+            let Some(lens) = scene.objects.iter().filter_map(|o| o.lens()).nth(index) else {
+                return;
+            };
+            figure(lens, scene.camera.up(), object_distance)
+        }
     };
-    let fig = figure(lens, scene.camera.up(), object_distance);
     paint(ctx, &scene.camera, pic, &fig);
 }
 
@@ -234,7 +322,15 @@ pub fn picture(screen: &Screen, d: &Display) -> Option<Picture> {
 pub fn overlay(ctx: &egui::Context, s: &Session, pic: Option<Picture>) {
     let a = &s.ui.analysis;
     if let (true, Some(pic)) = (a.optics, pic) {
-        show(ctx, s.doc.built(), s.ui.lens, pic, a.object());
+        // A selected lens system; else the panel's lens; in a scene
+        // without one, the first system.
+        let scene = s.doc.built();
+        let system = match s.ui.selected {
+            Some(lensview::edit::Item::System(i)) => Some(i),
+            _ if !scene.objects.iter().any(|o| o.lens().is_some()) => Some(0),
+            _ => None,
+        };
+        show(ctx, scene, (s.ui.lens, system), pic, a.object());
     }
 }
 
@@ -275,5 +371,35 @@ mod tests {
         }
         assert_eq!(fig.rays.len(), 7);
         assert_eq!(fig.rings.len(), 2);
+    }
+
+    #[test]
+    fn a_system_fan_from_infinity_meets_near_its_back_focal_point() {
+        // The double Gauss at 1/20 scale, tilted: its inner rays cross the
+        // axis within its LSA of F′, and the stop, pupils and principal
+        // planes are drawn.
+        let text = lensview::prescription::preset("double-gauss-50mm").unwrap();
+        let rows = lensview::prescription::parse("dg", text).unwrap();
+        let surfaces = rows
+            .iter()
+            .map(|r| lensview::geometry::SurfaceSpec {
+                radius: r.radius * 0.05,
+                thickness: r.thickness * 0.05,
+                n: r.n,
+                semi_aperture: 0.025 * r.aperture_diameter,
+                stop: r.stop,
+            })
+            .collect();
+        let sys = LensSystem::new(DVec3::new(0.5, 1.0, 3.0), DVec3::new(0.0, 0.3, 1.0), surfaces).unwrap();
+        let fig = system_figure(&sys, DVec3::Y, None);
+        let f_back = fig.marks.iter().find(|m| m.0 == "F'").unwrap().1;
+        for r in [&fig.rays[2], &fig.rays[4]] {
+            let n = r.len();
+            let (x, u) = (r[n - 2], (r[n - 1] - r[n - 2]).normalize());
+            let closest = x + u * (f_back - x).dot(u);
+            assert!((closest - f_back).length() < 0.02, "{closest} vs {f_back}");
+        }
+        let names: Vec<&str> = fig.rings.iter().map(|r| r.0).collect();
+        assert_eq!(names, ["stop", "EP", "XP", "H", "H'"]);
     }
 }
