@@ -284,3 +284,58 @@ fn a_biconvex_system_renders_as_the_biconvex_lens() {
         .sum();
     assert!(moved / a.pixels.len() as f64 > 1e-2);
 }
+
+#[test]
+fn lens_commands_read_a_scene_files_system() {
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_lensview"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    // The achromat and the singlet of scenes/achromat.toml: the same focal
+    // length, as the scene says.
+    let efl = |index: &str| {
+        let (code, out, err) = run(&[
+            "lens",
+            "system",
+            "--system",
+            "scenes/achromat.toml",
+            "--system-index",
+            index,
+            "--json",
+        ]);
+        assert_eq!(code, Some(0), "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["efl"].as_f64().unwrap()
+    };
+    let (a, s) = (efl("0"), efl("1"));
+    assert!((a - 8.0).abs() < 0.01 && (s - 8.0).abs() < 0.01, "{a} {s}");
+    let (code, _, err) = run(&[
+        "lens",
+        "system",
+        "--system",
+        "scenes/achromat.toml",
+        "--system-index",
+        "2",
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("has 2 lens systems") && err.lines().count() == 1, "{err}");
+    let (code, out, err) = run(&[
+        "lens",
+        "fan",
+        "--system",
+        "scenes/lens-family.toml",
+        "--system-index",
+        "0",
+        "--json",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("\"surfaces\": 2"), "{out}");
+}

@@ -12,9 +12,13 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct LensSystemArgs {
-    /// A system as JSON: {"vertex", "axis", "surfaces": [{radius, thickness, n, semi_aperture, stop}]}.
+    /// A system as JSON: {"vertex", "axis", "surfaces": [{radius, thickness, n, semi_aperture, stop}]};
+    /// or a scene file (.toml): its lens system number --system-index (from 0) of its [[systems]].
     #[arg(long, value_name = "FILE", conflicts_with_all = ["prescription", "preset"])]
     pub system: Option<PathBuf>,
+    /// Which of a scene's [[systems]] --system reads (from 0).
+    #[arg(long, default_value_t = 0)]
+    pub system_index: usize,
     /// A prescription file (pbrt-v4 lens format: radius, thickness, index after, aperture diameter).
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub prescription: Option<PathBuf>,
@@ -36,17 +40,18 @@ pub struct LensSystemArgs {
 /// The system the arguments name.
 fn load(a: &LensSystemArgs) -> Result<LensSystem> {
     load_system(
-        a.system.as_deref(),
+        a.system.as_deref().map(|p| (p, a.system_index)),
         a.prescription.as_deref(),
         a.preset.as_deref(),
         a.scale,
     )
 }
 
-/// The system of exactly one of a JSON file, a prescription file or a
-/// preset; `scale` multiplies the lengths of a prescription or preset.
+/// The system of exactly one of a JSON file (or a scene file's lens
+/// system of that index), a prescription file or a preset; `scale`
+/// multiplies the lengths of a prescription or preset.
 pub(super) fn load_system(
-    system: Option<&Path>,
+    system: Option<(&Path, usize)>,
     prescription: Option<&Path>,
     preset: Option<&str>,
     scale: f64,
@@ -72,7 +77,19 @@ pub(super) fn load_system(
         })
     };
     match (system, prescription, preset) {
-        (Some(path), None, None) => {
+        (Some((path, index)), None, None) if path.extension().is_some_and(|e| e == "toml") => {
+            let (_, scene) = lensview::scene::Scene::load(path)?;
+            let count = scene.objects.iter().filter(|o| o.system().is_some()).count();
+            match scene.objects.iter().filter_map(|o| o.system()).nth(index) {
+                Some(sys) => Ok(sys.clone()),
+                None => bail!(
+                    "{}: --system-index {index}: the scene has {count} lens system{} ([[systems]])",
+                    path.display(),
+                    if count == 1 { "" } else { "s" }
+                ),
+            }
+        }
+        (Some((path, _)), None, None) => {
             let name = path.display().to_string();
             let bytes = lensview::scene::read_capped(path, lensview::limits::TRACE_INPUT_CAP)?;
             let spec: lensview::lens_tools::system_trace::SystemSpec = serde_json::from_slice(&bytes)

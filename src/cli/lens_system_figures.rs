@@ -31,9 +31,13 @@ pub struct FigureLens {
     /// glass's name (N-BK7, N-SF5, F2, …: Sellmeier dispersion).
     #[arg(long, value_parser = super::lens::parse_index)]
     pub n: Option<Index>,
-    /// A lens system as JSON (as `lens system --system` reads it) instead of the biconvex lens.
+    /// A lens system as JSON, or a scene file's (as `lens system --system` reads them) instead of the
+    /// biconvex lens.
     #[arg(long, value_name = "FILE")]
     pub system: Option<PathBuf>,
+    /// Which of a scene's [[systems]] --system reads (from 0).
+    #[arg(long, default_value_t = 0)]
+    pub system_index: usize,
     /// A prescription file (pbrt-v4 lens format) instead of the biconvex lens.
     #[arg(long, value_name = "FILE")]
     pub prescription: Option<PathBuf>,
@@ -103,7 +107,7 @@ impl FigureLens {
         }
         let scale = self.scale.unwrap_or(1.0);
         let sys = super::lens_system::load_system(
-            self.system.as_deref(),
+            self.system.as_deref().map(|p| (p, self.system_index)),
             self.prescription.as_deref(),
             self.preset.as_deref(),
             scale,
