@@ -979,3 +979,49 @@ fn the_lens_family_shows_and_an_added_system_moves_with_the_lens_keys() {
     let (status, err) = s.wait_exit("Escape");
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
+
+/// In a scene of lens systems only (scenes/achromat.toml), the optics
+/// overlay (F6) draws the first system: its F′ marker lies where the
+/// system's paraxial data put it.
+#[test]
+fn optics_overlay_draws_a_lens_systems_f_prime() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let dir = dir();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/achromat.toml");
+    let line = format!("--width {W} --height {H} --max-spp 1 --exit-after 600 --no-panel");
+    let args: Vec<&str> = line.split(' ').collect();
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    s.wait_frame_where(0, 1, "start", |f| f["width"] == W && f["x0"] == 0);
+    let (_, sc) = Scene::load(&scene).unwrap();
+    let sys = sc.objects.iter().find_map(|o| o.system()).expect("a lens system");
+    let bfd = sys.paraxial(lensview::optics::WAVELENGTH_D_UM).bfd;
+    let f_back = sys.world_point(glam::DVec3::new(0.0, 0.0, sys.length() + bfd));
+    let (px, py) = project(&sc.camera, f_back);
+    assert!(
+        px > 10.0 && px < W as f64 - 10.0 && py > 10.0 && py < H as f64 - 10.0,
+        "F′ off screen"
+    );
+    let magenta_near = |img: &Image| {
+        let rgb = img.to_srgb8();
+        let mut n = 0;
+        for y in (py as i64 - 7)..=(py as i64 + 7) {
+            for x in (px as i64 - 7)..=(px as i64 + 7) {
+                let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
+                n += usize::from(p[0] > 200 && p[1] < 80 && p[2] > 200);
+            }
+        }
+        n >= 40
+    };
+    s.overlay_to("full");
+    s.overlay_to("off");
+    assert!(
+        !magenta_near(&s.screenshot("before.png")),
+        "magenta at F′ before the overlay"
+    );
+    s.key("F6");
+    s.wait_screenshot("optics.png", "the system's F′ at its projected pixel", magenta_near);
+    s.key("Escape");
+    let (status, err) = s.wait_exit("Escape");
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+}
