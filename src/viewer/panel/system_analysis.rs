@@ -1,9 +1,12 @@
 //! The *Lens analysis* window for a selected lens system: the
 //! cross-section of every element with the ray fan, the stop, H, H′ and
-//! F′; the LSA curve; the spot diagram for the C, d and F lines; the
-//! distortion of the real chief ray. All from `lensview::lens_tools`'
-//! system figures (every ray by `LensSystem::trace`), as `lens fan`,
-//! `lens spot` and `lens distortion` compute them.
+//! F′; the LSA curve; the spot diagram for the C, d and F lines (at the
+//! paraxial focus plus the defocus, from the last vertex); the distortion
+//! of the real chief ray; the axial colour of dispersive glass (the
+//! paraxial focus from 400 to 700 nm against the d line's). All from
+//! `lensview::lens_tools`' system figures (every ray by
+//! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
+//! compute them.
 
 use super::analysis::{AnalysisState, LINES};
 use super::plots::{Series, plot, sketch};
@@ -42,8 +45,10 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) {
         c.stop
     ));
     sketch(ui, &f.sketch(&bench), width, 240.0);
+    // Three plots a row, four with the axial colour of dispersive glass.
+    let plots = if sys.is_dispersive() { 4.0 } else { 3.0 };
     ui.horizontal(|ui| {
-        let size = Vec2::new((width / 3.0 - 8.0).max(160.0), 230.0);
+        let size = Vec2::new((width / plots - 8.0).max(140.0), 230.0);
         let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
         let series = [Series {
             colour: LINES[1],
@@ -53,7 +58,29 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) {
         plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
         spot(ui, &bench, a, f.image_plane_from_last_vertex, size);
         distortion_plot(ui, &bench, size);
+        if sys.is_dispersive() {
+            focal_shift(ui, sys, size);
+        }
     });
+}
+
+/// Axial colour: the paraxial focus at each wavelength from 400 to 700 nm
+/// against the d line's (BFD(λ) − BFD(d), from the y–nu trace).
+fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) {
+    let d = sys.paraxial(lensview::optics::WAVELENGTH_D_UM).bfd;
+    let points: Vec<[f64; 2]> = (0..=60)
+        .map(|k| 0.40 + 0.005 * f64::from(k))
+        .filter_map(|l| {
+            let shift = sys.paraxial(l).bfd - d;
+            shift.is_finite().then_some([shift, l * 1e3])
+        })
+        .collect();
+    let series = [Series {
+        colour: LINES[0],
+        points,
+        dots: false,
+    }];
+    plot(ui, size, "Axial colour", ("focus − focus(d)", "nm"), &series, false);
 }
 
 fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64, size: Vec2) {
@@ -75,7 +102,7 @@ fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64
                 dots: true,
             })
             .collect();
-        let title = format!("Spot at {:.4} after the last vertex", sd.image_plane_from_last_vertex);
+        let title = format!("Spot at {:.4}", sd.image_plane_from_last_vertex);
         plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
             let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
