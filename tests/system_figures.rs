@@ -33,17 +33,7 @@ fn run(args: &[&str]) -> (bool, String, String) {
 
 fn preset(name: &str) -> LensSystem {
     let rows = prescription::parse(name, prescription::preset(name).unwrap()).unwrap();
-    let surfaces = rows
-        .iter()
-        .map(|r| SurfaceSpec {
-            radius: r.radius,
-            thickness: r.thickness,
-            n: r.n,
-            semi_aperture: 0.5 * r.aperture_diameter,
-            stop: r.stop,
-        })
-        .collect();
-    LensSystem::new(DVec3::ZERO, DVec3::Z, surfaces).unwrap()
+    LensSystem::new(DVec3::ZERO, DVec3::Z, SurfaceSpec::from_rows(&rows, 1.0)).unwrap()
 }
 
 fn surface(radius: f64, thickness: f64, n: Index, semi_aperture: f64) -> SurfaceSpec {

@@ -798,6 +798,25 @@ fn exit_after_closes_the_window_with_a_question_open() {
 
 /// The camera's projection of a world point to pixel coordinates of a
 /// `W × H` picture (y down): `Camera::ray` inverted, written here again.
+/// The magenta pixels (F′'s marker, `viewer::optics::F_BACK`) within 7
+/// of `(px, py)`: their count and centroid (pixel centres at
+/// half-integers).
+fn magenta_around(img: &Image, px: f64, py: f64) -> (usize, [f64; 2]) {
+    let rgb = img.to_srgb8();
+    let (mut n, mut sx, mut sy) = (0, 0.0, 0.0);
+    for y in (py as i64 - 7)..=(py as i64 + 7) {
+        for x in (px as i64 - 7)..=(px as i64 + 7) {
+            let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
+            if p[0] > 200 && p[1] < 80 && p[2] > 200 {
+                n += 1;
+                sx += x as f64 + 0.5;
+                sy += y as f64 + 0.5;
+            }
+        }
+    }
+    (n, [sx / n.max(1) as f64, sy / n.max(1) as f64])
+}
+
 fn project(cam: &lensview::camera::Camera, p: glam::DVec3) -> (f64, f64) {
     let d = p - cam.position;
     let z = d.dot(cam.forward());
@@ -842,21 +861,10 @@ fn optics_overlay_draws_f_prime_where_lens_info_puts_it_without_restarting() {
         "F′ off screen"
     );
     // The marker: a magenta disc (radius 5) centred within a pixel of the
-    // projection (pixel centres at half-integers).
+    // projection.
     let magenta_near = |img: &Image| {
-        let rgb = img.to_srgb8();
-        let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
-        for y in (py as i64 - 7)..=(py as i64 + 7) {
-            for x in (px as i64 - 7)..=(px as i64 + 7) {
-                let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
-                if p[0] > 200 && p[1] < 80 && p[2] > 200 {
-                    n += 1.0;
-                    sx += x as f64 + 0.5;
-                    sy += y as f64 + 0.5;
-                }
-            }
-        }
-        n >= 40.0 && (sx / n - px).hypot(sy / n - py) < 1.0
+        let (n, c) = magenta_around(img, px, py);
+        n >= 40 && (c[0] - px).hypot(c[1] - py) < 1.0
     };
     // The text overlay off; then the optics on.
     s.overlay_to("full");
@@ -1002,17 +1010,7 @@ fn optics_overlay_draws_a_lens_systems_f_prime() {
         px > 10.0 && px < W as f64 - 10.0 && py > 10.0 && py < H as f64 - 10.0,
         "F′ off screen"
     );
-    let magenta_near = |img: &Image| {
-        let rgb = img.to_srgb8();
-        let mut n = 0;
-        for y in (py as i64 - 7)..=(py as i64 + 7) {
-            for x in (px as i64 - 7)..=(px as i64 + 7) {
-                let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
-                n += usize::from(p[0] > 200 && p[1] < 80 && p[2] > 200);
-            }
-        }
-        n >= 40
-    };
+    let magenta_near = |img: &Image| magenta_around(img, px, py).0 >= 40;
     s.overlay_to("full");
     s.overlay_to("off");
     assert!(

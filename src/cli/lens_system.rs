@@ -61,17 +61,7 @@ pub(super) fn load_system(
     }
     let from_rows = |name: &str, text: &str| -> Result<LensSystem> {
         let rows = prescription::parse(name, text).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let surfaces = rows
-            .iter()
-            .map(|r| SurfaceSpec {
-                radius: r.radius * scale,
-                thickness: r.thickness * scale,
-                n: r.n,
-                semi_aperture: 0.5 * r.aperture_diameter * scale,
-                stop: r.stop,
-            })
-            .collect();
-        LensSystem::new(DVec3::ZERO, DVec3::Z, surfaces).map_err(|e| match e.surface {
+        LensSystem::new(DVec3::ZERO, DVec3::Z, SurfaceSpec::from_rows(&rows, scale)).map_err(|e| match e.surface {
             Some(k) => anyhow::anyhow!("{name}:{}: {}: {}", rows[k].line, e.field, e.message),
             None => anyhow::anyhow!("{name}: {}: {}", e.field, e.message),
         })

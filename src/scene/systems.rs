@@ -342,7 +342,7 @@ impl Validator {
             Some(k) => format!("{key}: line {}: {}", lines.get(k).copied().unwrap_or(0), e.field),
             None => format!("{key}: {}", e.field),
         };
-        Some((from_rows(&rows, scale), Box::new(fields)))
+        Some((SurfaceSpec::from_rows(&rows, scale), Box::new(fields)))
     }
 }
 
@@ -353,17 +353,4 @@ fn preset_names() -> String {
         .map(|(n, _)| *n)
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// The surfaces of a prescription's rows, lengths times `scale`.
-pub fn from_rows(rows: &[prescription::PrescriptionRow], scale: f64) -> Vec<SurfaceSpec> {
-    rows.iter()
-        .map(|r| SurfaceSpec {
-            radius: r.radius * scale,
-            thickness: r.thickness * scale,
-            n: r.n,
-            semi_aperture: 0.5 * r.aperture_diameter * scale,
-            stop: r.stop,
-        })
-        .collect()
 }

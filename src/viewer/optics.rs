@@ -380,16 +380,7 @@ mod tests {
         // planes are drawn.
         let text = lensview::prescription::preset("double-gauss-50mm").unwrap();
         let rows = lensview::prescription::parse("dg", text).unwrap();
-        let surfaces = rows
-            .iter()
-            .map(|r| lensview::geometry::SurfaceSpec {
-                radius: r.radius * 0.05,
-                thickness: r.thickness * 0.05,
-                n: r.n,
-                semi_aperture: 0.025 * r.aperture_diameter,
-                stop: r.stop,
-            })
-            .collect();
+        let surfaces = lensview::geometry::SurfaceSpec::from_rows(&rows, 0.05);
         let sys = LensSystem::new(DVec3::new(0.5, 1.0, 3.0), DVec3::new(0.0, 0.3, 1.0), surfaces).unwrap();
         let fig = system_figure(&sys, DVec3::Y, None);
         let f_back = fig.marks.iter().find(|m| m.0 == "F'").unwrap().1;

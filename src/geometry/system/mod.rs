@@ -53,6 +53,20 @@ pub struct SurfaceSpec {
 }
 
 impl SurfaceSpec {
+    /// The surfaces of a prescription's rows (its aperture column a
+    /// diameter), every length times `scale`.
+    pub fn from_rows(rows: &[crate::prescription::PrescriptionRow], scale: f64) -> Vec<SurfaceSpec> {
+        rows.iter()
+            .map(|r| SurfaceSpec {
+                radius: r.radius * scale,
+                thickness: r.thickness * scale,
+                n: r.n,
+                semi_aperture: 0.5 * r.aperture_diameter * scale,
+                stop: r.stop,
+            })
+            .collect()
+    }
+
     /// The curvature `1/R`, 0 for a plane.
     pub fn curvature(&self) -> f64 {
         if self.radius == 0.0 || self.radius.is_infinite() {
@@ -121,7 +135,7 @@ pub struct LensSystem {
     radius: f64,
     /// Square of 1.01 × the radius of a ball about `mid` holding the system.
     reject_radius2: f64,
-    /// Centre of that ball, local.
+    /// Centre of that ball, world (the middle of the axial length).
     mid: DVec3,
     /// Square of 10⁴ × the system's size: closer origins are localised in f64.
     fast_radius2: f64,
@@ -173,7 +187,7 @@ impl LensSystem {
         let ez = -axis;
         let (ex, ey) = ez.any_orthonormal_pair();
         let length = *z.last().unwrap_or(&0.0);
-        let mid = DVec3::new(0.0, 0.0, 0.5 * length);
+        let mid = vertex - axis * (0.5 * length);
         // Sags reach at most the radius from the vertex planes.
         let half = (0.5 * length + radius).hypot(radius);
         let size = length.max(radius);
@@ -330,7 +344,7 @@ impl LensSystem {
     /// world ray from outside; the part is the piece ([`Piece::part`]).
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         // The cheap rejection: a ray well clear of the ball holding it.
-        let rel = ray.origin - self.world_point(self.mid);
+        let rel = ray.origin - self.mid;
         let along = rel.dot(ray.dir);
         if rel.length_squared() - along * along > self.reject_radius2 {
             return None;

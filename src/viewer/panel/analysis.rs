@@ -200,25 +200,29 @@ fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) {
 }
 
 fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
-    match distortion(s, 30.0, 30) {
-        Ok(d) => {
-            let mut pts = vec![[0.0, 0.0]];
-            pts.extend(
-                d.points
-                    .iter()
-                    .filter_map(|p| Some([p.field_deg, p.distortion_percent?])),
-            );
-            let series = [Series {
-                colour: LINES[2],
-                points: pts,
-                dots: false,
-            }];
-            plot(ui, size, "Distortion", ("field °", "%"), &series, false);
-        }
-        Err(_) => {
-            ui.allocate_ui(size, |ui| {
-                ui.label("Distortion: no real paraxial image.");
-            });
-        }
-    }
+    let points = distortion(s, 30.0, 30).ok().map(|d| {
+        (d.points.iter())
+            .filter_map(|p| Some([p.field_deg, p.distortion_percent?]))
+            .collect()
+    });
+    distortion_curve(ui, size, points);
+}
+
+/// The distortion plot of `points` (field °, %) from the axis, or why
+/// there is none (no real paraxial image): the lens's and a system's.
+pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) {
+    let Some(points) = points else {
+        ui.allocate_ui(size, |ui| {
+            ui.label("Distortion: no real paraxial image.");
+        });
+        return;
+    };
+    let mut pts = vec![[0.0, 0.0]];
+    pts.extend(points);
+    let series = [Series {
+        colour: LINES[2],
+        points: pts,
+        dots: false,
+    }];
+    plot(ui, size, "Distortion", ("field °", "%"), &series, false);
 }

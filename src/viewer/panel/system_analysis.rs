@@ -8,7 +8,7 @@
 //! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
 //! compute them.
 
-use super::analysis::{AnalysisState, LINES};
+use super::analysis::{AnalysisState, LINES, distortion_curve};
 use super::plots::{Series, plot, sketch};
 use egui::Vec2;
 use lensview::geometry::LensSystem;
@@ -112,25 +112,10 @@ fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64
 }
 
 fn distortion_plot(ui: &mut egui::Ui, bench: &SystemBench, size: Vec2) {
-    match system_distortion(bench, 30.0, 30) {
-        Ok(d) => {
-            let mut pts = vec![[0.0, 0.0]];
-            pts.extend(
-                d.points
-                    .iter()
-                    .filter_map(|p| Some([p.field_deg, p.distortion_percent?])),
-            );
-            let series = [Series {
-                colour: LINES[2],
-                points: pts,
-                dots: false,
-            }];
-            plot(ui, size, "Distortion", ("field °", "%"), &series, false);
-        }
-        Err(_) => {
-            ui.allocate_ui(size, |ui| {
-                ui.label("Distortion: no real paraxial image.");
-            });
-        }
-    }
+    let points = system_distortion(bench, 30.0, 30).ok().map(|d| {
+        (d.points.iter())
+            .filter_map(|p| Some([p.field_deg, p.distortion_percent?]))
+            .collect()
+    });
+    distortion_curve(ui, size, points);
 }
