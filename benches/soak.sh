@@ -8,8 +8,11 @@
 # P renders (pure-black share: where a NaN pixel would show; the frame log
 # has no NaN field), the counts and the exit status, and fails (exit 1) on a panic, a non-zero exit,
 # a hang past --exit-after + margin (thread stacks saved by gdb), an all-black
-# picture, or RSS growth after
-# warm-up: the last quarter's median RSS over the second quarter's > 1.25.
+# picture, or RSS growth after warm-up. RSS follows the window's size (the
+# picture's buffers), so growth is judged on checkpoints: every 45 s the
+# window goes back to 1100x700 and, 3 s later, RSS is read
+# (checkpoints.csv); the last quarter's median checkpoint over the second
+# quarter's > 1.25 fails. rss.csv keeps every reading, at every size.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
 #   bash benches/soak.sh [MINUTES] [SEED]
 # LENSVIEW=path/to/binary skips the build; SOAK_OUT=dir keeps the logs there;
@@ -84,6 +87,13 @@ xdotool windowfocus --sync "$win" || true
 
 rss() { awk '/^VmRSS/ {print $2}' "/proc/$app/status" 2>/dev/null || true; }
 echo "t_s,rss_kb" >"$out/rss.csv"
+echo "t_s,rss_kb" >"$out/checkpoints.csv"
+last_check=0
+checkpoint() { # RSS at the starting size, once the picture has settled
+    xdotool windowsize "$win" 1100 700 2>/dev/null || true
+    sleep 3
+    local r; r=$(rss); [ -n "$r" ] && echo "$(($(date +%s) - start)),$r" >>"$out/checkpoints.csv"
+}
 nkeys=0 nholds=0 nresizes=0 nclicks=0 nreloads=0 ninvalid=0 nshots=0 blank=0
 last_rss=0
 edit_scene() { # a valid change of the light's intensity, or (1 in 4) a broken file
@@ -128,6 +138,7 @@ while :; do
     [ "$el" -ge "$budget" ] && break
     kill -0 "$app" 2>/dev/null || break
     r=$(rss); [ -n "$r" ] && [ "$el" -ne "$last_rss" ] && { echo "$el,$r" >>"$out/rss.csv"; last_rss=$el; }
+    [ $((el - last_check)) -ge 45 ] && { checkpoint; last_check=$el; echo "$el checkpoint" >>"$out/actions.log"; continue; }
     act=""
     case $((RANDOM % 20)) in
     0)  # resize: tiny, medium or large; then a look at the window
@@ -159,8 +170,7 @@ while :; do
     sleep "0.$((RANDOM % 5))"
 done
 # A last look at a normal-size window, then wait for --exit-after.
-xdotool windowsize "$win" 1100 700 2>/dev/null || true
-sleep 3; screenshot
+checkpoint; screenshot
 hang=0
 while kill -0 "$app" 2>/dev/null; do
     r=$(rss); el=$(($(date +%s) - start)); [ -n "$r" ] && echo "$el,$r" >>"$out/rss.csv"
@@ -186,13 +196,16 @@ for f in "$tmp"/lensview-*.png; do
     echo "$g $stats black $black" >>"$out/screenshots.txt"
     awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.02) }' && blank=$((blank + 1))
 done
-python3 - "$out/rss.csv" <<PY >"$out/summary.txt"
+python3 - "$out/rss.csv" "$out/checkpoints.csv" <<PY >"$out/summary.txt"
 import csv, statistics, sys
-rows = [(int(r["t_s"]), int(r["rss_kb"])) for r in csv.DictReader(open(sys.argv[1]))]
-n = len(rows); q = max(n // 4, 1)
-second = statistics.median(v for _, v in rows[q:2 * q]); last = statistics.median(v for _, v in rows[-q:])
-print(f"rss samples: {n}; start {rows[0][1] / 1024:.1f} MiB, after warm-up (2nd quarter median) {second / 1024:.1f} MiB, "
-      f"end {rows[-1][1] / 1024:.1f} MiB, peak {max(v for _, v in rows) / 1024:.1f} MiB; last quarter median / 2nd quarter median = {last / second:.3f}")
+def read(path): return [(int(r["t_s"]), int(r["rss_kb"])) for r in csv.DictReader(open(path))]
+rows, checks = read(sys.argv[1]), read(sys.argv[2])
+print(f"rss samples: {len(rows)} at every size; start {rows[0][1] / 1024:.1f} MiB, end {rows[-1][1] / 1024:.1f} MiB, "
+      f"peak {max(v for _, v in rows) / 1024:.1f} MiB")
+n = len(checks); q = max(n // 4, 1)
+second = statistics.median(v for _, v in checks[q:2 * q]); last = statistics.median(v for _, v in checks[-q:])
+print(f"checkpoints at 1100x700: {n} ({', '.join(f'{v / 1024:.0f}' for _, v in checks)} MiB); "
+      f"last quarter median / 2nd quarter median = {last / second:.3f}")
 print(f"growth {'FAIL' if last / second > 1.25 else 'ok'}")
 PY
 cat "$out/summary.txt"

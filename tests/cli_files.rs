@@ -371,6 +371,33 @@ fn bench_checks_every_output_first_and_leaves_nothing_when_it_fails() {
     assert_eq!(listing(&d), ["out"]);
 }
 
+/// 30.2: `bench` counts its work as `render` does, before measuring: the
+/// whole study's frames (every report, every run, warm-ups included) and
+/// the scene's lights. Over the budget it is refused at once and leaves no
+/// `--out-dir` behind; before, the study was not counted at all (a
+/// `--runs 1000` study ran for hours) and no mode counted lights.
+#[test]
+fn bench_counts_the_whole_study_and_the_lights_before_measuring() {
+    let d = fresh_dir("bench-work");
+    let made = d.join("made");
+    let o = run_within(20, &["bench", "--runs", "1000", "--out-dir", s(&made)]);
+    refused(&o, &["the benchmark", "camera samples", "2^32"]);
+    assert!(!made.exists(), "{} left behind", made.display());
+    // 2000 lights: 500× the work of one; ten runs at 1280×720 and 400×400
+    // are then over the budget.
+    let lit = d.join("lit.toml");
+    let mut text = std::fs::read_to_string(scene("cubes.toml")).unwrap();
+    for i in 0..2000 {
+        text.push_str(&format!(
+            "\n[[lights]]\ntype = \"point\"\nposition = [{}, 5, 0]\nintensity = 1\n",
+            i % 50
+        ));
+    }
+    std::fs::write(&lit, text).unwrap();
+    let o = run_within(20, &["bench", s(&lit), "--frame-only", "--runs", "10"]);
+    refused(&o, &["the benchmark", "2001 lights"]);
+}
+
 /// 30.4: a scene that converges exactly (RMSE 0 at every stage: nothing
 /// in view but the background) is a result: the CSV and the plot are
 /// written; before, the plot failed with "nothing to plot" after all the

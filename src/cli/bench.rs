@@ -4,8 +4,8 @@
 //! into `--out-dir` (docs/bench/ holds a run of it). The measuring itself
 //! is the library's (`lensview::bench`).
 
-use super::load_scene;
 use super::table::{Column, Plot, Table, num, write_files};
+use super::{bench_work, load_scene};
 use crate::plot::Series;
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -101,15 +101,17 @@ impl BenchArgs {
 pub fn bench(a: &BenchArgs) -> Result<()> {
     // Dropped on an error: `--out-dir`, if this run made it, is removed.
     let new_dirs = check_limits(a)?;
-    run_mode(a)?;
+    let (sf, scene) = load_scene(a.scene.as_deref())?;
+    let variants = lensview::bench::feature_variants(&sf).len();
+    limits::check_total("the benchmark", bench_work::work(a, scene.lights.len(), variants))?;
+    run_mode(a, &sf, &scene)?;
     if let Some(d) = new_dirs {
         d.keep();
     }
     Ok(())
 }
 
-fn run_mode(a: &BenchArgs) -> Result<()> {
-    let (sf, scene) = load_scene(a.scene.as_deref())?;
+fn run_mode(a: &BenchArgs, sf: &SceneFile, scene: &Scene) -> Result<()> {
     match a.mode() {
         BenchMode::UnusedFeature {
             feature,
@@ -117,7 +119,7 @@ fn run_mode(a: &BenchArgs) -> Result<()> {
             frames,
         } => {
             for _ in 0..frames {
-                if unused_feature_frame(&sf, feature, unspecialised, a.width, a.height).is_none() {
+                if unused_feature_frame(sf, feature, unspecialised, a.width, a.height).is_none() {
                     bail!(
                         "--unused-feature: unknown feature {feature:?}; one of {}",
                         FEATURES.join(", ")
@@ -127,17 +129,17 @@ fn run_mode(a: &BenchArgs) -> Result<()> {
             Ok(())
         }
         BenchMode::PrimaryOnly => {
-            primary_only(&scene, a.width, a.height, a.runs);
+            primary_only(scene, a.width, a.height, a.runs);
             Ok(())
         }
         BenchMode::FrameOnly => {
-            frame_only(&scene, a.width, a.height, a.runs);
+            frame_only(scene, a.width, a.height, a.runs);
             Ok(())
         }
         BenchMode::Study => study(
             &Study {
-                sf: &sf,
-                scene: &scene,
+                sf,
+                scene,
                 runs: a.runs,
                 quick: a.quick,
             },
@@ -146,26 +148,22 @@ fn run_mode(a: &BenchArgs) -> Result<()> {
     }
 }
 
-/// The shared limits ([`limits`]) for this run's size, runs, frames and
-/// work, and for the study a `--out-dir` where every file it writes can be
-/// written, checked before anything is measured. Returns the directories
-/// made for `--out-dir` (removed again if the run fails).
+/// The shared limits ([`limits`]) for this run's size, runs and frames,
+/// and for the study a `--out-dir` where every file it writes can be
+/// written, checked before the scene is read (its work is checked after:
+/// [`bench_work::work`]). Returns the directories made for `--out-dir`
+/// (removed again if the run fails).
 fn check_limits(a: &BenchArgs) -> Result<Option<output::NewDirs>> {
     limits::check_image("--width × --height", a.width, a.height, limits::IMAGE_BYTES_PER_PIXEL)?;
     limits::check_count("--runs", a.runs as u64, limits::MAX_RUNS as u64)?;
-    let passes = match a.mode() {
+    match a.mode() {
         BenchMode::UnusedFeature { frames, .. } => {
             limits::check_count("--frames", frames as u64, limits::MAX_RUNS as u64)?;
-            frames as u64
+            Ok(None)
         }
-        // Three ways of casting, `runs` times each.
-        BenchMode::PrimaryOnly => 3 * a.runs as u64,
-        // WIDTH×HEIGHT and 400×400, `runs` times each.
-        BenchMode::FrameOnly => 2 * a.runs as u64,
-        BenchMode::Study => return check_outputs(a).map(Some),
-    };
-    limits::check_work("the benchmark", a.width.max(400), a.height.max(400), 1, passes)?;
-    Ok(None)
+        BenchMode::Study => check_outputs(a).map(Some),
+        BenchMode::PrimaryOnly | BenchMode::FrameOnly => Ok(None),
+    }
 }
 
 /// Makes `--out-dir` and checks every file the study writes there
@@ -307,18 +305,7 @@ fn study(s: &Study, out_dir: &Path) -> Result<()> {
 
 /// Render time against image size; the square sizes plotted.
 fn report_sizes(s: &Study) -> Table {
-    let sizes: &[(u32, u32)] = if s.quick {
-        &[(32, 32), (64, 64), (64, 36)]
-    } else {
-        &[
-            (100, 100),
-            (200, 200),
-            (400, 400),
-            (800, 800),
-            (1600, 1600),
-            (1280, 720),
-        ]
-    };
+    let sizes = bench_work::sizes(s.quick);
     let items: Vec<(&Scene, u32, u32)> = sizes.iter().map(|&(w, h)| (s.scene, w, h)).collect();
     let times = interleaved_frame_times(&items, s.runs);
     let title = "render time against image size (cubes scene, 1 spp)";
@@ -360,9 +347,7 @@ fn report_sizes(s: &Study) -> Table {
 /// removed one by one, and grids of more cubes over the same area, timed
 /// in one round-robin.
 fn report_objects(s: &Study) -> Table {
-    let (w, h) = if s.quick { (48, 48) } else { (400, 400) };
-    let counts: Vec<usize> = if s.quick { vec![0, 5, 25] } else { (0..=25).collect() };
-    let sides: &[usize] = if s.quick { &[2, 5, 10] } else { &[5, 10, 20, 30, 40, 50] };
+    let ((w, h), counts, sides) = bench_work::objects(s.quick);
     let subsets = counts.iter().map(|&n| cubes_subset(s.sf, n));
     let grids = sides.iter().map(|&side| cubes_grid(s.sf, side));
     let scenes: Vec<Scene> = subsets.chain(grids).collect();
@@ -407,7 +392,7 @@ fn report_objects(s: &Study) -> Table {
 /// Primary-ray throughput, full frame times and the first progressive level.
 fn report_throughput(s: &Study) -> Table {
     use lensview::render::progressive::{Progressive, Stage};
-    let (w, h) = if s.quick { (64, 36) } else { (1280, 720) };
+    let (w, h) = bench_work::throughput_size(s.quick);
     let rates = PrimaryRates::measure(s.scene, w, h, s.runs);
     let frame = frame_time(s.scene, w, h, s.runs.min(3));
     let small = frame_time(s.scene, 400, 400, s.runs);
@@ -445,7 +430,7 @@ fn report_throughput(s: &Study) -> Table {
 /// What each feature costs, in milliseconds a frame, and what carrying it
 /// unused would cost.
 fn report_features(s: &Study) -> Table {
-    let (w, h) = if s.quick { (48, 48) } else { (400, 400) };
+    let (w, h) = bench_work::features_size(s.quick);
     let mut t = Table::new(
         format!("feature costs at {w}×{h} (ms)"),
         vec![

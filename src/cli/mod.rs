@@ -13,6 +13,7 @@
 
 mod args;
 mod bench;
+mod bench_work;
 mod converge;
 mod lens;
 mod lens_figures;
