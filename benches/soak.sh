@@ -11,8 +11,12 @@
 # picture, or RSS growth after warm-up. RSS follows the window's size (the
 # picture's buffers), so growth is judged on checkpoints: every 45 s the
 # window goes back to 1100x700 and, 3 s later, RSS is read
-# (checkpoints.csv); the last quarter's median checkpoint over the second
-# quarter's > 1.25 fails. rss.csv keeps every reading, at every size.
+# (checkpoints.csv). Even then RSS holds what the session built, such as the
+# caustic photon map, which grows to its cap (2 M photons, about 100 MB) and
+# starts again on every edit of the objects or lights: the checkpoints of
+# one run (seed 2911) swung between about 200 and 260 MB. A leak raises the floor, so
+# the last quarter's lowest checkpoint over the second quarter's lowest
+# > 1.25 fails (the medians are printed too). rss.csv keeps every reading.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
 #   bash benches/soak.sh [MINUTES] [SEED]
 # LENSVIEW=path/to/binary skips the build; SOAK_OUT=dir keeps the logs there;
@@ -203,10 +207,11 @@ rows, checks = read(sys.argv[1]), read(sys.argv[2])
 print(f"rss samples: {len(rows)} at every size; start {rows[0][1] / 1024:.1f} MiB, end {rows[-1][1] / 1024:.1f} MiB, "
       f"peak {max(v for _, v in rows) / 1024:.1f} MiB")
 n = len(checks); q = max(n // 4, 1)
-second = statistics.median(v for _, v in checks[q:2 * q]); last = statistics.median(v for _, v in checks[-q:])
+second, last = [v for _, v in checks[q:2 * q]], [v for _, v in checks[-q:]]
 print(f"checkpoints at 1100x700: {n} ({', '.join(f'{v / 1024:.0f}' for _, v in checks)} MiB); "
-      f"last quarter median / 2nd quarter median = {last / second:.3f}")
-print(f"growth {'FAIL' if last / second > 1.25 else 'ok'}")
+      f"last quarter / 2nd quarter: lowest {min(last) / min(second):.3f}, "
+      f"median {statistics.median(last) / statistics.median(second):.3f}")
+print(f"growth {'FAIL' if min(last) / min(second) > 1.25 else 'ok'}")
 PY
 cat "$out/summary.txt"
 echo "seed $seed, ${minutes} min: keys $nkeys ($nholds held flight keys), resizes $nresizes, clicks $nclicks, F5 reloads $nreloads ($ninvalid of a broken file), window screenshots $nshots, P renders $nrender ($blank blank in all)"

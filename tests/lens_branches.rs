@@ -132,6 +132,7 @@ fn pruned_trees_account_for_what_they_drop() {
                 scale: 0.8,
                 min: 1.0 / 512.0,
                 max_reflections: 4,
+                roulette: 0.0,
             };
             let mut outs = Vec::new();
             let dropped = lens.branches_inside(x, inside, n, &prune, &mut |b| outs.push(b));

@@ -548,6 +548,7 @@ mod tests {
                 scale: 0.7,
                 min: 1e-3,
                 max_reflections: 3,
+                roulette: 0.0,
             },
         ];
         let key = |t: &Transmitted| (t.ray.origin, t.ray.dir, t.bounces, t.factor.to_bits());

@@ -60,7 +60,7 @@ mod system_pass;
 pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
 pub use packet::PacketScratch;
 pub use photons::{Targets, photon_pass, photons_per_light};
-pub use shade::{LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
+pub use shade::{GHOST_ROULETTE, LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 
 use crate::color::Rgb;

@@ -256,6 +256,7 @@ fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, ray: &Ray, ior:
         scale: 1.0,
         min: PHOTON_BRANCH_MIN,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
+        roulette: 0.0,
     };
     let mut out: Vec<Transmitted> = Vec::new();
     transmitted_rays(obj, p, nf, entering, ray, ior, &prune, &mut |t| out.push(t));
@@ -270,6 +271,7 @@ fn system_branch(obj: &Object, sys: &LensSystem, ray: &Ray, lambda: f64, u: f64)
         scale: 1.0,
         min: PHOTON_BRANCH_MIN,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
+        roulette: super::shade::GHOST_ROULETTE,
     };
     let mut out: Vec<Transmitted> = Vec::new();
     system_rays(obj, sys, ray, lambda, &prune, |t| out.push(t));

@@ -27,6 +27,17 @@ pub const MIN_WEIGHT: f64 = 1e-4;
 /// (≈ 0.0015).
 pub const LENS_MIN_WEIGHT: f64 = 1.0 / 512.0;
 
+/// In a lens system of more than one element, a ghost (light reflected a
+/// second time or more) lighter than this plays Russian roulette
+/// ([`Pruning`]'s `roulette`): kept with probability `w / GHOST_ROULETTE`
+/// at the weight `GHOST_ROULETTE`. Measured on the uncoated double Gauss
+/// (11 surfaces; `cargo run --release --example system_ghosts`): a ray
+/// sends 9.8 ghosts out, and walking them took half the tree's time; with
+/// the roulette 3.4 go out and the tree costs half. They carry 4.0 % of
+/// the light against 2.3 % without it: a kept ghost is no longer pruned on
+/// its way out, and the ghosts' whole share (weight bound 10⁻⁵) is 4.35 %.
+pub const GHOST_ROULETTE: f64 = 1.0 / 64.0;
+
 /// A ray that shading sends on (refracted or reflected), and how its
 /// radiance `L` joins the colour: `colour += tint · L · factor`.
 #[derive(Clone, Copy, Debug)]
@@ -310,6 +321,7 @@ pub(super) fn lens_pruning(scene: &Scene, depth: u32, weight: f64, kt: f64) -> P
         scale: weight * kt,
         min: LENS_MIN_WEIGHT,
         max_reflections: scene.max_depth.saturating_sub(depth + 2),
+        roulette: GHOST_ROULETTE,
     }
 }
 

@@ -67,11 +67,20 @@ impl Inside {
 /// `max_reflections` reflections inside (at most
 /// [`MAX_INTERNAL_REFLECTIONS`]). The renderer's `scale` is the path weight
 /// of the ray that entered.
+///
+/// In a lens system of more than two surfaces (not a singlet or the
+/// biconvex lens, whose few ghosts are followed exactly) a ghost, the light reflected a second time or more, kept by
+/// `min` but lighter than `roulette`, plays Russian roulette where it is
+/// reflected: it is followed with probability `scale · weight / roulette`,
+/// carrying the weight `roulette / scale`, so the expected light is the
+/// same and the ghosts of many surfaces, whose number grows with the square
+/// of the surfaces, cost little (`LensSystem::branches`). 0 turns it off.
 #[derive(Clone, Copy, Debug)]
 pub struct Pruning {
     pub scale: f64,
     pub min: f64,
     pub max_reflections: u32,
+    pub roulette: f64,
 }
 
 impl Pruning {
@@ -80,6 +89,7 @@ impl Pruning {
         scale: 1.0,
         min: 0.0,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
+        roulette: 0.0,
     };
 
     /// Whether a branch of weight `w` is followed.
@@ -206,6 +216,7 @@ mod tests {
             scale: 0.5,
             min: 1e-3,
             max_reflections: 40,
+            roulette: 0.0,
         };
         let mut outs = Vec::new();
         let dropped = l.branches_inside(

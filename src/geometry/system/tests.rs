@@ -199,3 +199,58 @@ fn impossible_systems_are_refused_naming_the_field() {
     ]);
     assert_eq!((e.surface, e.field), (Some(1), "thickness"));
 }
+
+/// The light a grid of rays across the double Gauss sends out, by number
+/// of reflections (3: three or more), and the rays out, for `prune`.
+fn light_by_reflections(prune: &Pruning) -> ([f64; 4], usize) {
+    let text = crate::prescription::preset("double-gauss-50mm").unwrap();
+    let rows = crate::prescription::parse("dg", text).unwrap();
+    let sys = LensSystem::new(DVec3::ZERO, DVec3::Z, SurfaceSpec::from_rows(&rows, 0.08)).unwrap();
+    let (r, m) = (sys.radius(), 60);
+    let (mut by, mut rays) = ([0.0; 4], 0);
+    for i in 0..m {
+        for j in 0..m {
+            let at = |k: usize| (k as f64 / (m - 1) as f64 - 0.5) * r;
+            let dir = DVec3::new(0.01, 0.02, 1.0).normalize();
+            sys.branches(DVec3::new(at(i), at(j), -10.0), dir, WAVELENGTH_D_UM, prune, &mut |b| {
+                by[b.reflections.min(3) as usize] += b.weight * prune.scale / (m * m) as f64;
+                rays += 1;
+            });
+        }
+    }
+    (by, rays)
+}
+
+/// Russian roulette on the ghosts of a many-surface system keeps their
+/// light in expectation (against the tree without it, neither pruned by
+/// weight),
+/// leaves the rays with fewer reflections alone, walks far fewer ghosts, and
+/// gives the same ray the same tree.
+#[test]
+fn ghosts_play_a_roulette_that_keeps_their_light() {
+    let prune = |roulette| Pruning {
+        scale: 0.5,
+        min: 0.0,
+        max_reflections: 3,
+        roulette,
+    };
+    let (exact, all) = light_by_reflections(&prune(0.0));
+    let (played, kept) = light_by_reflections(&prune(1.0 / 64.0));
+    assert_eq!(light_by_reflections(&prune(1.0 / 64.0)), (played, kept));
+    assert_eq!(exact[..2], played[..2]);
+    let ghosts = |v: [f64; 4]| v[2] + v[3];
+    assert!(ghosts(exact) > 0.01, "{exact:?}");
+    let rel = ghosts(played) / ghosts(exact) - 1.0;
+    eprintln!(
+        "ghost light {:.5} with the roulette, {:.5} without ({rel:+.4}); rays out {kept} against {all}",
+        ghosts(played),
+        ghosts(exact)
+    );
+    assert!(
+        rel.abs() < 0.05,
+        "ghosts {} against {} ({rel:+.3})",
+        ghosts(played),
+        ghosts(exact)
+    );
+    assert!(2 * kept < all, "{kept} rays out against {all}");
+}

@@ -8,6 +8,7 @@ use super::pieces::{Crossing, Piece};
 use super::{LensSystem, MAX_SURFACES};
 use crate::geometry::Pruning;
 use crate::optics;
+use crate::sampling::mix64;
 use glam::DVec3;
 
 /// Reflections a real ray may make before it is reported trapped.
@@ -225,8 +226,11 @@ impl LensSystem {
     /// the world ray `origin + t·dir` (unit `dir`), at `lambda_um`: the
     /// Whitted tree with a Fresnel split at every cap (the reflection at
     /// the first one included), each branch pruned by `prune`, rings,
-    /// edges and the diaphragm absorbing. Each ray out is handed to `emit`
-    /// in a fixed order. Returns the weight dropped by pruning.
+    /// edges and the diaphragm absorbing; ghosts play `prune`'s roulette,
+    /// decided by a hash of the ray and the branch, so the same ray gives
+    /// the same tree. Each ray out is handed to `emit` in a fixed order.
+    /// Returns the weight dropped by pruning (a ghost lost at the roulette
+    /// is not counted: the survivors carry its light in expectation).
     pub fn branches(
         &self,
         origin: DVec3,
@@ -247,6 +251,17 @@ impl LensSystem {
         }; STACK];
         let mut len = 1;
         let mut dropped = 0.0;
+        let seed = ray_hash(origin, dir);
+        // A singlet's tree is the biconvex lens's, followed exactly (its
+        // ghosts are few); the ghosts between elements grow as the square.
+        let prune = &Pruning {
+            roulette: if self.boundary.iter().filter(|&&b| b).count() > 2 {
+                prune.roulette
+            } else {
+                0.0
+            },
+            ..*prune
+        };
         let most = 8 * self.len() as u32 + 8;
         while len > 0 {
             len -= 1;
@@ -286,6 +301,15 @@ impl LensSystem {
                 } else {
                     prune.keeps(child.weight)
                 };
+                let born = child.reflections > b.reflections;
+                let child = if kept && born {
+                    roulette(prune, child, seed)
+                } else {
+                    Some(child)
+                };
+                let Some(child) = child else {
+                    continue;
+                };
                 if !kept {
                     dropped += child.weight;
                 } else if len < STACK {
@@ -312,4 +336,39 @@ impl LensSystem {
             reflections: b.reflections,
         }
     }
+}
+
+/// A ghost's Russian roulette ([`Pruning`]'s `roulette`), played once where
+/// it is reflected: `child` as it is (not a ghost, or heavy enough), at the
+/// roulette's weight, or lost.
+#[inline]
+fn roulette(prune: &Pruning, mut child: Live, seed: u64) -> Option<Live> {
+    let w = prune.scale * child.weight;
+    if child.reflections < 2 || !(w < prune.roulette) {
+        return Some(child);
+    }
+    let u = unit(mix(seed, child.x, child.u));
+    if u * prune.roulette < w {
+        child.weight = prune.roulette / prune.scale;
+        Some(child)
+    } else {
+        None
+    }
+}
+
+/// A hash of a ray (its origin's and direction's bits).
+fn ray_hash(origin: DVec3, dir: DVec3) -> u64 {
+    mix(0x243f_6a88_85a3_08d3, origin, dir)
+}
+
+/// `seed` mixed with the bits of `x` and `u` ([`mix64`] steps).
+fn mix(seed: u64, x: DVec3, u: DVec3) -> u64 {
+    [x.x, x.y, x.z, u.x, u.y, u.z].iter().fold(seed, |h, v| {
+        mix64((h ^ v.to_bits()).wrapping_add(0x9e37_79b9_7f4a_7c15))
+    })
+}
+
+/// A hash's top 53 bits as a number in [0, 1).
+fn unit(h: u64) -> f64 {
+    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
