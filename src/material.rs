@@ -37,6 +37,8 @@ pub struct Material {
 
 impl Material {
     /// A clear glass with a faint highlight, used for lenses.
+    /// Clear glass of index `ior` and colour `tint`, for an object that is
+    /// not a lens or a system.
     pub fn glass(tint: Rgb, ior: Index) -> Self {
         Material {
             color: tint,
@@ -48,6 +50,12 @@ impl Material {
             transparency: 1.0,
             ior,
         }
+    }
+
+    /// The glass of a lens or a lens system of colour `tint`: the index is
+    /// the shape's (`Object::ior`), so `ior` here is air and never read.
+    pub fn glass_of_shape(tint: Rgb) -> Self {
+        Material::glass(tint, Index::Constant(1.0))
     }
 
     /// The cosine `r·v` (mirrored light direction against the view
@@ -67,16 +75,15 @@ impl Material {
         self.transparency > 0.0
     }
 
-    /// Fraction of light a shadow ray lets through this material: its
-    /// transparency and tint, less the Fresnel reflection at normal incidence
-    /// at the two faces it crosses, `(1 − R0)²` with `R0 = ((n−1)/(n+1))²`.
-    /// Refraction of the shadow ray itself is ignored (see README, "Shadows
-    /// of glass").
-    pub fn shadow_transmittance(&self) -> Rgb {
+    /// Fraction of light a shadow ray lets through this material, of index
+    /// `n` (the object's: `Object::ior`): its transparency and tint, less the
+    /// Fresnel reflection at normal incidence at the two faces it crosses,
+    /// `(1 − R0)²` with `R0 = ((n−1)/(n+1))²`. Refraction of the shadow ray
+    /// itself is ignored (see README, "Shadows of glass").
+    pub fn shadow_transmittance(&self, n: f64) -> Rgb {
         if self.transparency <= 0.0 {
             return Rgb::ZERO;
         }
-        let n = self.ior.nominal();
         let r0 = ((n - 1.0) / (n + 1.0)).powi(2);
         self.color * (self.transparency * (1.0 - r0) * (1.0 - r0))
     }

@@ -339,3 +339,43 @@ fn lens_commands_read_a_scene_files_system() {
     assert_eq!(code, Some(0), "{err}");
     assert!(out.contains("\"surfaces\": 2"), "{out}");
 }
+
+/// The index has one owner: a lens's and a system's are their shapes'
+/// (`Object::ior`), a glass sphere's its material's. A lens's or system's
+/// material holds none: changing it changes no pixel, with shadows through
+/// glass (caustics off) and dispersion, where every path reads an index.
+#[test]
+fn a_lens_index_has_one_owner() {
+    let body = "[[lenses]]\ncenter = [-1.5, 0, 2]\nd = 2\nr1 = 3\nr2 = 3\nn = \"N-SF11\"\n\
+                [[systems]]\nkind = \"doublet\"\ncenter = [1.5, 0, 2]\nd = 2\nr1 = 6\nr2 = -4\nr3 = -20\n\
+                thickness = 0.6\nthickness2 = 0.3\nn = \"N-BK7\"\nn2 = \"SF5\"\n\
+                [materials.glassy]\ncolor = [1, 1, 1]\ntransparency = 0.9\nior = 1.3\n\
+                [[objects]]\ntype = \"sphere\"\nposition = [0, 1.8, 1]\nradius = 0.5\nmaterial = \"glassy\"\n";
+    let s = scene(body).unwrap();
+    let find = |f: &dyn Fn(&lensview::scene::Object) -> bool| s.objects.iter().find(|o| f(o)).unwrap();
+    let lens = find(&|o| o.lens().is_some());
+    let system = find(&|o| o.system().is_some());
+    let sphere = find(&|o| o.lens().is_none() && o.system().is_none() && o.material.transparency > 0.0);
+    let d = lensview::optics::WAVELENGTH_D_UM;
+    assert_eq!(lens.ior(), lens.lens().unwrap().index);
+    assert!((lens.ior().at(d) - 1.78472).abs() < 1e-4, "{}", lens.ior().at(d));
+    assert_eq!(system.ior(), system.system().unwrap().first_glass());
+    assert_eq!(sphere.ior().at(d), 1.3);
+    assert!(s.features.dispersion);
+    let settings = RenderSettings {
+        width: 48,
+        height: 36,
+        spp: 1,
+        seed: 2,
+    };
+    let before = render(&s, &settings, None);
+    let mut changed = s.clone();
+    for o in &mut changed.objects {
+        if o.lens().is_some() || o.system().is_some() {
+            o.material.ior = lensview::optics::Index::Constant(2.9);
+        }
+    }
+    changed.compile();
+    let after = render(&changed, &settings, None);
+    assert!(before.pixels == after.pixels, "a lens's material index was read");
+}

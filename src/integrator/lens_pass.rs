@@ -303,7 +303,7 @@ pub(super) fn lens_passes(
         {
             continue;
         }
-        which.get_or_insert((s.index, lens, s.object.material.ior.at(lambda_um)));
+        which.get_or_insert((s.index, lens, lens.index.at(lambda_um)));
         lanes |= 1 << l;
         for k in 0..3 {
             x[k][l] = s.p[k];
@@ -540,7 +540,7 @@ mod tests {
         let scene = Scene::default_scene().1;
         let obj = scene.objects.iter().find(|o| o.lens().is_some()).expect("a lens");
         let lens = obj.lens().expect("a lens");
-        let ior = obj.material.ior.at(crate::optics::WAVELENGTH_D_UM);
+        let ior = lens.index.at(crate::optics::WAVELENGTH_D_UM);
         let (mut exact, mut scalar, mut rays) = (0, 0, 0);
         let prunes = [
             Pruning::NONE,

@@ -189,7 +189,7 @@ fn chain_on<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SP
         onward,
         extra,
     };
-    let ior = lane.s.object.material.ior.at(lambda_um);
+    let ior = lens.index.at(lambda_um);
     chain(lens, on, ior, prune, |tr| {
         if let Some(sec) = lane.refracted(tr) {
             gather.trace(sec, &mut Rgb::default());

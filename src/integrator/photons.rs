@@ -198,7 +198,7 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &
         if bounced && m.diffuse * (1.0 - m.transparency) > 0.0 {
             out.push(Photon::new(s.p, ray.dir, power));
         }
-        let ior = m.ior.at(lambda);
+        let ior = s.object.ior().at(lambda);
         let system = s.object.system();
         // A system's tree holds every reflection at its surfaces.
         let f = if m.transparency > 0.0 && system.is_none() {

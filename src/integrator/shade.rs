@@ -278,7 +278,7 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
             });
         }
     } else if GLASS && m.transparency > 0.0 {
-        let ior = m.ior.at(lambda_um);
+        let ior = s.object.ior().at(lambda_um);
         let (n1, n2) = if s.entering { (1.0, ior) } else { (ior, 1.0) };
         let (r, kt) = glass_shares::<MIRROR>(m, refraction.fresnel(dir, s.nf, n1, n2));
         kr = r;

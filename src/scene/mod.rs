@@ -24,6 +24,7 @@ use crate::geometry::{Aabb, Lens, LensSystem, Shape};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::rotation_from_degrees;
+use crate::optics::Index;
 use error::Located;
 use glam::{DMat3, DVec3};
 use validate::Validator;
@@ -157,6 +158,29 @@ impl Object {
             _ => None,
         }
     }
+
+    /// The refractive index of the object's glass, which has one owner: a
+    /// lens's is its own ([`Lens::index`]), a system's first glass is its
+    /// surfaces' (each surface's medium: `LensSystem::media`), any other
+    /// object's is its material's `ior` (a lens's or system's material
+    /// holds none: [`Material::glass_of_shape`]).
+    #[inline]
+    pub fn ior(&self) -> Index {
+        match &self.shape {
+            Shape::Lens(l) => l.index,
+            Shape::System(s) => s.first_glass(),
+            _ => self.material.ior,
+        }
+    }
+
+    /// Whether the object's glass bends colours apart (its index depends on
+    /// the wavelength, at any of a system's surfaces).
+    pub fn is_dispersive(&self) -> bool {
+        match &self.shape {
+            Shape::System(s) => s.is_dispersive(),
+            _ => self.ior().is_dispersive(),
+        }
+    }
 }
 
 /// What a scene uses, decided once when it is built, so that rendering
@@ -264,11 +288,10 @@ impl Scene {
             glass,
             mirror: glass || mats().any(|m| m.reflectivity > 0.0),
             specular: mats().any(|m| m.specular > 0.0),
-            dispersion: mats().any(|m| m.transparency > 0.0 && m.ior.is_dispersive())
-                || self
-                    .objects
-                    .iter()
-                    .any(|o| o.system().is_some_and(LensSystem::is_dispersive)),
+            dispersion: self
+                .objects
+                .iter()
+                .any(|o| o.material.transparency > 0.0 && o.is_dispersive()),
             caustics: self.caustics.unwrap_or(true) && glass_or_mirror && !self.lights.is_empty(),
         };
         self.bvh = (self.objects.len() >= BVH_MIN_OBJECTS).then(|| {
@@ -390,14 +413,16 @@ impl Scene {
     }
 
     /// What a shadow ray keeps crossing object `i`: its material's
-    /// [`Material::shadow_transmittance`], or nothing with caustics on (the
-    /// light through glass arrives as photons instead, not twice).
+    /// [`Material::shadow_transmittance`] at its index ([`Object::ior`]), or
+    /// nothing with caustics on (the light through glass arrives as photons
+    /// instead, not twice).
     #[inline]
     pub fn shadow_filter(&self, i: usize) -> Rgb {
         if self.features.caustics {
             Rgb::ZERO
         } else {
-            self.objects[i].material.shadow_transmittance()
+            let o = &self.objects[i];
+            o.material.shadow_transmittance(o.ior().nominal())
         }
     }
 

@@ -92,7 +92,7 @@ impl Validator {
             };
             match LensSystem::new(vertex, axis, surfaces) {
                 Ok(sys) => {
-                    let material = Material::glass(tint, sys.first_glass());
+                    let material = Material::glass_of_shape(tint);
                     let name = s.name.clone().unwrap_or_default();
                     objects.push(Object::new(
                         name,

@@ -168,7 +168,7 @@ impl Validator {
                     objects.push(Object::new(
                         name,
                         Shape::Lens(Box::new(lens)),
-                        Material::glass(tint, index),
+                        Material::glass_of_shape(tint),
                         DVec3::ZERO,
                         DVec3::ZERO,
                     ));
