@@ -32,7 +32,6 @@ pub use scene_edits::{
 };
 pub use systems::{new_preset_system, new_system, preset_scale, system_kind_label};
 
-use crate::scene::file::MaterialFile;
 use crate::scene::{Problem, Scene, SceneError, SceneFile};
 use glam::DVec3;
 use std::fmt;
@@ -102,24 +101,9 @@ impl fmt::Display for Rejected {
 
 impl std::error::Error for Rejected {}
 
-/// What an accepted edit did, ordered from least to most (so that the
-/// effect of several edits is the largest of theirs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Change {
-    /// Nothing changed (no undo step was made).
-    None,
-    /// The file changed but not the picture (a name, `render.spp`, an unused
-    /// material): no need to restart refinement.
-    File,
-    /// The picture changed: restart refinement.
-    Picture,
-}
-
-impl Change {
-    pub fn restarts(self) -> bool {
-        self == Change::Picture
-    }
-}
+/// What an accepted edit did, for the render thread: the scene's own
+/// [`Change`] (`Change::between` the files before and after).
+pub use crate::scene::Change;
 
 /// One item of the *Objects* list: a primitive, a lens (`[[lenses]]`) or
 /// a lens system (`[[systems]]`).
@@ -256,11 +240,7 @@ impl Document {
             return Ok(Change::None);
         }
         let built = Scene::build(&next).map_err(Rejected)?;
-        let change = if same_picture(&self.scene, &next) {
-            Change::File
-        } else {
-            Change::Picture
-        };
+        let change = Change::between(&self.scene, &next);
         let merging = key.is_some() && self.merge.as_deref() == key && !self.undo.is_empty();
         if !merging {
             self.undo.push(Step {
@@ -294,11 +274,7 @@ impl Document {
 
     fn swap(&mut self, step: Step, undoing: bool) -> (String, Change) {
         self.merge = None;
-        let change = if same_picture(&self.scene, &step.scene) {
-            Change::File
-        } else {
-            Change::Picture
-        };
+        let change = Change::between(&self.scene, &step.scene);
         // Every scene on the stacks was valid when it was pushed, and
         // validation depends on nothing but the scene; should that ever
         // change, the step is dropped rather than shown half-valid.
@@ -343,35 +319,6 @@ impl Document {
     pub fn home(&self) -> (DVec3, DVec3) {
         self.home
     }
-}
-
-/// Whether two valid scenes render the same picture in the viewer: equal
-/// but for names, `render.spp` (used only by `lensview render`) and
-/// materials no object uses. Camera `look_at` and the equivalent `rotation`
-/// count as different (a harmless extra restart).
-pub fn same_picture(a: &SceneFile, b: &SceneFile) -> bool {
-    fn key(sf: &SceneFile) -> (SceneFile, Vec<Option<MaterialFile>>) {
-        let mut k = sf.clone();
-        k.render.spp = 0;
-        k.materials.clear();
-        let mats = sf
-            .objects
-            .iter()
-            .map(|o| o.material.as_ref().and_then(|m| sf.materials.get(m)).cloned())
-            .collect();
-        for o in &mut k.objects {
-            o.name = None;
-            o.material = None;
-        }
-        for l in &mut k.lenses {
-            l.name = None;
-        }
-        for s in &mut k.systems {
-            s.name = None;
-        }
-        (k, mats)
-    }
-    key(a) == key(b)
 }
 
 #[cfg(test)]

@@ -198,13 +198,19 @@ fn refresh(copy: &mut Scene, from: &Scene, objects_equal: bool) {
 }
 
 impl Interleaved {
-    /// Takes the scene of a new job: the estimate is kept when only the
-    /// camera (or the image) changed, else started again.
-    pub fn follow(&mut self, scene: &Arc<Scene>) {
-        let same = self
-            .scene
-            .as_ref()
-            .is_some_and(|s| Caustics::same_light_paths(s, scene));
+    /// Takes the scene of a new job: the estimate is kept when the editor
+    /// says the light paths are the same (`keeps`: only the camera, the
+    /// shading or the image changed since the scene followed before), else
+    /// started again.
+    pub fn follow(&mut self, scene: &Arc<Scene>, keeps: bool) {
+        let same = keeps && self.scene.is_some();
+        debug_assert!(
+            !same
+                || self
+                    .scene
+                    .as_ref()
+                    .is_some_and(|s| Caustics::same_light_paths(s, scene))
+        );
         if !same {
             self.caustics = Caustics::new(scene, CausticSettings::default());
         }
@@ -274,7 +280,7 @@ mod tests {
     fn the_estimate_survives_camera_moves_only() {
         let base = focal_spot();
         let mut it = Interleaved::default();
-        it.follow(&Arc::new(base.clone()));
+        it.follow(&Arc::new(base.clone()), false);
         it.refine(1, &|| false);
         let (passes, photons) = it.counts();
         assert_eq!(passes, PASSES_PER_SPP);
@@ -282,7 +288,7 @@ mod tests {
         let mut moved = base.clone();
         moved.camera.position.x += 1.0;
         let job = Arc::new(moved.clone());
-        it.follow(&job);
+        it.follow(&job, true);
         assert_eq!(it.counts(), (passes, photons));
         let shown = it.scene(&job);
         assert!(!std::ptr::eq(shown, &*job), "the job's scene has no map");
@@ -295,7 +301,7 @@ mod tests {
             position.x += 0.5;
         }
         let lit = Arc::new(lit);
-        it.follow(&lit);
+        it.follow(&lit, false);
         assert_eq!(it.counts(), (0, 0));
         assert!(std::ptr::eq(it.scene(&lit), &*lit));
         // Cancelled: no pass.
@@ -311,7 +317,7 @@ mod tests {
         let base = focal_spot();
         let mut it = Interleaved::default();
         let job = Arc::new(base.clone());
-        it.follow(&job);
+        it.follow(&job, false);
         it.refine(1, &|| false);
         let objects = it.scene(&job).objects.as_ptr();
         let map = |s: &Scene| Arc::as_ptr(&s.caustic_map.as_ref().unwrap().0);
@@ -322,14 +328,14 @@ mod tests {
         let mut moved = base.clone();
         moved.camera.position.y += 0.5;
         let job = Arc::new(moved);
-        it.follow(&job);
+        it.follow(&job, true);
         let shown = it.scene(&job);
         assert_eq!(shown.objects.as_ptr(), objects, "a camera move copied the objects");
         assert_eq!(shown.camera, job.camera);
         let mut edited = base;
         edited.objects[0].material.diffuse *= 0.5;
         let job = Arc::new(edited);
-        it.follow(&job);
+        it.follow(&job, false);
         it.refine(1, &|| false);
         assert_eq!(it.scene(&job).objects, job.objects);
     }

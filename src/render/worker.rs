@@ -12,7 +12,7 @@ use super::caustics::Interleaved;
 use super::first_frame::{Costs, First};
 use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
-use crate::scene::Scene;
+use crate::scene::{Change, Scene};
 use crossbeam_channel::{Receiver, Sender, unbounded};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -25,6 +25,11 @@ pub use super::first_frame::{FIRST_FRAME_BUDGET_S, hole_level};
 pub struct Job {
     /// Strictly increasing; every change to what is drawn bumps it.
     pub generation: u64,
+    /// What changed in the scene since the job before (the largest change
+    /// of the edits between; `Change::None` for a new size or sample cap),
+    /// as the editor reports it: the render thread reprojects the picture or
+    /// keeps the photons by it, and never compares scenes.
+    pub change: Change,
     pub scene: Arc<Scene>,
     pub width: u32,
     pub height: u32,
@@ -230,7 +235,7 @@ enum Start {
 /// are traced in `traced` (the job's scene with its photon map).
 fn start(
     prog: &mut Progressive,
-    shown: &mut Option<Arc<Scene>>,
+    shown: &mut Held,
     job: &Job,
     traced: &Scene,
     stages: &[Stage],
@@ -238,9 +243,15 @@ fn start(
 ) -> Start {
     let t0 = Instant::now();
     let size = (job.width, job.height);
-    let moved = shown.as_ref().filter(|s| {
-        (prog.width, prog.height) == size && s.camera != job.scene.camera && same_but_camera(s, &job.scene)
-    });
+    let moved = shown
+        .scene
+        .as_ref()
+        .filter(|s| (prog.width, prog.height) == size && s.camera != job.scene.camera && shown.since.reprojects());
+    debug_assert!(
+        moved.is_none_or(|s| same_but_camera(s, &job.scene)),
+        "{:?}",
+        shown.since
+    );
     // A move (even with no picture to move: a flight's fresh previews)
     // gets what a flight frame leaves; an edit or a new size, a tap's.
     let budget = match moved {
@@ -259,7 +270,7 @@ fn start(
     {
         costs.reprojected(&prog.reprojection, size.0 as usize * size.1 as usize);
         prog.seed = job.seed;
-        *shown = Some(job.scene.clone());
+        shown.set(&job.scene);
         return Start::Moved(t0.elapsed().as_secs_f64());
     }
     prog.reset(job.width, job.height, job.seed);
@@ -322,11 +333,17 @@ fn run(
     // The photon map, kept across jobs that change only the camera.
     let mut caustics = Interleaved::default();
     // The scene whose picture `prog` holds (for reprojection).
-    let mut shown: Option<Arc<Scene>> = None;
+    let mut shown = Held::default();
+    // What changed since the scene `caustics` last followed.
+    let mut since_followed = Change::Picture;
     while let Ok(mut job) = jobs.recv() {
+        let mut change = job.change;
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
+            change = change.max(job.change);
         }
+        shown.since = shown.since.max(change);
+        since_followed = since_followed.max(change);
         if job.generation != wanted.load(Ordering::SeqCst) {
             continue;
         }
@@ -334,7 +351,8 @@ fn run(
         let queued_ms = job.input_time.elapsed().as_secs_f64() * 1e3;
         let generation = job.generation;
         let cancelled = || wanted.load(Ordering::Relaxed) != generation;
-        caustics.follow(&job.scene);
+        caustics.follow(&job.scene, since_followed.keeps_photons());
+        since_followed = Change::None;
         let first_sent = std::cell::Cell::new(false);
         let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
             let rgba = spare.try_recv().unwrap_or_default();
@@ -371,7 +389,7 @@ fn run(
             else {
                 break;
             };
-            shown = Some(job.scene.clone());
+            shown.set(&job.scene);
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
                 return;
             }
@@ -385,6 +403,29 @@ fn run(
             // What the next move's reprojection will have to trace, at least.
             costs.holes = share;
         }
+    }
+}
+
+/// The scene whose picture the render thread holds, and what the jobs
+/// since changed (the editor's [`Change`], never found by comparing).
+struct Held {
+    scene: Option<Arc<Scene>>,
+    since: Change,
+}
+
+impl Default for Held {
+    fn default() -> Self {
+        Held {
+            scene: None,
+            since: Change::Picture,
+        }
+    }
+}
+
+impl Held {
+    fn set(&mut self, scene: &Arc<Scene>) {
+        self.scene = Some(scene.clone());
+        self.since = Change::None;
     }
 }
 
@@ -421,6 +462,7 @@ mod tests {
     fn job(generation: u64, w: u32, h: u32, spp: u32) -> Job {
         Job {
             generation,
+            change: Change::Picture,
             scene: Arc::new(Scene::default_scene().1),
             width: w,
             height: h,
@@ -557,6 +599,7 @@ mod tests {
         moved.camera = crate::camera::Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg);
         w.submit(Job {
             generation: 2,
+            change: Change::Camera,
             scene: Arc::new(moved.clone()),
             ..a.clone()
         });
@@ -566,6 +609,7 @@ mod tests {
         edited.background *= 0.5;
         w.submit(Job {
             generation: 3,
+            change: Change::Shading,
             scene: Arc::new(edited),
             ..a
         });
@@ -599,6 +643,7 @@ mod tests {
         scene.camera = Camera::new(eye, DVec3::new(-55.0, 0.0, 0.0), 40.0);
         w.submit(Job {
             generation: 2,
+            change: Change::Camera,
             scene: Arc::new(scene.clone()),
             ..a
         });

@@ -6,6 +6,7 @@
 //! file loaded from disk, the embedded default and (later) an edit made in
 //! the window all pass through it.
 
+mod change;
 pub mod error;
 pub mod file;
 mod input;
@@ -13,6 +14,7 @@ mod stream;
 mod systems;
 mod validate;
 
+pub use change::Change;
 pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;
 pub use input::{SCENE_FILE_CAP, check_scene_bytes, read_capped};

@@ -223,6 +223,9 @@ impl Viewer {
         if new_document {
             self.refine.clear_frame();
         }
+        if let Some(c) = change {
+            self.refine.changed(c);
+        }
         if change.is_some_and(|c| c.restarts()) {
             self.submit();
         }

@@ -9,6 +9,7 @@ use lensview::limits;
 use lensview::render::ImageFormat;
 use lensview::render::progressive::{Progressive, Stage};
 use lensview::render::worker::{Frame, Job, Worker};
+use lensview::scene::Change;
 use lensview::scene::Scene;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -44,6 +45,8 @@ pub struct Refine {
     paused: bool,
     max_spp: u32,
     screenshots: u32,
+    /// What the edits since the last job changed ([`Self::changed`]).
+    unsent: Change,
 }
 
 impl Refine {
@@ -57,7 +60,15 @@ impl Refine {
             paused: false,
             max_spp,
             screenshots: 0,
+            unsent: Change::Picture,
         }
+    }
+
+    /// Notes what an accepted edit changed, for the next job: the render
+    /// thread keeps the picture or the photons by it, never by comparing
+    /// scenes.
+    pub fn changed(&mut self, c: Change) {
+        self.unsent = self.unsent.max(c);
     }
 
     /// Starts a new generation: `scene` at `width`×`height`, for a window
@@ -67,6 +78,7 @@ impl Refine {
         self.input_time = Instant::now();
         self.worker.submit(Job {
             generation: self.generation,
+            change: std::mem::replace(&mut self.unsent, Change::None),
             scene,
             width,
             height,

@@ -43,7 +43,7 @@ fn flight_is_one_step_per_gesture_and_reset_returns_to_the_opened_view() {
     assert_eq!(doc.home(), home);
     for k in 1..=3 {
         let p = home.0 + DVec3::X * k as f64;
-        assert_eq!(doc.fly_camera(p, home.1 + DVec3::Y).unwrap(), Change::Picture);
+        assert_eq!(doc.fly_camera(p, home.1 + DVec3::Y).unwrap(), Change::Camera);
     }
     assert_eq!(doc.undo_depth(), 1);
     assert!(close(doc.camera_pose().0, home.0 + DVec3::X * 3.0));
