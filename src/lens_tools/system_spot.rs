@@ -4,6 +4,7 @@
 use super::setup::{SPOT_WAVELENGTHS_UM, SetupError, bad};
 use super::spot::{MAX_RINGS, hexapolar, rms_and_centroid};
 use super::system_bench::{Aim, SystemBench, SystemRay};
+use super::system_colour::{ChiefColour, lateral_colour_at};
 use crate::optics::WAVELENGTH_D_UM;
 use serde::Serialize;
 use std::fmt;
@@ -100,6 +101,9 @@ pub struct SystemDistortionPoint {
     pub paraxial_height: f64,
     /// 100·(real − paraxial)/paraxial.
     pub distortion_percent: Option<f64>,
+    /// The F and C lines' chief rays in the same plane: lateral colour.
+    #[serde(flatten)]
+    pub colour: ChiefColour,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -116,7 +120,8 @@ pub struct SystemDistortion {
     pub points: Vec<SystemDistortionPoint>,
 }
 
-/// Field angles max·k/steps, k = 1..steps, at the d line.
+/// Field angles max·k/steps, k = 1..steps, at the d line; with the
+/// lateral colour of the F and C lines in the same plane.
 pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) -> Result<SystemDistortion, SetupError> {
     if !(max_field_deg > 0.0 && max_field_deg < 90.0) {
         return Err(bad(
@@ -157,6 +162,7 @@ pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) ->
                 real_height,
                 paraxial_height,
                 distortion_percent: real_height.map(|h| 100.0 * (h - paraxial_height) / paraxial_height),
+                colour: lateral_colour_at(&s, plane_z),
             }
         })
         .collect();
@@ -189,18 +195,19 @@ impl fmt::Display for SystemDistortion {
         )?;
         writeln!(
             f,
-            "  {:>10}  {:>24}  {:>24}  {:>14}",
-            "field °", "real height", "paraxial height", "distortion %"
+            "  {:>10}  {:>24}  {:>24}  {:>14}  {:>24}",
+            "field °", "real height", "paraxial height", "distortion %", "lateral colour F−C"
         )?;
         for p in &self.points {
             let opt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x}"));
             writeln!(
                 f,
-                "  {:>10}  {:>24}  {:>24}  {:>14}",
+                "  {:>10}  {:>24}  {:>24}  {:>14}  {:>24}",
                 p.field_deg,
                 opt(p.real_height),
                 p.paraxial_height,
-                opt(p.distortion_percent.map(|x| (x * 1e6).round() / 1e6))
+                opt(p.distortion_percent.map(|x| (x * 1e6).round() / 1e6)),
+                opt(p.colour.lateral_colour)
             )?;
         }
         Ok(())
