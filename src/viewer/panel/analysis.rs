@@ -81,14 +81,15 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         _ if lens.is_none() => cx.doc.built_system(0).cloned(),
         _ => None,
     };
-    egui::Window::new("Lens analysis")
+    let mut placed = Vec::new();
+    let shown = egui::Window::new("Lens analysis")
         .open(&mut open)
         .default_size([760.0, 640.0])
         .default_pos([360.0, 40.0])
         .show(ctx, |ui| {
             if let Some(sys) = &system {
                 controls(ui, &mut cx.ui.analysis);
-                super::system_analysis::figures(ui, sys, &cx.ui.analysis);
+                placed = super::system_analysis::figures(ui, sys, &cx.ui.analysis);
                 return;
             }
             let Some(lens) = lens else {
@@ -104,6 +105,13 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
                 }
             }
         });
+    let ppp = ctx.pixels_per_point();
+    if let Some(r) = shown {
+        cx.ui.rects.insert("Lens analysis", r.response.rect, ppp);
+    }
+    for (name, r) in placed {
+        cx.ui.rects.insert(name, r, ppp);
+    }
     cx.ui.analysis.window &= open;
 }
 
@@ -210,12 +218,13 @@ fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
 
 /// The distortion plot of `points` (field °, %) from the axis, or why
 /// there is none (no real paraxial image): the lens's and a system's.
-pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) {
+/// Returns where the plot is on screen.
+pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) -> Option<egui::Rect> {
     let Some(points) = points else {
         ui.allocate_ui(size, |ui| {
             ui.label("Distortion: no real paraxial image.");
         });
-        return;
+        return None;
     };
     let mut pts = vec![[0.0, 0.0]];
     pts.extend(points);
@@ -224,5 +233,5 @@ pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec
         points: pts,
         dots: false,
     }];
-    plot(ui, size, "Distortion", ("field °", "%"), &series, false);
+    Some(plot(ui, size, "Distortion", ("field °", "%"), &series, false))
 }
