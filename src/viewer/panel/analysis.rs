@@ -184,17 +184,7 @@ fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) {
         return;
     };
     ui.vertical(|ui| {
-        let series: Vec<Series> = (sd.spots.iter().zip(LINES))
-            .map(|(sp, colour)| Series {
-                colour,
-                points: sp
-                    .rays
-                    .iter()
-                    .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                    .collect(),
-                dots: true,
-            })
-            .collect();
+        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
         let title = format!("Spot at {:.4} after V2", sd.image_plane_from_v2);
         plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
@@ -214,6 +204,21 @@ fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
             .collect()
     });
     distortion_curve(ui, size, points);
+}
+
+/// The spot plot's series (the lens's and a system's): where each line's
+/// rays meet the image plane, as dots in the line's colour (C, d, F).
+pub(super) fn spot_series<I>(lines: impl IntoIterator<Item = I>) -> Vec<Series>
+where
+    I: IntoIterator<Item = Option<[f64; 3]>>,
+{
+    (lines.into_iter().zip(LINES))
+        .map(|(hits, colour)| Series {
+            colour,
+            points: hits.into_iter().flatten().map(|p| [p[0], p[1]]).collect(),
+            dots: true,
+        })
+        .collect()
 }
 
 /// The distortion plot of `points` (field °, %) from the axis, or why

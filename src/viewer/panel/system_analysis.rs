@@ -10,7 +10,7 @@
 //! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
 //! compute them.
 
-use super::analysis::{AnalysisState, LINES, distortion_curve};
+use super::analysis::{AnalysisState, LINES, distortion_curve, spot_series};
 use super::plots::{Series, plot, sketch};
 use egui::{Color32, Rect, Vec2};
 use lensview::geometry::LensSystem;
@@ -104,17 +104,7 @@ fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64
         return None;
     };
     ui.vertical(|ui| {
-        let series: Vec<Series> = (sd.spots.iter().zip(LINES))
-            .map(|(sp, colour)| Series {
-                colour,
-                points: sp
-                    .rays
-                    .iter()
-                    .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                    .collect(),
-                dots: true,
-            })
-            .collect();
+        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
         let title = format!("Spot at {:.4}", sd.image_plane_from_last_vertex);
         let rect = plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
