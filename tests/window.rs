@@ -1023,3 +1023,87 @@ fn optics_overlay_draws_a_lens_systems_f_prime() {
     let (status, err) = s.wait_exit("Escape");
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
+
+/// Pixels within `tol` levels of `colour` in the window rectangle `r`
+/// (`--ui-log`'s physical pixels): their count and the span of their x.
+fn colour_in(img: &Image, r: &[f64], colour: [u8; 3], tol: i32) -> (usize, f64) {
+    let rgb = img.to_srgb8();
+    let (mut n, mut lo, mut hi) = (0, f64::INFINITY, f64::NEG_INFINITY);
+    let clamp = |v: f64, max: u32| (v.max(0.0) as u32).min(max);
+    for y in clamp(r[1], img.height)..clamp(r[3], img.height) {
+        for x in clamp(r[0], img.width)..clamp(r[2], img.width) {
+            let p = &rgb[(y as usize * img.width as usize + x as usize) * 3..][..3];
+            if (0..3).all(|i| (i32::from(p[i]) - i32::from(colour[i])).abs() <= tol) {
+                n += 1;
+                lo = lo.min(f64::from(x));
+                hi = hi.max(f64::from(x));
+            }
+        }
+    }
+    (n, if n > 0 { hi - lo + 1.0 } else { 0.0 })
+}
+
+/// The analysis window (F7) on scenes/achromat.toml analyses its first
+/// system (the AC254-100-A achromat, dispersive): every figure is where
+/// the window says (`--ui-log`) and drawn in its colour — the fan's rays in
+/// the cross-section, the LSA curve, the C, d and F spots, the distortion,
+/// the axial colour and, across most of the plot's width (out to the
+/// usable field), the lateral colour. F7 again closes it.
+#[test]
+fn the_analysis_window_draws_every_figure_of_a_lens_system() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, ui_log) = test_dir("system-analysis");
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/achromat.toml");
+    let mut args = ui_args(1400, 980, 600, &ui_log);
+    args.push("--no-panel".into());
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    s.wait_frame(0, 1, "start");
+    assert!(!s.rects(&ui_log).contains_key("Lens analysis"), "open before F7");
+    s.key("F7");
+    let figures: [(&str, &[[u8; 3]], usize); 6] = [
+        ("analysis sketch", &[[220, 60, 20]], 100),
+        ("analysis LSA", &[[90, 210, 90]], 30),
+        ("analysis spot", &[[235, 70, 60], [90, 210, 90], [90, 140, 255]], 5),
+        ("analysis distortion", &[[90, 140, 255]], 30),
+        ("analysis axial colour", &[[235, 70, 60]], 30),
+        ("analysis lateral colour", &[[220, 80, 220]], 30),
+    ];
+    let mut rects = serde_json::Map::new();
+    assert!(
+        wait_until(Duration::from_secs(60), || {
+            rects = s.rects(&ui_log);
+            figures.iter().all(|f| rects.contains_key(f.0))
+        }),
+        "the window never placed every figure: {rects:?}"
+    );
+    let rect = |name: &str| -> Vec<f64> {
+        (rects[name].as_array().unwrap().iter())
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    let drawn = |img: &Image| {
+        figures
+            .iter()
+            .all(|(name, colours, least)| (colours.iter()).all(|c| colour_in(img, &rect(name), *c, 24).0 >= *least))
+    };
+    let shot = s.wait_screenshot("analysis.png", "every figure in its colour", drawn);
+    let r = rect("analysis lateral colour");
+    let (n, span) = colour_in(&shot, &r, [220, 80, 220], 24);
+    eprintln!(
+        "lateral colour curve: {n} pixels over {span} of {} columns",
+        r[2] - r[0]
+    );
+    assert!(span > 0.5 * (r[2] - r[0]), "the curve stops short: {span}");
+    s.key("F7");
+    assert!(
+        wait_until(Duration::from_secs(30), || !s
+            .rects(&ui_log)
+            .contains_key("Lens analysis")),
+        "F7 did not close the window"
+    );
+    s.key("Escape");
+    let (status, err) = s.wait_exit("Escape");
+    assert!(status.success(), "exit status {status:?}; stderr: {err}");
+}

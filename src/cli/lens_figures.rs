@@ -145,20 +145,30 @@ pub fn spot(a: &SpotArgs) -> Result<()> {
         spot.rings, spot.pupil_radius, spot.image_plane_from_v2, spot.field_deg
     );
     for sp in &spot.spots {
-        let c = sp
-            .centroid
-            .map_or("—".into(), |c| format!("({:.6e}, {:.6e})", c[0], c[1]));
-        let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.9e}"));
-        println!(
-            "  {} {:.4} µm  n {}  rays {}/{}  centroid {c}  RMS radius {r}",
-            sp.line,
-            sp.wavelength_um,
-            sp.n,
-            sp.ray_count,
-            sp.rays.len()
-        );
+        let rays = (sp.ray_count, sp.rays.len());
+        let stats = (sp.centroid, sp.rms_radius);
+        println!("{}", spot_row(sp.line, sp.wavelength_um, Some(sp.n), rays, stats));
     }
     Ok(())
+}
+
+/// One line of a spot's table (the lens's, with its index, and a
+/// system's): the line, its wavelength, the rays that reached the plane of
+/// those traced, the centroid and the RMS radius.
+pub(super) fn spot_row(
+    line: &str,
+    wavelength_um: f64,
+    n: Option<f64>,
+    rays: (usize, usize),
+    (centroid, rms): (Option<[f64; 2]>, Option<f64>),
+) -> String {
+    let c = centroid.map_or("—".into(), |c| format!("({:.6e}, {:.6e})", c[0], c[1]));
+    let r = rms.map_or("—".into(), |r| format!("{r:.9e}"));
+    let n = n.map_or(String::new(), |n| format!("n {n}  "));
+    format!(
+        "  {line} {wavelength_um:.4} µm  {n}rays {}/{}  centroid {c}  RMS radius {r}",
+        rays.0, rays.1
+    )
 }
 
 pub fn distortion(a: &DistortionArgs) -> Result<()> {

@@ -4,7 +4,7 @@
 //! system's figures ([`lensview::lens_tools::system_fan`],
 //! [`lensview::lens_tools::system_spot`]).
 
-use super::lens_figures::{DistortionArgs, FanArgs, SpotArgs, print_json, refuse, write_sketch};
+use super::lens_figures::{DistortionArgs, FanArgs, SpotArgs, print_json, refuse, spot_row, write_sketch};
 use anyhow::{Result, bail};
 use clap::Args;
 use glam::DVec3;
@@ -158,17 +158,9 @@ pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
         spot.rings, spot.pupil.radius, spot.pupil.z, spot.image_plane_from_last_vertex, spot.field_deg
     );
     for sp in &spot.spots {
-        let c = sp
-            .centroid
-            .map_or("—".into(), |c| format!("({:.6e}, {:.6e})", c[0], c[1]));
-        let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.9e}"));
-        println!(
-            "  {} {:.4} µm  rays {}/{}  centroid {c}  RMS radius {r}",
-            sp.line,
-            sp.wavelength_um,
-            sp.ray_count,
-            sp.rays.len()
-        );
+        let rays = (sp.ray_count, sp.rays.len());
+        let stats = (sp.centroid, sp.rms_radius);
+        println!("{}", spot_row(sp.line, sp.wavelength_um, None, rays, stats));
     }
     Ok(())
 }

@@ -39,15 +39,7 @@ pub struct Distortion {
 /// Field angles max·k/steps, k = 1..steps, for the setup's object (its own
 /// field angle is ignored).
 pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Distortion, SetupError> {
-    if !(max_field_deg > 0.0 && max_field_deg < 90.0) {
-        return Err(bad(
-            "max-field-deg",
-            format!("{max_field_deg} must lie strictly between 0 and 90"),
-        ));
-    }
-    if !(1..=MAX_STEPS).contains(&steps) {
-        return Err(bad("steps", format!("{steps} must be between 1 and {MAX_STEPS}")));
-    }
+    check_fields(max_field_deg, steps)?;
     let n = setup.index.nominal();
     let (from_v2, m) = setup.real_image(n)?;
     let efl = setup.paraxial(n).efl;
@@ -121,4 +113,19 @@ impl std::fmt::Display for Distortion {
         }
         Ok(())
     }
+}
+
+/// The field angles of a distortion sweep (the lens's and a system's): the
+/// largest strictly inside (0, 90)°, 1 to [`MAX_STEPS`] steps.
+pub(super) fn check_fields(max_field_deg: f64, steps: u32) -> Result<(), SetupError> {
+    if !(max_field_deg > 0.0 && max_field_deg < 90.0) {
+        return Err(bad(
+            "max-field-deg",
+            format!("{max_field_deg} must lie strictly between 0 and 90"),
+        ));
+    }
+    if !(1..=MAX_STEPS).contains(&steps) {
+        return Err(bad("steps", format!("{steps} must be between 1 and {MAX_STEPS}")));
+    }
+    Ok(())
 }

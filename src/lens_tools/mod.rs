@@ -11,6 +11,7 @@ pub mod setup;
 pub mod sketch;
 pub mod spot;
 pub mod system_bench;
+pub mod system_colour;
 pub mod system_fan;
 pub mod system_info;
 pub mod system_spot;

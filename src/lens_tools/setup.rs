@@ -49,6 +49,48 @@ pub(super) fn bad(field: &'static str, message: String) -> SetupError {
     SetupError { field, message }
 }
 
+/// The paraxial image of an object at infinity (`None`) or `dist` before
+/// the first vertex, through a lens or system of focal length `efl`, back
+/// focal distance `bfd` and principal planes `h` (H from the first vertex,
+/// H′ from the last, both along the light): the image from the last
+/// vertex along the light and the lateral magnification (`None` from
+/// infinity); `None` for an object inside F (a virtual image).
+pub(super) fn image_of(object_distance: Option<f64>, efl: f64, bfd: f64, h: [f64; 2]) -> Option<(f64, Option<f64>)> {
+    match object_distance {
+        None => Some((bfd, None)),
+        Some(dist) => {
+            // From H to the object.
+            let so = dist + h[0];
+            if !(so > efl) {
+                return None;
+            }
+            let si = so * efl / (so - efl);
+            Some((h[1] + si, Some(-si / so)))
+        }
+    }
+}
+
+/// The object of a bench (the lens's and a system's): at infinity or a
+/// positive distance (at most 1e9) before `first`, at a field angle
+/// strictly inside (−90, 90)°.
+pub(super) fn check_object(object_distance: Option<f64>, field_deg: f64, first: &str) -> Result<(), SetupError> {
+    if let Some(dist) = object_distance
+        && !(dist > 0.0 && dist <= crate::math::domain::MAX_LENGTH)
+    {
+        return Err(bad(
+            "object-distance",
+            format!("{dist} must be positive (from {first}, against the light) and at most 1e9"),
+        ));
+    }
+    if !(field_deg.abs() < 90.0) {
+        return Err(bad(
+            "field-deg",
+            format!("{field_deg} must lie strictly between −90 and 90"),
+        ));
+    }
+    Ok(())
+}
+
 /// The lens on the z axis, where the light comes from, and the field angle.
 #[derive(Clone, Debug)]
 pub struct Setup {
@@ -84,20 +126,7 @@ impl Setup {
                 return Err(bad("n", format!("index {n} at {l} µm must be ≥ 1")));
             }
         }
-        if let Some(dist) = object_distance
-            && !(dist > 0.0 && dist <= crate::math::domain::MAX_LENGTH)
-        {
-            return Err(bad(
-                "object-distance",
-                format!("{dist} must be positive (from V1, against the light) and at most 1e9"),
-            ));
-        }
-        if !(field_deg.abs() < 90.0) {
-            return Err(bad(
-                "field-deg",
-                format!("{field_deg} must lie strictly between −90 and 90"),
-            ));
-        }
+        check_object(object_distance, field_deg, "V1")?;
         Ok(Setup {
             lens,
             index,
@@ -160,18 +189,7 @@ impl Setup {
         if !px.has_power() {
             return None;
         }
-        match self.object_distance {
-            None => Some((px.bfd, None)),
-            Some(dist) => {
-                // From H (at h1 from V1 along the light) to the object.
-                let so = dist + px.h1;
-                if !(so > px.efl) {
-                    return None;
-                }
-                let si = so * px.efl / (so - px.efl);
-                Some((px.h2 + si, Some(-si / so)))
-            }
-        }
+        image_of(self.object_distance, px.efl, px.bfd, [px.h1, px.h2])
     }
 
     /// The real paraxial image at index `n`, from V2 along the light, and

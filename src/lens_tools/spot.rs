@@ -74,10 +74,24 @@ pub fn rms_and_centroid(points: &[[f64; 2]]) -> Option<([f64; 2], f64)> {
     Some((c, (s / k).sqrt()))
 }
 
-pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Result<SpotDiagram, SetupError> {
+/// A spot's rays that reach the image plane (those with an image point):
+/// their count, and the centroid and RMS radius of their points.
+pub fn spot_stats(image_points: impl IntoIterator<Item = Option<[f64; 3]>>) -> (usize, Option<([f64; 2], f64)>) {
+    let hits: Vec<[f64; 2]> = image_points.into_iter().flatten().map(|p| [p[0], p[1]]).collect();
+    (hits.len(), rms_and_centroid(&hits))
+}
+
+/// Rings of a hexapolar pupil (the lens's spot and a system's): 1 to
+/// [`MAX_RINGS`].
+pub(super) fn check_rings(rings: u32) -> Result<(), SetupError> {
     if !(1..=MAX_RINGS).contains(&rings) {
         return Err(bad("rings", format!("{rings} must be between 1 and {MAX_RINGS}")));
     }
+    Ok(())
+}
+
+pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Result<SpotDiagram, SetupError> {
+    check_rings(rings)?;
     let from_v2 = setup.image_plane(image_plane)?;
     let plane_z = setup.plane_z(from_v2);
     let pupil = hexapolar(rings);
@@ -88,16 +102,12 @@ pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Resu
             let rays: Vec<ListedRay> = (pupil.iter())
                 .map(|p| ListedRay::traced(setup, p[0], p[1], n, plane_z).0)
                 .collect();
-            let hits: Vec<[f64; 2]> = rays
-                .iter()
-                .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                .collect();
-            let stats = rms_and_centroid(&hits);
+            let (ray_count, stats) = spot_stats(rays.iter().map(|r| r.image_point));
             Spot {
                 line,
                 wavelength_um: l,
                 n,
-                ray_count: hits.len(),
+                ray_count,
                 centroid: stats.map(|s| s.0),
                 rms_radius: stats.map(|s| s.1),
                 rays,

@@ -65,20 +65,7 @@ impl SystemBench {
                 }
             }
         }
-        if let Some(dist) = object_distance
-            && !(dist > 0.0 && dist <= crate::math::domain::MAX_LENGTH)
-        {
-            return Err(bad(
-                "object-distance",
-                format!("{dist} must be positive (from the first vertex, against the light) and at most 1e9"),
-            ));
-        }
-        if !(field_deg.abs() < 90.0) {
-            return Err(bad(
-                "field-deg",
-                format!("{field_deg} must lie strictly between −90 and 90"),
-            ));
-        }
+        super::setup::check_object(object_distance, field_deg, "the first vertex")?;
         let paraxial = system.paraxial(WAVELENGTH_D_UM);
         let ep = paraxial.entrance_pupil;
         if !(ep.position.is_finite() && ep.semi_diameter > 0.0 && ep.semi_diameter.is_finite()) {
@@ -251,17 +238,8 @@ impl SystemBench {
         if !p.efl.is_finite() {
             return None;
         }
-        match self.object_distance {
-            None => Some((p.bfd, None)),
-            Some(dist) => {
-                let so = dist + p.front_principal;
-                if !(so > p.efl) {
-                    return None;
-                }
-                let si = so * p.efl / (so - p.efl);
-                Some((p.rear_principal + si, Some(-si / so)))
-            }
-        }
+        let h = [p.front_principal, p.rear_principal];
+        super::setup::image_of(self.object_distance, p.efl, p.bfd, h)
     }
 
     /// The real paraxial image (refused as the biconvex bench refuses:

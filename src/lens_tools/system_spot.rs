@@ -1,9 +1,10 @@
 //! The spot diagram (C, d and F lines, hexapolar pupil) and the distortion
 //! of the real chief ray for a lens system, on [`SystemBench`].
 
-use super::setup::{SPOT_WAVELENGTHS_UM, SetupError, bad};
-use super::spot::{MAX_RINGS, hexapolar, rms_and_centroid};
+use super::setup::{SPOT_WAVELENGTHS_UM, SetupError};
+use super::spot::{check_rings, hexapolar, spot_stats};
 use super::system_bench::{Aim, SystemBench, SystemRay};
+use super::system_colour::{ChiefColour, lateral_colour_at};
 use crate::optics::WAVELENGTH_D_UM;
 use serde::Serialize;
 use std::fmt;
@@ -43,9 +44,7 @@ pub struct SystemSpotDiagram {
 }
 
 pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) -> Result<SystemSpotDiagram, SetupError> {
-    if !(1..=MAX_RINGS).contains(&rings) {
-        return Err(bad("rings", format!("{rings} must be between 1 and {MAX_RINGS}")));
-    }
+    check_rings(rings)?;
     let from_last = bench.image_plane(image_plane)?;
     let plane_z = bench.plane_z(from_last);
     let pupil = hexapolar(rings);
@@ -55,15 +54,11 @@ pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) ->
             let rays: Vec<SystemRay> = (pupil.iter())
                 .map(|p| SystemRay::traced(bench, p[0], p[1], l, plane_z).0)
                 .collect();
-            let hits: Vec<[f64; 2]> = rays
-                .iter()
-                .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                .collect();
-            let stats = rms_and_centroid(&hits);
+            let (ray_count, stats) = spot_stats(rays.iter().map(|r| r.image_point));
             SystemSpot {
                 line,
                 wavelength_um: l,
-                ray_count: hits.len(),
+                ray_count,
                 centroid: stats.map(|s| s.0),
                 rms_radius: stats.map(|s| s.1),
                 rays,
@@ -100,6 +95,9 @@ pub struct SystemDistortionPoint {
     pub paraxial_height: f64,
     /// 100·(real − paraxial)/paraxial.
     pub distortion_percent: Option<f64>,
+    /// The F and C lines' chief rays in the same plane: lateral colour.
+    #[serde(flatten)]
+    pub colour: ChiefColour,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -116,20 +114,10 @@ pub struct SystemDistortion {
     pub points: Vec<SystemDistortionPoint>,
 }
 
-/// Field angles max·k/steps, k = 1..steps, at the d line.
+/// Field angles max·k/steps, k = 1..steps, at the d line; with the
+/// lateral colour of the F and C lines in the same plane.
 pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) -> Result<SystemDistortion, SetupError> {
-    if !(max_field_deg > 0.0 && max_field_deg < 90.0) {
-        return Err(bad(
-            "max-field-deg",
-            format!("{max_field_deg} must lie strictly between 0 and 90"),
-        ));
-    }
-    if !(1..=super::distortion::MAX_STEPS).contains(&steps) {
-        return Err(bad(
-            "steps",
-            format!("{steps} must be between 1 and {}", super::distortion::MAX_STEPS),
-        ));
-    }
+    super::distortion::check_fields(max_field_deg, steps)?;
     let (from_last, m) = bench.real_image()?;
     let efl = bench.paraxial.efl;
     let plane_z = bench.plane_z(from_last);
@@ -157,6 +145,7 @@ pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) ->
                 real_height,
                 paraxial_height,
                 distortion_percent: real_height.map(|h| 100.0 * (h - paraxial_height) / paraxial_height),
+                colour: lateral_colour_at(&s, plane_z),
             }
         })
         .collect();
@@ -189,18 +178,19 @@ impl fmt::Display for SystemDistortion {
         )?;
         writeln!(
             f,
-            "  {:>10}  {:>24}  {:>24}  {:>14}",
-            "field °", "real height", "paraxial height", "distortion %"
+            "  {:>10}  {:>24}  {:>24}  {:>14}  {:>24}",
+            "field °", "real height", "paraxial height", "distortion %", "lateral colour F−C"
         )?;
         for p in &self.points {
             let opt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x}"));
             writeln!(
                 f,
-                "  {:>10}  {:>24}  {:>24}  {:>14}",
+                "  {:>10}  {:>24}  {:>24}  {:>14}  {:>24}",
                 p.field_deg,
                 opt(p.real_height),
                 p.paraxial_height,
-                opt(p.distortion_percent.map(|x| (x * 1e6).round() / 1e6))
+                opt(p.distortion_percent.map(|x| (x * 1e6).round() / 1e6)),
+                opt(p.colour.lateral_colour)
             )?;
         }
         Ok(())

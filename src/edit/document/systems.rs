@@ -160,6 +160,34 @@ impl Document {
         self.edit(&label, |sf| sf.systems[i] = t)
     }
 
+    /// Places system `i` by its first vertex (`by_vertex`) or by its
+    /// centre (the middle of its axial length), the one point converted to
+    /// the other from the system as built, so nothing moves.
+    pub fn place_system(&mut self, i: usize, by_vertex: bool) -> Result<Change, Rejected> {
+        let (Some(sys), Some(s)) = (self.built_system(i), self.scene.systems.get(i)) else {
+            return Ok(Change::None);
+        };
+        if s.vertex.is_some() == by_vertex {
+            return Ok(Change::None);
+        }
+        let vertex = sys.vertex;
+        let centre = vertex - glam::DVec3::from(s.axis).normalize_or_zero() * (0.5 * sys.length());
+        let (point, label) = if by_vertex {
+            (vertex, "its first vertex")
+        } else {
+            (centre, "its centre")
+        };
+        let label = format!("place {} by {label}", self.item_name(Item::System(i)));
+        self.edit(&label, |sf| {
+            let s = &mut sf.systems[i];
+            (s.vertex, s.center) = if by_vertex {
+                (Some(point.to_array()), None)
+            } else {
+                (None, Some(point.to_array()))
+            };
+        })
+    }
+
     /// Applies a lens key edit to system `i` (see
     /// [`crate::edit::apply_system`]); a light edit goes to the light as
     /// usual. A result that does not validate is refused, nothing changed.

@@ -81,14 +81,15 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         _ if lens.is_none() => cx.doc.built_system(0).cloned(),
         _ => None,
     };
-    egui::Window::new("Lens analysis")
+    let mut placed = Vec::new();
+    let shown = egui::Window::new("Lens analysis")
         .open(&mut open)
         .default_size([760.0, 640.0])
         .default_pos([360.0, 40.0])
         .show(ctx, |ui| {
             if let Some(sys) = &system {
                 controls(ui, &mut cx.ui.analysis);
-                super::system_analysis::figures(ui, sys, &cx.ui.analysis);
+                placed = super::system_analysis::figures(ui, sys, &cx.ui.analysis);
                 return;
             }
             let Some(lens) = lens else {
@@ -104,6 +105,13 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
                 }
             }
         });
+    let ppp = ctx.pixels_per_point();
+    if let Some(r) = shown {
+        cx.ui.rects.insert("Lens analysis", r.response.rect, ppp);
+    }
+    for (name, r) in placed {
+        cx.ui.rects.insert(name, r, ppp);
+    }
     cx.ui.analysis.window &= open;
 }
 
@@ -176,17 +184,7 @@ fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) {
         return;
     };
     ui.vertical(|ui| {
-        let series: Vec<Series> = (sd.spots.iter().zip(LINES))
-            .map(|(sp, colour)| Series {
-                colour,
-                points: sp
-                    .rays
-                    .iter()
-                    .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                    .collect(),
-                dots: true,
-            })
-            .collect();
+        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
         let title = format!("Spot at {:.4} after V2", sd.image_plane_from_v2);
         plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
@@ -208,14 +206,30 @@ fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
     distortion_curve(ui, size, points);
 }
 
+/// The spot plot's series (the lens's and a system's): where each line's
+/// rays meet the image plane, as dots in the line's colour (C, d, F).
+pub(super) fn spot_series<I>(lines: impl IntoIterator<Item = I>) -> Vec<Series>
+where
+    I: IntoIterator<Item = Option<[f64; 3]>>,
+{
+    (lines.into_iter().zip(LINES))
+        .map(|(hits, colour)| Series {
+            colour,
+            points: hits.into_iter().flatten().map(|p| [p[0], p[1]]).collect(),
+            dots: true,
+        })
+        .collect()
+}
+
 /// The distortion plot of `points` (field °, %) from the axis, or why
 /// there is none (no real paraxial image): the lens's and a system's.
-pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) {
+/// Returns where the plot is on screen.
+pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) -> Option<egui::Rect> {
     let Some(points) = points else {
         ui.allocate_ui(size, |ui| {
             ui.label("Distortion: no real paraxial image.");
         });
-        return;
+        return None;
     };
     let mut pts = vec![[0.0, 0.0]];
     pts.extend(points);
@@ -224,5 +238,5 @@ pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec
         points: pts,
         dots: false,
     }];
-    plot(ui, size, "Distortion", ("field °", "%"), &series, false);
+    Some(plot(ui, size, "Distortion", ("field °", "%"), &series, false))
 }

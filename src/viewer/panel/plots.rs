@@ -25,8 +25,9 @@ fn short(x: f64) -> String {
 }
 
 /// A plot `size` points large: `title`, axis names, and the series in a
-/// range fitted to them (with `equal`, one scale on both axes).
-pub fn plot(ui: &mut egui::Ui, size: Vec2, title: &str, axes: (&str, &str), series: &[Series], equal: bool) {
+/// range fitted to them (with `equal`, one scale on both axes). Returns
+/// where it is on screen.
+pub fn plot(ui: &mut egui::Ui, size: Vec2, title: &str, axes: (&str, &str), series: &[Series], equal: bool) -> Rect {
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     let painter = ui.painter_at(rect);
     let font = egui::FontId::proportional(13.0);
@@ -42,7 +43,7 @@ pub fn plot(ui: &mut egui::Ui, size: Vec2, title: &str, axes: (&str, &str), seri
             font,
             TEXT,
         );
-        return;
+        return rect;
     };
     let at = |p: &[f64; 2]| -> Pos2 {
         pos2(
@@ -103,6 +104,7 @@ pub fn plot(ui: &mut egui::Ui, size: Vec2, title: &str, axes: (&str, &str), seri
             painter.add(egui::Shape::line(p, Stroke::new(1.5, s.colour)));
         }
     }
+    rect
 }
 
 /// The plotted range: the series' extent with a margin (one scale for both
@@ -139,8 +141,9 @@ fn fit(series: &[Series], equal: bool, w: f64, h: f64) -> Option<([f64; 2], [f64
     Some((lo, hi))
 }
 
-/// The cross-section sketch to scale, `width` points wide.
-pub fn sketch(ui: &mut egui::Ui, sk: &Sketch, width: f32, max_height: f32) {
+/// The cross-section sketch to scale, `width` points wide; returns where
+/// it is on screen.
+pub fn sketch(ui: &mut egui::Ui, sk: &Sketch, width: f32, max_height: f32) -> Rect {
     let f = sk.frame(f64::from(width), f64::from(max_height));
     let (rect, _) = ui.allocate_exact_size(Vec2::new(f.width as f32, f.height as f32), egui::Sense::hover());
     let painter = ui.painter_at(rect);
@@ -171,4 +174,5 @@ pub fn sketch(ui: &mut egui::Ui, sk: &Sketch, width: f32, max_height: f32) {
             Color32::BLACK,
         );
     }
+    rect
 }

@@ -14,12 +14,14 @@ use lensview::optics::WAVELENGTH_D_UM;
 use lensview::prescription::PRESETS;
 use lensview::scene::file::{IndexFile, SurfaceFile, SystemFile};
 
-/// A change of the table's rows, applied after the fields are shown.
+/// A change applied after the fields are shown: the table's rows, or the
+/// placement (by the first vertex: `true`; by the centre: `false`).
 #[derive(Clone, Copy)]
 enum RowOp {
     Insert(usize),
     Remove(usize),
     Move(usize, bool),
+    Place(bool),
 }
 
 pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
@@ -43,7 +45,7 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
             |ui, s: &mut SystemFile| {
                 egui::Grid::new(("system-grid", i))
                     .num_columns(2)
-                    .show(ui, |ui| pose_rows(ui, s));
+                    .show(ui, |ui| pose_rows(ui, s, &mut op));
                 kind_rows(ui, s, i, &mut op);
             },
             move |doc, v| doc.set_system(i, v),
@@ -53,8 +55,14 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
                 RowOp::Insert(k) => cx.doc.insert_surface(i, k),
                 RowOp::Remove(k) => cx.doc.remove_surface(i, k),
                 RowOp::Move(k, up) => cx.doc.move_surface(i, k, up),
+                RowOp::Place(by_vertex) => cx.doc.place_system(i, by_vertex),
             };
-            cx.apply_result("the table of surfaces changed", r);
+            let what = match op {
+                RowOp::Place(true) => "placed by its first vertex",
+                RowOp::Place(false) => "placed by its centre",
+                _ => "the table of surfaces changed",
+            };
+            cx.apply_result(what, r);
         }
         readout(ui, cx, i);
         if cx.doc.scene().systems[i].kind != "surfaces" && ui.button("As a table of surfaces").clicked() {
@@ -64,13 +72,26 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     });
 }
 
-/// Name, kind, position (centre or first vertex), orientation, axis, tint.
-fn pose_rows(ui: &mut egui::Ui, s: &mut SystemFile) {
+/// Name, kind, position (centre or first vertex, and a switch between
+/// them), orientation, axis, tint.
+fn pose_rows(ui: &mut egui::Ui, s: &mut SystemFile, op: &mut Option<RowOp>) {
     ui.label("name");
     name(ui, &mut s.name);
     ui.end_row();
     ui.label("kind");
     ui.label(system_kind_label(s));
+    ui.end_row();
+    ui.label("placed by")
+        .on_hover_text("which point the position gives; switching keeps the system where it is");
+    let by_vertex = s.vertex.is_some();
+    let mut want = by_vertex;
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut want, false, "centre");
+        ui.radio_value(&mut want, true, "vertex");
+    });
+    if want != by_vertex {
+        *op = Some(RowOp::Place(want));
+    }
     ui.end_row();
     let (key, hover) = if s.center.is_some() {
         ("centre", "the middle of the axial length")

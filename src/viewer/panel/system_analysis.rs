@@ -3,26 +3,33 @@
 //! F′; the LSA curve; the spot diagram for the C, d and F lines (at the
 //! paraxial focus plus the defocus, from the last vertex); the distortion
 //! of the real chief ray; the axial colour of dispersive glass (the
-//! paraxial focus from 400 to 700 nm against the d line's). All from
+//! paraxial focus from 400 to 700 nm against the d line's) and its
+//! lateral colour (the F line's chief ray height minus the C line's in the
+//! d line's paraxial image plane, out to the usable field). All from
 //! `lensview::lens_tools`' system figures (every ray by
 //! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
 //! compute them.
 
-use super::analysis::{AnalysisState, LINES, distortion_curve};
+use super::analysis::{AnalysisState, LINES, distortion_curve, spot_series};
 use super::plots::{Series, plot, sketch};
-use egui::Vec2;
+use egui::{Color32, Rect, Vec2};
 use lensview::geometry::LensSystem;
 use lensview::lens_tools::system_bench::SystemBench;
+use lensview::lens_tools::system_colour::usable_curve;
 use lensview::lens_tools::system_fan::system_fan;
-use lensview::lens_tools::system_spot::{system_distortion, system_spot};
+use lensview::lens_tools::system_spot::{SystemDistortion, system_distortion, system_spot};
 
-/// The figures of `sys` for the window's settings.
-pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) {
+/// Where each figure is on screen, by name (for `--ui-log`).
+pub type Placed = Vec<(&'static str, Rect)>;
+
+/// The figures of `sys` for the window's settings; returns where they are.
+pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) -> Placed {
+    let mut placed = Placed::new();
     let bench = match SystemBench::new(sys.clone(), a.object(), a.field_deg) {
         Ok(b) => b,
         Err(e) => {
             ui.colored_label(super::ERROR, e.to_string());
-            return;
+            return placed;
         }
     };
     let width = ui.available_width().max(300.0);
@@ -30,7 +37,7 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) {
         Ok(f) => f,
         Err(e) => {
             ui.colored_label(super::ERROR, e.to_string());
-            return;
+            return placed;
         }
     };
     let c = &f.cardinal.info;
@@ -44,29 +51,35 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) {
         opt(c.f_number),
         c.stop
     ));
-    sketch(ui, &f.sketch(&bench), width, 240.0);
-    // Three plots a row, four with the axial colour of dispersive glass.
-    let plots = if sys.is_dispersive() { 4.0 } else { 3.0 };
+    placed.push(("analysis sketch", sketch(ui, &f.sketch(&bench), width, 240.0)));
+    // Three plots a row; for dispersive glass a second row with the axial
+    // and lateral colour.
+    let size = Vec2::new((width / 3.0 - 8.0).max(140.0), 230.0);
+    let dist = system_distortion(&bench, 30.0, 30).ok();
     ui.horizontal(|ui| {
-        let size = Vec2::new((width / plots - 8.0).max(140.0), 230.0);
         let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
         let series = [Series {
             colour: LINES[1],
             points: lsa,
             dots: false,
         }];
-        plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
-        spot(ui, &bench, a, f.image_plane_from_last_vertex, size);
-        distortion_plot(ui, &bench, size);
-        if sys.is_dispersive() {
-            focal_shift(ui, sys, size);
-        }
+        let r = plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
+        placed.push(("analysis LSA", r));
+        placed.extend(spot(ui, &bench, a, f.image_plane_from_last_vertex, size).map(|r| ("analysis spot", r)));
+        placed.extend(distortion_plot(ui, dist.as_ref(), size).map(|r| ("analysis distortion", r)));
     });
+    if sys.is_dispersive() {
+        ui.horizontal(|ui| {
+            placed.push(("analysis axial colour", focal_shift(ui, sys, size)));
+            placed.extend(lateral_colour(ui, dist.as_ref(), size).map(|r| ("analysis lateral colour", r)));
+        });
+    }
+    placed
 }
 
 /// Axial colour: the paraxial focus at each wavelength from 400 to 700 nm
 /// against the d line's (BFD(λ) − BFD(d), from the y–nu trace).
-fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) {
+fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) -> Rect {
     let d = sys.paraxial(lensview::optics::WAVELENGTH_D_UM).bfd;
     let points: Vec<[f64; 2]> = (0..=60)
         .map(|k| 0.40 + 0.005 * f64::from(k))
@@ -80,42 +93,56 @@ fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) {
         points,
         dots: false,
     }];
-    plot(ui, size, "Axial colour", ("focus − focus(d)", "nm"), &series, false);
+    plot(ui, size, "Axial colour", ("focus − focus(d)", "nm"), &series, false)
 }
 
-fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64, size: Vec2) {
+fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64, size: Vec2) -> Option<Rect> {
     let Ok(sd) = system_spot(bench, Some(paraxial + a.defocus), a.rings) else {
         ui.allocate_ui(size, |ui| {
             ui.label("Spot: no real image plane after the last vertex here.");
         });
-        return;
+        return None;
     };
     ui.vertical(|ui| {
-        let series: Vec<Series> = (sd.spots.iter().zip(LINES))
-            .map(|(sp, colour)| Series {
-                colour,
-                points: sp
-                    .rays
-                    .iter()
-                    .filter_map(|r| r.image_point.map(|p| [p[0], p[1]]))
-                    .collect(),
-                dots: true,
-            })
-            .collect();
+        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
         let title = format!("Spot at {:.4}", sd.image_plane_from_last_vertex);
-        plot(ui, size, &title, ("x", "y"), &series, true);
+        let rect = plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
             let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
             ui.colored_label(colour, format!("{}: RMS {r}  rays {}", sp.line, sp.ray_count));
         }
-    });
+        Some(rect)
+    })
+    .inner
 }
 
-fn distortion_plot(ui: &mut egui::Ui, bench: &SystemBench, size: Vec2) {
-    let points = system_distortion(bench, 30.0, 30).ok().map(|d| {
+fn distortion_plot(ui: &mut egui::Ui, dist: Option<&SystemDistortion>, size: Vec2) -> Option<Rect> {
+    let points = dist.map(|d| {
         (d.points.iter())
             .filter_map(|p| Some([p.field_deg, p.distortion_percent?]))
             .collect()
     });
-    distortion_curve(ui, size, points);
+    distortion_curve(ui, size, points)
 }
+
+/// Lateral colour: the F chief ray's height minus the C chief ray's in the
+/// d line's paraxial image plane, from the axis to the usable field
+/// (where either chief ray is first lost), with the distortion's fields.
+fn lateral_colour(ui: &mut egui::Ui, dist: Option<&SystemDistortion>, size: Vec2) -> Option<Rect> {
+    let Some(d) = dist else {
+        ui.allocate_ui(size, |ui| {
+            ui.label("Lateral colour: no real paraxial image.");
+        });
+        return None;
+    };
+    let points = usable_curve(d.points.iter().map(|p| (p.field_deg, p.colour.lateral_colour)));
+    let series = [Series {
+        colour: LATERAL,
+        points,
+        dots: false,
+    }];
+    Some(plot(ui, size, "Lateral colour", ("field °", "F − C"), &series, false))
+}
+
+/// The lateral colour curve's colour: a magenta no other plot uses.
+pub(super) const LATERAL: Color32 = Color32::from_rgb(220, 80, 220);

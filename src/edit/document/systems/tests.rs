@@ -215,3 +215,68 @@ fn preset_scales_make_two_units_and_kind_labels_name_presets() {
     let s = new_system("doublet", [0.0; 3], [0.0, 0.0, 1.0]).unwrap();
     assert_eq!(system_kind_label(&s), "doublet");
 }
+
+/// The panel's *flat face* switch (a record edit, as the other fields):
+/// the plano-convex condenser turned the other way round keeps its centre
+/// and focal length; an unknown side is refused; undo restores it.
+#[test]
+fn the_flat_face_of_a_plano_kind_switches_sides_with_undo() {
+    let mut doc = family();
+    let built = |d: &Document| d.built_system(0).unwrap().clone();
+    let before = built(&doc);
+    let efl = |s: &crate::geometry::LensSystem| s.paraxial(crate::optics::WAVELENGTH_D_UM).efl;
+    assert_eq!(doc.scene().systems[0].flat, None, "the flat face at the back");
+    assert!(before.surfaces[0].curvature() > 0.0 && before.surfaces[1].curvature() == 0.0);
+    let mut s = doc.scene().systems[0].clone();
+    s.flat = Some("front".into());
+    assert_eq!(doc.set_system(0, s.clone()).unwrap(), Change::Picture);
+    let front = built(&doc);
+    assert!(front.surfaces[0].curvature() == 0.0 && front.surfaces[1].curvature() < 0.0);
+    assert_eq!(front.length(), before.length());
+    assert!((front.vertex - before.vertex).length() < 1e-12, "the centre stays");
+    assert!((efl(&front) - efl(&before)).abs() < 1e-12 * efl(&before));
+    s.flat = Some("back".into());
+    doc.set_system(0, s.clone()).unwrap();
+    assert_eq!(built(&doc).surfaces, before.surfaces);
+    s.flat = Some("side".into());
+    let e = doc.set_system(0, s).unwrap_err();
+    assert!(
+        e.concerns("systems[0]") && e.to_string().contains("`front` or `back`"),
+        "{e}"
+    );
+    assert_eq!(doc.undo_depth(), 1, "one merged step");
+    doc.undo().unwrap();
+    assert_eq!(doc.scene(), family().scene());
+}
+
+/// Placing a system by its first vertex or by its centre converts the one
+/// point to the other: the system as built does not move; saved, the file
+/// has the key chosen; undo restores it.
+#[test]
+fn placing_by_vertex_or_centre_keeps_the_system_where_it_is() {
+    let mut doc = family();
+    let vertex = |d: &Document| d.built_system(2).unwrap().vertex;
+    let (v0, c0) = (vertex(&doc), DVec3::from(doc.scene().systems[2].center.unwrap()));
+    assert_eq!(
+        doc.place_system(2, false).unwrap(),
+        Change::None,
+        "already by its centre"
+    );
+    assert_ne!(doc.place_system(2, true).unwrap(), Change::None);
+    assert_eq!(doc.undo_label(), Some("place meniscus by its first vertex"));
+    let s = &doc.scene().systems[2];
+    assert!(s.center.is_none());
+    assert!((DVec3::from(s.vertex.unwrap()) - v0).length() < 1e-12);
+    assert!((vertex(&doc) - v0).length() < 1e-12, "it did not move");
+    let text = crate::edit::document::to_toml(doc.scene()).unwrap();
+    let (back, _) = crate::scene::Scene::parse("t.toml", &text).unwrap();
+    assert_eq!(back.systems[2].vertex, doc.scene().systems[2].vertex);
+    doc.place_system(2, false).unwrap();
+    assert_eq!(doc.undo_label(), Some("place meniscus by its centre"));
+    let c = DVec3::from(doc.scene().systems[2].center.unwrap());
+    assert!((c - c0).length() < 1e-12, "{c} {c0}");
+    assert!(doc.scene().systems[2].vertex.is_none());
+    assert_eq!(doc.place_system(9, true).unwrap(), Change::None);
+    while doc.undo().is_some() {}
+    assert_eq!(doc.scene(), family().scene());
+}
