@@ -129,6 +129,11 @@ pub struct LensSystem {
     /// sag at the aperture, in order. A ray whose stretch ahead does not
     /// reach it cannot meet the surface ([`LensSystem::next_crossing`]).
     span: Vec<(f64, f64)>,
+    /// For each surface `k`: the least `z` of any piece of surfaces `k` and
+    /// after (caps, rings, edges), and the greatest of any of `k` and
+    /// before. A ray walking toward `+z` whose stretch ahead ends before
+    /// the first (toward `−z`: after the second) meets none of them.
+    reach: Vec<(f64, f64)>,
     /// Whether each cap separates two media.
     boundary: Vec<bool>,
     /// The largest radius of the system (apertures and rims).
@@ -201,6 +206,7 @@ impl LensSystem {
             rim,
             ring_outer,
             span: Vec::new(),
+            reach: Vec::new(),
             boundary: Vec::new(),
             radius,
             reject_radius2: (1.01 * half).powi(2),
@@ -216,6 +222,7 @@ impl LensSystem {
                 (z.min(e), z.max(e))
             })
             .collect();
+        sys.reach = sys.reach_of_pieces();
         Ok(sys)
     }
 

@@ -121,6 +121,12 @@ impl LensSystem {
             // a surface (or edge) wholly outside it is not tested. Exact:
             // each piece lies within its span.
             let bound = best.best.map_or(t_hi, |b| b.t);
+            // Every piece still to test lies beyond the stretch: none can be
+            // met (surfaces are walked in the ray's direction along z).
+            let far = p.z + bound * u.z;
+            if (u.z > 0.0 && self.reach[k].0 > far) || (u.z < 0.0 && self.reach[k].1 < far) {
+                break;
+            }
             let covers = |(lo, hi): (f64, f64)| {
                 if u.z == 0.0 {
                     return p.z >= lo && p.z <= hi;
@@ -198,6 +204,31 @@ impl LensSystem {
 
     /// The surfaces in the order a ray along `u_z` meets their planes.
     #[inline(always)]
+    /// [`LensSystem`]'s `reach`: per surface, the least `z` of the pieces
+    /// of it and after it, and the greatest of it and before it.
+    pub(super) fn reach_of_pieces(&self) -> Vec<(f64, f64)> {
+        let n = self.len();
+        let piece = |k: usize| {
+            let (mut lo, mut hi) = self.span[k];
+            if self.rim[k] > 0.0 && k + 1 < n {
+                let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
+                (lo, hi) = (lo.min(z0.min(z1)), hi.max(z0.max(z1)));
+            }
+            (lo, hi)
+        };
+        let mut reach = vec![(f64::INFINITY, f64::NEG_INFINITY); n];
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in (0..n).rev() {
+            lo = lo.min(piece(k).0);
+            reach[k].0 = lo;
+        }
+        for (k, r) in reach.iter_mut().enumerate() {
+            hi = hi.max(piece(k).1);
+            r.1 = hi;
+        }
+        reach
+    }
+
     fn order(&self, uz: f64) -> impl Iterator<Item = usize> {
         let n = self.len();
         (0..n).map(move |i| if uz >= 0.0 { i } else { n - 1 - i })
