@@ -145,3 +145,34 @@ fn the_streaming_reader_agrees_with_the_whole_document_on_mutants() {
         failed.first()
     );
 }
+
+/// Arrays and inline tables nested 10⁰…10⁶ deep, inside an object and at
+/// the top: a one-line refusal with its line and column, on a test thread's
+/// small stack (2 MiB). Before, the out-of-range number pass recursed once
+/// a level and 10 000 levels overflowed even the main thread's 8 MiB
+/// (SIGABRT, found by replaying the fuzzer's corpus on a test thread).
+#[test]
+fn deep_nesting_is_refused_without_overflowing_the_stack() {
+    for n in [1usize, 10, 100, 1_000, 10_000, 1_000_000] {
+        for (open, close) in [("[", "]"), ("{a = ", "}")] {
+            let deep = format!("{}1{}", open.repeat(n), close.repeat(n));
+            for text in [
+                format!(
+                    "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\ntype = \"sphere\"\nradius = 1\nx = {deep}\n"
+                ),
+                format!("x = {deep}\n[camera]\nposition = [0, 0, 5]\n"),
+            ] {
+                let got = std::thread::spawn(move || {
+                    lensview::scene::Scene::parse("deep.toml", &text)
+                        .map(|_| ())
+                        .map_err(|e| e.to_string())
+                })
+                .join()
+                .expect("no overflow, no panic");
+                let e = got.expect_err("refused");
+                assert!(e.starts_with("deep.toml:"), "{n} {open}: {e}");
+                assert_eq!(e.lines().count(), 1, "{e}");
+            }
+        }
+    }
+}

@@ -137,11 +137,39 @@ impl Problem {
     }
 }
 
+/// Arrays and inline tables nested deeper than this are not given to
+/// `toml_parser`'s recursive parser ([`numbers_in_range`]); `toml_edit`
+/// and `toml` refuse a document nested 100 deep already.
+const MAX_NESTING: usize = 128;
+
+/// The deepest nesting of brackets and braces among `tokens` (a table
+/// header's brackets close on their line; brackets in strings are not
+/// tokens).
+fn nesting(tokens: &[toml_parser::lexer::Token]) -> usize {
+    use toml_parser::lexer::TokenKind;
+    let (mut depth, mut most) = (0usize, 0);
+    for t in tokens {
+        match t.kind() {
+            TokenKind::LeftSquareBracket | TokenKind::LeftCurlyBracket => {
+                depth += 1;
+                most = most.max(depth);
+            }
+            TokenKind::RightSquareBracket | TokenKind::RightCurlyBracket => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    most
+}
+
 /// `text` with every number out of range for TOML (an integer that does
 /// not fit 64 bits, a float too large for an f64) replaced by `0` padded
 /// with spaces to its length, every other byte in place; `None` when there
 /// is none. The values are found by `toml_parser`'s own parser (a key made
 /// of digits is not a value) and decoded as `toml_edit` decodes them.
+/// `None` too for arrays or inline tables nested deeper than
+/// [`MAX_NESTING`]: that parser recurses once a level without a limit of
+/// its own (10 000 levels overflowed the main thread's stack), and
+/// `toml_edit` refuses such a document anyway.
 fn numbers_in_range(text: &str) -> Option<String> {
     use toml_parser::decoder::{Encoding, ScalarKind};
     use toml_parser::{ErrorSink, ParseError, Source, Span, parser::EventReceiver};
@@ -156,6 +184,9 @@ fn numbers_in_range(text: &str) -> Option<String> {
     let source = Source::new(text);
     let mut values = Unquoted(Vec::new());
     let tokens: Vec<_> = source.lex().collect();
+    if nesting(&tokens) > MAX_NESTING {
+        return None;
+    }
     toml_parser::parser::parse_document(&tokens, &mut values, &mut ());
     drop(tokens);
     let (mut out, mut copied) = (String::new(), 0);
