@@ -221,6 +221,49 @@ struct Live {
 /// Branches held at once; a tree that would hold more drops its lightest.
 const STACK: usize = 32;
 
+/// The branches of a tree still to walk, and the weight dropped so far.
+struct Pending {
+    stack: [Live; STACK],
+    len: usize,
+    dropped: f64,
+}
+
+impl Pending {
+    fn pop(&mut self) -> Option<Live> {
+        self.len = self.len.checked_sub(1)?;
+        Some(self.stack[self.len])
+    }
+
+    /// Keeps `child` of a branch with `parent` reflections to walk: unless
+    /// pruned (its weight dropped), lost at a ghost's roulette, or beyond
+    /// the stack (dropped).
+    fn push(&mut self, child: Live, parent: u32, prune: &Pruning, seed: u64) {
+        let born = child.reflections > parent;
+        let kept = if born {
+            prune.keeps_on(child.weight, parent)
+        } else {
+            prune.keeps(child.weight)
+        };
+        if !kept {
+            self.dropped += child.weight;
+            return;
+        }
+        let Some(child) = (if born {
+            roulette(prune, child, seed)
+        } else {
+            Some(child)
+        }) else {
+            return;
+        };
+        if self.len < STACK {
+            self.stack[self.len] = child;
+            self.len += 1;
+        } else {
+            self.dropped += child.weight;
+        }
+    }
+}
+
 impl LensSystem {
     /// Every ray out of the system for light arriving from outside along
     /// the world ray `origin + t·dir` (unit `dir`), at `lambda_um`: the
@@ -241,31 +284,23 @@ impl LensSystem {
     ) -> f64 {
         let (x, u, t0) = self.localize(origin, dir);
         let media = self.media(lambda_um);
-        let mut stack = [Live {
+        let root = Live {
             x,
             u,
             weight: 1.0,
             reflections: 0,
             from: None,
             steps: 0,
-        }; STACK];
-        let mut len = 1;
-        let mut dropped = 0.0;
-        let seed = ray_hash(origin, dir);
-        // A singlet's tree is the biconvex lens's, followed exactly (its
-        // ghosts are few); the ghosts between elements grow as the square.
-        let prune = &Pruning {
-            roulette: if self.boundary.iter().filter(|&&b| b).count() > 2 {
-                prune.roulette
-            } else {
-                0.0
-            },
-            ..*prune
         };
+        let mut tree = Pending {
+            stack: [root; STACK],
+            len: 1,
+            dropped: 0.0,
+        };
+        let seed = ray_hash(origin, dir);
+        let prune = &self.tree_pruning(prune);
         let most = 8 * self.len() as u32 + 8;
-        while len > 0 {
-            len -= 1;
-            let b = stack[len];
+        while let Some(b) = tree.pop() {
             let lo = if b.steps == 0 { -t0 } else { 0.0 };
             let Some(c) = self.next_crossing(b.x, b.u, b.from, lo, f64::INFINITY) else {
                 if b.steps > 0 {
@@ -277,7 +312,7 @@ impl LensSystem {
                 continue;
             }
             if b.steps > most {
-                dropped += b.weight;
+                tree.dropped += b.weight;
                 continue;
             }
             let i = self.interface(c.piece.surface, c.x, b.u, &media);
@@ -296,31 +331,21 @@ impl LensSystem {
             ];
             // Pushed reflection first, so the refraction is walked first.
             for child in children.into_iter().rev().flatten() {
-                let kept = if child.reflections > b.reflections {
-                    prune.keeps_on(child.weight, b.reflections)
-                } else {
-                    prune.keeps(child.weight)
-                };
-                let born = child.reflections > b.reflections;
-                let child = if kept && born {
-                    roulette(prune, child, seed)
-                } else {
-                    Some(child)
-                };
-                let Some(child) = child else {
-                    continue;
-                };
-                if !kept {
-                    dropped += child.weight;
-                } else if len < STACK {
-                    stack[len] = child;
-                    len += 1;
-                } else {
-                    dropped += child.weight;
-                }
+                tree.push(child, b.reflections, prune, seed);
             }
         }
-        dropped
+        tree.dropped
+    }
+
+    /// `prune` for this system's tree: a singlet's tree is the biconvex
+    /// lens's, followed exactly (its ghosts are few), so it plays no
+    /// roulette; the ghosts between elements grow as the square.
+    fn tree_pruning(&self, prune: &Pruning) -> Pruning {
+        let elements = self.boundary.iter().filter(|&&b| b).count() > 2;
+        Pruning {
+            roulette: if elements { prune.roulette } else { 0.0 },
+            ..*prune
+        }
     }
 
     /// The ray out for a branch with nothing ahead.
