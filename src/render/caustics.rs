@@ -467,6 +467,20 @@ mod tests {
         assert_eq!(passes, [1, 1, 3, 4]);
     }
 
+    /// Issue 30: the viewer's passes stop at [`MAX_PHOTONS_TRACED`] traced
+    /// as `render`'s do (the first pass always runs).
+    #[test]
+    fn the_viewers_passes_are_capped_by_photons_traced() {
+        let scene = focal_spot();
+        let mut c = Caustics::new(&scene, CausticSettings::default()).unwrap();
+        c.traced = MAX_PHOTONS_TRACED - c.per_pass;
+        assert!(c.can_refine(), "room for one more pass");
+        c.traced += 1;
+        assert!(!c.can_refine(), "no room for a whole pass");
+        c.traced = 0;
+        assert!(c.can_refine());
+    }
+
     /// Passes for a headless render: at most in proportion to the samples.
     #[test]
     fn headless_passes_follow_the_samples() {
