@@ -179,7 +179,18 @@ impl Occupancy {
     #[inline(always)]
     fn near(&self, x: DVec3, r: f64) -> bool {
         let (a, b) = (self.key(x - r), self.key(x + r));
-        (a[0]..=b[0]).any(|i| (a[1]..=b[1]).any(|j| (a[2]..=b[2]).any(|k| self.may_hold([i, j, k]))))
+        // Loops, not nested `any`: its closures were not inlined into the
+        // ISA builds (6 % of a cubes frame, `perf`).
+        for i in a[0]..=b[0] {
+            for j in a[1]..=b[1] {
+                for k in a[2]..=b[2] {
+                    if self.may_hold([i, j, k]) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
     }
 }
 
