@@ -16,6 +16,47 @@ use crate::color::Rgb;
 use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
+use std::time::Instant;
+
+thread_local! {
+    /// This thread's queries near photons (where a query costs more than a
+    /// clock), and the nanoseconds they took as [`GatherClock`] estimates
+    /// them since the last [`take_gather_seconds`].
+    static GATHER: std::cell::Cell<(u32, u64)> = const { std::cell::Cell::new((0, 0)) };
+}
+
+/// One gather in this many is timed, and counts for as many (a clock
+/// costs about a tenth of a gather).
+const TIMED_EVERY: u32 = 8;
+
+/// The clock of one gather: started on one in [`TIMED_EVERY`].
+struct GatherClock(Option<Instant>);
+
+impl GatherClock {
+    #[inline(always)]
+    fn start() -> Self {
+        let (count, ns) = GATHER.with(|g| g.get());
+        GATHER.with(|g| g.set((count.wrapping_add(1), ns)));
+        GatherClock((count % TIMED_EVERY == 0).then(Instant::now))
+    }
+
+    #[inline(always)]
+    fn stop(self) {
+        if let Some(t) = self.0 {
+            let spent = t.elapsed().as_nanos() as u64 * TIMED_EVERY as u64;
+            GATHER.with(|g| g.set((g.get().0, g.get().1 + spent)));
+        }
+    }
+}
+
+/// The time this thread spent gathering photons since the last call (one
+/// gather in [`TIMED_EVERY`] timed): what the viewer shows a frame's
+/// caustics cost (run on every thread of the pool and summed).
+pub fn take_gather_seconds() -> f64 {
+    let (count, ns) = GATHER.with(|g| g.get());
+    GATHER.with(|g| g.set((count, 0)));
+    ns as f64 * 1e-9
+}
 
 /// The exponent of the radius schedule: `r² ∝ k^(α−1)` (SPPM's α).
 pub const ALPHA: f64 = 2.0 / 3.0;
@@ -38,13 +79,6 @@ impl Photon {
             dir: f(dir),
             power: f(power),
         }
-    }
-
-    /// Whether the photon arrived on the side of the surface whose normal
-    /// (toward the viewer) is `n`.
-    #[inline]
-    fn faces(&self, n: DVec3) -> bool {
-        self.dir[0] as f64 * n.x + self.dir[1] as f64 * n.y + self.dir[2] as f64 * n.z < 0.0
     }
 }
 
@@ -95,7 +129,7 @@ impl CellHasher {
     }
 }
 
-type Cells = HashMap<CellKey, Vec<Photon>, BuildHasherDefault<CellHasher>>;
+type Cells = HashMap<CellKey, Vec<Block>, BuildHasherDefault<CellHasher>>;
 
 /// Bits of a level's occupancy filter: a cell whose bit is clear holds no
 /// photon, so most queries away from caustics cost a few bit tests.
@@ -117,7 +151,7 @@ impl Occupancy {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn key(&self, p: DVec3) -> Key {
         let c = (p / self.cell).floor();
         [c.x as i64, c.y as i64, c.z as i64]
@@ -135,21 +169,90 @@ impl Occupancy {
         self.bits[w] |= b;
     }
 
-    #[inline]
+    #[inline(always)]
     fn may_hold(&self, k: Key) -> bool {
         let (w, b) = Self::bit(k);
         self.bits[w] & b != 0
     }
 
     /// Whether any cell within `r` of `x` may hold a photon.
+    #[inline(always)]
     fn near(&self, x: DVec3, r: f64) -> bool {
         let (a, b) = (self.key(x - r), self.key(x + r));
-        (a[0]..=b[0]).any(|i| (a[1]..=b[1]).any(|j| (a[2]..=b[2]).any(|k| self.may_hold([i, j, k]))))
+        // Loops, not nested `any`: its closures were not inlined into the
+        // ISA builds (6 % of a cubes frame, `perf`).
+        for i in a[0]..=b[0] {
+            for j in a[1]..=b[1] {
+                for k in a[2]..=b[2] {
+                    if self.may_hold([i, j, k]) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
     }
 }
 
+/// Photons a [`Block`] holds: the lanes of one step of the gather loop.
+const BLOCK: usize = 8;
+
+/// Up to [`BLOCK`] photons of one cell as `f32` columns: positions from the
+/// cell's low corner (exact to `f32` of the cell's side, wherever the scene
+/// lies), arrival directions and powers. An unused lane lies at infinity
+/// with no power and no direction, so it is never within the radius.
+#[derive(Clone, Debug)]
+struct Block {
+    p: [[f32; BLOCK]; 3],
+    dir: [[f32; BLOCK]; 3],
+    power: [[f32; BLOCK]; 3],
+    len: usize,
+}
+
+impl Block {
+    const EMPTY: Block = Block {
+        p: [[f32::INFINITY; BLOCK]; 3],
+        dir: [[0.0; BLOCK]; 3],
+        power: [[0.0; BLOCK]; 3],
+        len: 0,
+    };
+}
+
+/// A gather's query in a cell's frame: the point from the cell's corner,
+/// the normal, the squared radius.
+#[derive(Clone, Copy)]
+struct Query {
+    q: [f32; 3],
+    n: [f32; 3],
+    r2: f32,
+}
+
+/// The power, lane by lane then lanes in order, of the photons of `blocks`
+/// within the radius of the query that arrived on the side its normal
+/// faces: one branch-free loop over the columns.
+#[inline(always)]
+fn sum_blocks_impl(blocks: &[Block], at: Query) -> [f32; 3] {
+    let Query { q, n, r2 } = at;
+    let mut acc = [[0.0f32; BLOCK]; 3];
+    for b in blocks {
+        for l in 0..BLOCK {
+            let d = [b.p[0][l] - q[0], b.p[1][l] - q[1], b.p[2][l] - q[2]];
+            let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let facing = b.dir[0][l] * n[0] + b.dir[1][l] * n[1] + b.dir[2][l] * n[2];
+            let w = if d2 < r2 && facing < 0.0 { 1.0 } else { 0.0 };
+            for (a, c) in acc.iter_mut().zip(&b.power) {
+                a[l] += w * c[l];
+            }
+        }
+    }
+    acc.map(|a| a.iter().sum())
+}
+
 /// The photons of one level of passes, all gathered with one radius, in
-/// cubic cells of side twice the radius (a query visits at most 8).
+/// cubic cells of side twice the radius (a query visits at most 8, and
+/// skips those wholly outside its ball). Finer cells test fewer photons
+/// but look up more cells, and a lookup (a cache miss, mostly) costs more
+/// than a block of lanes (measured: docs/performance.md).
 #[derive(Clone, Debug)]
 struct Level {
     radius: f64,
@@ -170,8 +273,15 @@ impl Level {
         }
     }
 
+    #[inline(always)]
     fn key(&self, p: DVec3) -> Key {
         self.occupied.key(p)
+    }
+
+    /// The low corner of cell `k`.
+    #[inline(always)]
+    fn corner(&self, k: Key) -> DVec3 {
+        DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * self.occupied.cell
     }
 
     fn insert(&mut self, ph: Photon) {
@@ -179,39 +289,58 @@ impl Level {
         self.hi = self.hi.max(ph.p);
         let k = self.key(ph.p);
         self.occupied.mark(k);
-        self.cells.entry(CellKey(k)).or_default().push(ph);
+        let rel = ph.p - self.corner(k);
+        let blocks = self.cells.entry(CellKey(k)).or_default();
+        if blocks.last().is_none_or(|b| b.len == BLOCK) {
+            blocks.push(Block::EMPTY);
+        }
+        let b = blocks.last_mut().expect("a block with room");
+        let l = b.len;
+        for (c, v) in [rel.x as f32, rel.y as f32, rel.z as f32].into_iter().enumerate() {
+            b.p[c][l] = v;
+            b.dir[c][l] = ph.dir[c];
+            b.power[c][l] = ph.power[c];
+        }
+        b.len += 1;
     }
 
     /// The power of the photons within the radius of `x` that arrived on
     /// the side `n` faces.
+    #[inline(always)]
     fn gather(&self, x: DVec3, n: DVec3) -> Rgb {
         let r = self.radius;
         if (x + r).cmplt(self.lo).any() || (x - r).cmpgt(self.hi).any() {
             return Rgb::ZERO;
         }
         let (a, b) = (self.key(x - r), self.key(x + r));
-        let r2 = r * r;
-        let mut sum = [0.0f64; 3];
+        let (r2, cell) = (r * r, self.occupied.cell);
+        let n = [n.x as f32, n.y as f32, n.z as f32];
+        let mut sum = Rgb::ZERO;
         for i in a[0]..=b[0] {
             for j in a[1]..=b[1] {
                 for k in a[2]..=b[2] {
-                    if !self.occupied.may_hold([i, j, k]) {
+                    let key = [i, j, k];
+                    let corner = self.corner(key);
+                    // The cell's nearest point to `x` is beyond the radius.
+                    let gap = (corner - x).max(x - corner - cell).max(DVec3::ZERO);
+                    if gap.length_squared() >= r2 || !self.occupied.may_hold(key) {
                         continue;
                     }
-                    let Some(v) = self.cells.get(&CellKey([i, j, k])) else {
+                    let Some(v) = self.cells.get(&CellKey(key)) else {
                         continue;
                     };
-                    for ph in v {
-                        if (ph.p - x).length_squared() < r2 && ph.faces(n) {
-                            for (acc, &w) in sum.iter_mut().zip(&ph.power) {
-                                *acc += w as f64;
-                            }
-                        }
-                    }
+                    let q = x - corner;
+                    let at = Query {
+                        q: [q.x as f32, q.y as f32, q.z as f32],
+                        n,
+                        r2: r2 as f32,
+                    };
+                    let s = sum_blocks_impl(v, at);
+                    sum += Rgb::new(s[0] as f64, s[1] as f64, s[2] as f64);
                 }
             }
         }
-        Rgb::from_array(sum)
+        sum
     }
 }
 
@@ -285,18 +414,32 @@ impl PhotonMap {
     /// normal (toward the viewer) is `n`: the mean over the passes of each
     /// pass's density estimate. Zero before the first pass.
     pub fn irradiance(&self, x: DVec3, n: DVec3) -> Rgb {
-        if self.passes == 0 || self.photons == 0 || !self.coarse.near(x, self.r0) {
-            return Rgb::ZERO;
-        }
-        let mut e = Rgb::ZERO;
-        for l in &self.levels {
-            let s = l.gather(x, n);
-            if s != Rgb::ZERO {
-                e += s / (std::f64::consts::PI * l.radius * l.radius);
-            }
-        }
-        e / self.passes as f64
+        estimate(self, x, n)
     }
+}
+
+/// [`PhotonMap::irradiance`], compiled into each build.
+#[inline(always)]
+fn estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb {
+    if map.passes == 0 || map.photons == 0 || !map.coarse.near(x, map.r0) {
+        return Rgb::ZERO;
+    }
+    let clock = GatherClock::start();
+    let mut e = Rgb::ZERO;
+    for l in &map.levels {
+        let s = l.gather(x, n);
+        if s != Rgb::ZERO {
+            e += s / (std::f64::consts::PI * l.radius * l.radius);
+        }
+    }
+    clock.stop();
+    e / map.passes as f64
+}
+
+crate::simd::with_avx2! {
+    /// [`estimate_impl`] in the best build this CPU runs (the same bits in
+    /// each: no fused operations).
+    fn estimate / estimate_avx2 => estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb
 }
 
 /// A map shared between a scene and the thread that adds passes to the

@@ -3,7 +3,7 @@
 //! that EXR clamped and sRGB-encoded.
 
 use lensview::color::to_srgb8;
-use lensview::render::caustics::{CausticSettings, passes_for_spp, with_caustics};
+use lensview::render::caustics::{CausticSettings, render_photons, with_caustics};
 use lensview::render::{RenderSettings, render};
 use lensview::scene::Scene;
 use std::process::Command;
@@ -87,12 +87,14 @@ fn exr_is_the_linear_radiance_and_png_its_clamped_encoding() {
         spp: 2,
         seed: 0,
     };
-    // As the command does: the photon passes for 2 spp, then the render.
+    // As the command does: the photon passes for 40×30 at 2 spp, then the
+    // render.
     let caustic = CausticSettings {
         seed: 0,
         ..CausticSettings::default()
     };
-    let scene = with_caustics(&scene, passes_for_spp(2), caustic);
+    let (passes, _) = render_photons(&scene, (40, 30), 2, caustic);
+    let scene = with_caustics(&scene, passes, caustic);
     let img = render(&scene, &settings, None);
     let (w, h, px) = decode(&std::fs::read(&exr).unwrap());
     assert_eq!((w, h), (40, 30));

@@ -49,7 +49,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     };
     // Camera samples, the lights they shade and the photons of the
     // caustics: all in the one work budget.
-    let (passes, photons) = render_photons(&scene, spp, photon_settings);
+    let (passes, photons) = render_photons(&scene, (a.width, a.height), spp, photon_settings);
     let work = limits::Work::samples(a.width, a.height, spp as u64, 1)
         .with_lights(scene.lights.len())
         .with_photons(photons);

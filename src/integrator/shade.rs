@@ -137,9 +137,13 @@ pub(super) fn ambient<const GLASS: bool>(scene: &Scene, s: &Surface) -> Rgb {
     let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
     let mut color = Rgb::ZERO;
     color += m.color * scene.ambient * (m.ambient * opacity);
-    if let Some(map) = &scene.caustic_map {
-        // The caustic irradiance, lit like a light's: `kd·C·E`.
-        color += m.color * map.0.irradiance(s.p, s.nf) * (m.diffuse * opacity);
+    let kd = diffuse_share::<GLASS>(m);
+    if let Some(map) = &scene.caustic_map
+        && kd > 0.0
+    {
+        // The caustic irradiance, lit like a light's: `kd·C·E` (not
+        // gathered where it would be multiplied by zero: clear glass).
+        color += m.color * map.0.irradiance(s.p, s.nf) * kd;
     }
     color
 }

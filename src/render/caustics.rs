@@ -1,23 +1,31 @@
 //! The caustic estimate of a scene, refined pass by pass ([`Caustics`]):
 //! what the render thread interleaves with camera samples, and what
-//! `lensview render` runs before its samples ([`with_caustics`]), in a fixed
-//! proportion to them ([`PASSES_PER_SPP`]).
+//! `lensview render` runs before its samples ([`with_caustics`]): photons
+//! in proportion to the camera's work ([`PHOTON_SHARE`]), at most
+//! [`PASSES_PER_SPP`] passes per sample.
 //!
 //! The estimate depends on the lights, objects and materials only, never
 //! on the camera ([`Caustics::same_light_paths`] decides when it can be
 //! kept).
 
 use crate::integrator::{Targets, photon_pass, photons_per_light};
+use crate::limits::{PHOTON_WORK, Work};
 use crate::photon::{PhotonMap, SharedMap, initial_radius};
+use crate::render::progressive::Stage;
 use crate::scene::Scene;
 use std::sync::Arc;
 
 /// Photons shot from each light in one pass.
 pub const PHOTONS_PER_PASS: usize = 1 << 15;
-/// Photon passes `lensview render` runs per sample per pixel.
+/// The most photon passes `lensview render` runs per sample per pixel.
 pub const PASSES_PER_SPP: u32 = 2;
-/// The fewest photon passes `lensview render` runs.
+/// The fewest photon passes [`passes_for_spp`] gives.
 pub const MIN_PASSES: u32 = 8;
+/// The share of the camera's work (`limits::Work`, [`PHOTON_WORK`] camera
+/// samples a photon) that photon passes may add: a frame of `n` camera
+/// samples affords `PHOTON_SHARE · n / PHOTON_WORK` photons traced
+/// ([`photon_allowance`]), in `lensview render` and in the viewer alike.
+pub const PHOTON_SHARE: f64 = 0.125;
 /// The starting radius holds about this many photons of the first pass.
 pub const FIRST_PASS_NEIGHBOURS: usize = 24;
 /// The most photons kept: past it no pass is added (the estimate stays).
@@ -55,6 +63,9 @@ pub struct Caustics {
     targets: Targets,
     settings: CausticSettings,
     map: Option<Arc<PhotonMap>>,
+    /// Photons a pass traces (all lights), and traced so far.
+    per_pass: u64,
+    traced: u64,
 }
 
 impl Caustics {
@@ -62,10 +73,16 @@ impl Caustics {
     /// specular lit by a light).
     pub fn new(scene: &Scene, settings: CausticSettings) -> Option<Self> {
         let targets = Targets::of(scene);
-        (scene.features.caustics && !targets.is_empty() && !scene.lights.is_empty()).then_some(Caustics {
-            targets,
-            settings,
-            map: None,
+        let on = scene.features.caustics && !targets.is_empty() && !scene.lights.is_empty();
+        on.then(|| {
+            let per_light = photons_per_light(scene, &targets, settings.photons_per_pass);
+            Caustics {
+                per_pass: (per_light as u64).saturating_mul(scene.lights.len() as u64).max(1),
+                targets,
+                settings,
+                map: None,
+                traced: 0,
+            }
         })
     }
 
@@ -85,9 +102,16 @@ impl Caustics {
         self.map.as_ref().map_or(0, |m| m.photons())
     }
 
-    /// Whether another pass may be added ([`MAX_PHOTONS`]).
+    /// Whether another pass may be added: fewer than [`MAX_PHOTONS`]
+    /// stored, and room for its photons under [`MAX_PHOTONS_TRACED`] (the
+    /// first pass always: the viewer's cap and `render`'s are the same).
     pub fn can_refine(&self) -> bool {
-        self.photons() < MAX_PHOTONS
+        self.photons() < MAX_PHOTONS && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
+    }
+
+    /// Photons one pass traces, all lights together.
+    pub fn photons_per_pass(&self) -> u64 {
+        self.per_pass
     }
 
     /// Shoots one more pass and adds it. The map is changed in place when
@@ -106,6 +130,7 @@ impl Caustics {
             Arc::new(PhotonMap::new(r0))
         });
         Arc::make_mut(map).add_pass(&photons);
+        self.traced += self.per_pass;
     }
 
     /// The map as a scene holds it (`None` before the first pass).
@@ -114,23 +139,49 @@ impl Caustics {
     }
 }
 
-/// The photon passes `lensview render` runs for `spp` samples per pixel:
-/// [`PASSES_PER_SPP`] per sample, at least [`MIN_PASSES`].
+/// The most photon passes `lensview render` runs for `spp` samples per
+/// pixel: [`PASSES_PER_SPP`] per sample, at least [`MIN_PASSES`].
 pub fn passes_for_spp(spp: u32) -> u32 {
     spp.saturating_mul(PASSES_PER_SPP).max(MIN_PASSES)
 }
 
+/// The photons that `camera_work` camera samples of work (`Work::total`)
+/// afford: [`PHOTON_SHARE`] of it, at [`PHOTON_WORK`] a photon.
+pub fn photon_allowance(camera_work: f64) -> f64 {
+    PHOTON_SHARE * camera_work / PHOTON_WORK
+}
+
+/// The camera's work of `width`×`height` pixels at `spp` samples each,
+/// shading `lights` lights (`limits::Work::total`).
+pub fn camera_work((width, height): (u32, u32), spp: u32, lights: usize) -> f64 {
+    Work::samples(width, height, spp as u64, 1).with_lights(lights).total()
+}
+
+/// The camera's work of `stage` on a `width`×`height` picture that has
+/// `have` samples per pixel, shading `lights` lights: a sample stage's
+/// ([`Stage::cost`]); none for a block preview or a reprojection, which
+/// add no photon pass.
+pub fn stage_work(stage: Stage, (width, height, have): (u32, u32, u32), lights: usize) -> f64 {
+    match stage {
+        Stage::Samples(n) => camera_work((width, height), n.saturating_sub(have), lights),
+        Stage::Blocks(_) | Stage::Reprojected => 0.0,
+    }
+}
+
 /// The photon passes `lensview render` runs for `spp` samples per pixel
-/// of `scene`, and the photons they trace at most (for the work budget,
-/// `limits::Work`; fewer when the map fills up and the passes stop early):
-/// [`passes_for_spp`], cut to [`MAX_PHOTONS_TRACED`] photons but never
-/// below one pass. `(0, 0.0)` when the scene computes no caustics.
-pub fn render_photons(scene: &Scene, spp: u32, settings: CausticSettings) -> (u32, f64) {
+/// of `width`×`height` pixels of `scene`, and the photons they trace at
+/// most (for the work budget, `limits::Work`; fewer when the map fills up
+/// and the passes stop early): the passes of whole photons the camera's
+/// work affords ([`photon_allowance`]), at most [`passes_for_spp`], cut to
+/// [`MAX_PHOTONS_TRACED`] photons, never below one pass. `(0, 0.0)` when
+/// the scene computes no caustics.
+pub fn render_photons(scene: &Scene, (width, height): (u32, u32), spp: u32, settings: CausticSettings) -> (u32, f64) {
     Caustics::new(scene, settings).map_or((0, 0.0), |c| {
-        let per_light = photons_per_light(scene, &c.targets, settings.photons_per_pass);
-        let per_pass = (per_light as u64).saturating_mul(scene.lights.len() as u64).max(1);
+        let per_pass = c.per_pass;
+        let work = camera_work((width, height), spp, scene.lights.len());
+        let afford = (photon_allowance(work) / per_pass as f64) as u32;
         let fit = u32::try_from(MAX_PHOTONS_TRACED / per_pass).unwrap_or(u32::MAX);
-        let passes = passes_for_spp(spp).min(fit.max(1));
+        let passes = afford.min(passes_for_spp(spp)).min(fit).max(1);
         (passes, passes as f64 * per_pass as f64)
     })
 }
@@ -153,12 +204,20 @@ pub fn with_caustics(scene: &Scene, passes: u32, settings: CausticSettings) -> S
 
 /// The caustics the render thread keeps from job to job: one photon map
 /// for as long as the lights, objects and materials stay the same (camera
-/// moves keep it), refined by [`PASSES_PER_SPP`] passes per sample per
-/// pixel a stage adds, before the stage.
+/// moves keep it), refined before each stage by the passes its camera
+/// work affords ([`photon_allowance`]; the first pass at once, so that
+/// caustics show from the first frame), up to [`MAX_PHOTONS`] stored or
+/// [`MAX_PHOTONS_TRACED`] traced.
 #[derive(Default)]
 pub struct Interleaved {
     scene: Option<Arc<Scene>>,
     caustics: Option<Caustics>,
+    /// Photons the camera's work so far affords and no pass has traced
+    /// (negative after the first pass, which is traced on credit).
+    credit: f64,
+    /// The latest stage's photon-pass and gather times, seconds (the
+    /// photon passes before the stage, zero for a stage without any).
+    times: (f64, f64),
     /// The job's scene holding the map, what stages render: kept from stage
     /// to stage and from job to job, so that a stage hands it a new map
     /// (one `Arc`) and a camera move copies the camera into it, never the
@@ -213,6 +272,7 @@ impl Interleaved {
         );
         if !same {
             self.caustics = Caustics::new(scene, CausticSettings::default());
+            self.credit = 0.0;
         }
         match (&self.caustics, &mut self.with_map) {
             (None, w) => *w = None,
@@ -227,10 +287,11 @@ impl Interleaved {
         self.scene = Some(scene.clone());
     }
 
-    /// Adds the passes due before a stage that brings `added_spp` samples
-    /// per pixel (none for a block preview), stopping early when
-    /// `cancelled` says so or the map is full.
-    pub fn refine(&mut self, added_spp: u32, cancelled: &dyn Fn() -> bool) {
+    /// Adds the passes due before a stage of `camera_work` camera samples
+    /// of work (`limits::Work::total`; none for a block preview, which
+    /// adds no pass), stopping early when `cancelled` says so or the map
+    /// is full. The first pass is traced on credit.
+    pub fn refine(&mut self, camera_work: f64, cancelled: &dyn Fn() -> bool) {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
@@ -238,11 +299,27 @@ impl Interleaved {
         if let Some(w) = &mut self.with_map {
             w.caustic_map = None;
         }
-        for _ in 0..added_spp.saturating_mul(PASSES_PER_SPP) {
-            if cancelled() || !c.can_refine() {
-                break;
-            }
+        let start = std::time::Instant::now();
+        self.credit += photon_allowance(camera_work);
+        let per_pass = c.photons_per_pass() as f64;
+        let first = c.passes() == 0 && camera_work > 0.0;
+        while (first && c.passes() == 0 || self.credit >= per_pass) && c.can_refine() && !cancelled() {
             c.add_pass(scene);
+            self.credit -= per_pass;
+        }
+        self.times.0 = start.elapsed().as_secs_f64();
+    }
+
+    /// Starts (`false`) or stops (`true`) counting a stage's gathering:
+    /// the time the pool's threads spent in [`PhotonMap::irradiance`] in
+    /// between, summed over them and divided by their number, so that on a
+    /// stage that keeps them all busy it compares with the stage's time.
+    pub fn gather_clock(&mut self, stop: bool) {
+        let spent: f64 = rayon::broadcast(|_| crate::photon::take_gather_seconds())
+            .into_iter()
+            .sum();
+        if stop {
+            self.times.1 = spent / rayon::current_num_threads() as f64;
         }
     }
 
@@ -264,6 +341,30 @@ impl Interleaved {
     pub fn counts(&self) -> (u32, usize) {
         self.caustics.as_ref().map_or((0, 0), |c| (c.passes(), c.photons()))
     }
+
+    /// What a frame reports of the caustics: the counts, and the latest
+    /// stage's photon-pass and gather times.
+    pub fn stats(&self) -> CausticStats {
+        let (passes, photons) = self.counts();
+        CausticStats {
+            passes,
+            photons,
+            photon_ms: self.times.0 * 1e3,
+            gather_ms: self.times.1 * 1e3,
+        }
+    }
+}
+
+/// A frame's caustics: the map's passes and photons so far, and where its
+/// stage's caustic time went (zero without caustics).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CausticStats {
+    pub passes: u32,
+    pub photons: usize,
+    /// Photon passes traced before the stage.
+    pub photon_ms: f64,
+    /// Gathering photons while the stage shaded (all threads together).
+    pub gather_ms: f64,
 }
 
 #[cfg(test)]
@@ -275,15 +376,23 @@ mod tests {
         Scene::parse("focal-spot.toml", text).unwrap().1
     }
 
+    /// The camera work that affords `passes` passes of `scene`'s photons.
+    fn work_for(scene: &Scene, passes: f64) -> f64 {
+        let per_pass = Caustics::new(scene, CausticSettings::default())
+            .unwrap()
+            .photons_per_pass();
+        passes * per_pass as f64 * PHOTON_WORK / PHOTON_SHARE
+    }
+
     /// A camera move keeps the estimate; a light move starts it again.
     #[test]
     fn the_estimate_survives_camera_moves_only() {
         let base = focal_spot();
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
-        it.refine(1, &|| false);
+        it.refine(work_for(&base, 0.5), &|| false);
         let (passes, photons) = it.counts();
-        assert_eq!(passes, PASSES_PER_SPP);
+        assert_eq!(passes, 1, "the first pass at once");
         assert!(photons > 1000, "{photons}");
         let mut moved = base.clone();
         moved.camera.position.x += 1.0;
@@ -305,7 +414,7 @@ mod tests {
         assert_eq!(it.counts(), (0, 0));
         assert!(std::ptr::eq(it.scene(&lit), &*lit));
         // Cancelled: no pass.
-        it.refine(4, &|| true);
+        it.refine(work_for(&base, 4.0), &|| true);
         assert_eq!(it.counts(), (0, 0));
     }
 
@@ -318,13 +427,13 @@ mod tests {
         let mut it = Interleaved::default();
         let job = Arc::new(base.clone());
         it.follow(&job, false);
-        it.refine(1, &|| false);
+        it.refine(work_for(&base, 0.5), &|| false);
         let objects = it.scene(&job).objects.as_ptr();
         let map = |s: &Scene| Arc::as_ptr(&s.caustic_map.as_ref().unwrap().0);
         let before = map(it.scene(&job));
-        it.refine(1, &|| false);
+        it.refine(work_for(&base, 3.0), &|| false);
         assert_eq!(map(it.scene(&job)), before, "the map was copied to grow");
-        assert_eq!(it.counts().0, 2 * PASSES_PER_SPP);
+        assert_eq!(it.counts().0, 3);
         let mut moved = base.clone();
         moved.camera.position.y += 0.5;
         let job = Arc::new(moved);
@@ -336,11 +445,43 @@ mod tests {
         edited.objects[0].material.diffuse *= 0.5;
         let job = Arc::new(edited);
         it.follow(&job, false);
-        it.refine(1, &|| false);
+        it.refine(work_for(&job, 0.5), &|| false);
         assert_eq!(it.scene(&job).objects, job.objects);
     }
 
-    /// Passes for a headless render: in proportion to the samples.
+    /// Issue 29.3: a stage's passes are those its camera work affords
+    /// ([`PHOTON_SHARE`]), the first on credit, the rest carried over.
+    #[test]
+    fn viewer_passes_follow_the_camera_work() {
+        let base = focal_spot();
+        let mut it = Interleaved::default();
+        it.follow(&Arc::new(base.clone()), false);
+        let mut passes = Vec::new();
+        it.refine(0.0, &|| false);
+        assert_eq!(it.counts().0, 0, "a block preview traces no pass");
+        for owed in [0.5, 1.2, 2.1, 0.8] {
+            it.refine(work_for(&base, owed), &|| false);
+            passes.push(it.counts().0);
+        }
+        // 1 on credit (−0.5 left); 0.7: none; 2.8: two more; 1.6: one.
+        assert_eq!(passes, [1, 1, 3, 4]);
+    }
+
+    /// Issue 30: the viewer's passes stop at [`MAX_PHOTONS_TRACED`] traced
+    /// as `render`'s do (the first pass always runs).
+    #[test]
+    fn the_viewers_passes_are_capped_by_photons_traced() {
+        let scene = focal_spot();
+        let mut c = Caustics::new(&scene, CausticSettings::default()).unwrap();
+        c.traced = MAX_PHOTONS_TRACED - c.per_pass;
+        assert!(c.can_refine(), "room for one more pass");
+        c.traced += 1;
+        assert!(!c.can_refine(), "no room for a whole pass");
+        c.traced = 0;
+        assert!(c.can_refine());
+    }
+
+    /// Passes for a headless render: at most in proportion to the samples.
     #[test]
     fn headless_passes_follow_the_samples() {
         assert_eq!(passes_for_spp(1), MIN_PASSES);
@@ -357,17 +498,32 @@ mod tests {
         let settings = CausticSettings::default();
         let per_light = photons_per_light(&scene, &Targets::of(&scene), PHOTONS_PER_PASS);
         let per_pass = (per_light * scene.lights.len()) as f64;
-        assert_eq!(render_photons(&scene, 4, settings), (8, 8.0 * per_pass));
+        // Issue 29.3: the photons the camera's work affords, whole passes.
+        let afford = (PHOTON_SHARE * (640.0 * 360.0 * 16.0) / PHOTON_WORK / per_pass) as u32;
+        assert!(afford >= 1);
+        assert_eq!(
+            render_photons(&scene, (640, 360), 16, settings),
+            (afford, afford as f64 * per_pass)
+        );
+        // Tiny: one pass; huge: at most PASSES_PER_SPP a sample.
+        assert_eq!(render_photons(&scene, (16, 16), 1, settings), (1, per_pass));
+        assert_eq!(render_photons(&scene, (4096, 4096), 4, settings), (8, 8.0 * per_pass));
         let most = (MAX_PHOTONS_TRACED / per_pass as u64) as u32;
-        assert_eq!(render_photons(&scene, 65536, settings), (most, most as f64 * per_pass));
+        assert_eq!(
+            render_photons(&scene, (4096, 4096), 65536, settings),
+            (most, most as f64 * per_pass)
+        );
         assert!(most as f64 * per_pass <= MAX_PHOTONS_TRACED as f64);
         // So many lights that one pass is over the cap: still one pass.
         let mut many = scene.clone();
         let light = many.lights[0].clone();
         many.lights.resize(10_000, light);
-        assert_eq!(render_photons(&many, 1, settings), (1, 1e4 * per_light as f64));
+        assert_eq!(
+            render_photons(&many, (640, 360), 1, settings),
+            (1, 1e4 * per_light as f64)
+        );
         let mut off = scene;
         off.features.caustics = false;
-        assert_eq!(render_photons(&off, 64, settings), (0, 0.0));
+        assert_eq!(render_photons(&off, (640, 360), 64, settings), (0, 0.0));
     }
 }

@@ -8,7 +8,7 @@
 //! can hold after the first frame of each job until the window reports it
 //! on screen ([`Worker::hold_first_frames`]).
 
-use super::caustics::Interleaved;
+use super::caustics::{CausticStats, Interleaved, stage_work};
 use super::first_frame::{Costs, First};
 use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
@@ -64,10 +64,8 @@ pub struct Frame {
     pub samples_per_s: f64,
     /// True for the last stage of the schedule.
     pub last: bool,
-    /// Caustic photons stored so far, and the passes that shot them (zero
-    /// without caustics).
-    pub photons: usize,
-    pub photon_passes: u32,
+    /// The caustics: the map so far, this stage's photon and gather times.
+    pub caustics: CausticStats,
     /// The camera's position and rotation (degrees) in this picture.
     pub camera: (glam::DVec3, glam::DVec3),
     /// Where a [`Stage::Reprojected`] frame's time went.
@@ -297,7 +295,7 @@ impl Frame {
         (stage, mut rgba): (Stage, Vec<u8>),
         t: Timing,
         last: bool,
-        photons: (u32, usize),
+        caustics: CausticStats,
     ) -> Frame {
         prog.write_rgba8(&mut rgba);
         Frame {
@@ -312,8 +310,7 @@ impl Frame {
             since_input_ms: job.input_time.elapsed().as_secs_f64() * 1e3,
             samples_per_s: if t.dt > 0.0 { t.cast as f64 / t.dt } else { 0.0 },
             last,
-            photons: photons.1,
-            photon_passes: photons.0,
+            caustics,
             camera: (job.scene.camera.position, job.scene.camera.rotation_deg),
             reprojection: (stage == Stage::Reprojected).then_some(prog.reprojection),
         }
@@ -349,9 +346,9 @@ fn run(
         caustics.follow(&job.scene, since_followed.keeps_photons());
         since_followed = Change::None;
         let first_sent = std::cell::Cell::new(false);
-        let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, photons: (u32, usize)| {
+        let send = |prog: &Progressive, stage: Stage, dt: f64, cast: u64, last: bool, c: CausticStats| {
             let rgba = spare.try_recv().unwrap_or_default();
-            let frame = Frame::of(prog, &job, (stage, rgba), Timing { dt, cast, queued_ms }, last, photons);
+            let frame = Frame::of(prog, &job, (stage, rgba), Timing { dt, cast, queued_ms }, last, c);
             let ok = frames.send(frame).is_ok();
             wake();
             if ok && !last && !first_sent.replace(true) {
@@ -368,7 +365,7 @@ fn run(
                     dt,
                     prog.samples_cast,
                     false,
-                    caustics.counts(),
+                    caustics.stats(),
                 ) {
                     return;
                 }
@@ -385,7 +382,7 @@ fn run(
                 break;
             };
             shown.set(&job.scene);
-            if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.counts()) {
+            if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.stats()) {
                 return;
             }
         }
@@ -448,13 +445,16 @@ fn run_stage(
 ) -> Option<(f64, u64)> {
     let before = prog.samples_cast;
     let t0 = Instant::now();
-    if let Stage::Samples(n) = stage {
-        caustics.refine(n.saturating_sub(prog.spp), cancelled);
-    }
+    caustics.refine(
+        stage_work(stage, (prog.width, prog.height, prog.spp), scene.lights.len()),
+        cancelled,
+    );
     let traced = Instant::now();
+    caustics.gather_clock(false);
     if !prog.run(caustics.scene(scene), stage, cancelled) {
         return None;
     }
+    caustics.gather_clock(true);
     let cost = prog.samples_cast - before;
     costs.sampled(stage, traced.elapsed().as_secs_f64(), cost);
     Some((t0.elapsed().as_secs_f64(), cost))

@@ -73,7 +73,9 @@ impl Stats {
                 "queued_ms": f.queued_ms,
                 "sent_ms_since_input": f.since_input_ms,
                 "present_ms": self.present_ms,
-                "photons": f.photons,
+                "photons": f.caustics.photons,
+                "photon_ms": f.caustics.photon_ms,
+                "gather_ms": f.caustics.gather_ms,
                 "camera": [f.camera.0.to_array(), f.camera.1.to_array()],
                 "reprojection": f.reprojection.map(|r| serde_json::json!({
                     "first_hits_ms": r.first_hits_s * 1e3,
@@ -116,11 +118,20 @@ impl Stats {
                 self.frame_ms, fps, self.present_ms
             ),
         ];
-        if f.photon_passes > 0 {
-            lines.push(format!("caustics: {} photons, {} passes", f.photons, f.photon_passes));
+        if f.caustics.passes > 0 {
+            lines.push(caustics_text(f));
         }
         lines
     }
+}
+
+/// `"caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms"`:
+/// the map so far, and what this frame's caustics cost of its time.
+pub fn caustics_text(f: &Frame) -> String {
+    format!(
+        "caustics: {} photons, {} passes; photons {:.1} ms, gather {:.1} ms",
+        f.caustics.photons, f.caustics.passes, f.caustics.photon_ms, f.caustics.gather_ms
+    )
 }
 
 /// `"64 spp (done) (paused)"`: the frame's stage and state.
@@ -215,6 +226,7 @@ pub fn overlay_lines(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lensview::render::caustics::CausticStats;
 
     #[test]
     fn the_overlay_shows_camera_light_lens_and_message_full_or_compact() {
@@ -258,8 +270,12 @@ mod tests {
             since_input_ms: 20.0,
             samples_per_s: 1e6,
             last: false,
-            photons: 4096,
-            photon_passes: 2,
+            caustics: CausticStats {
+                passes: 2,
+                photons: 4096,
+                photon_ms: 1.5,
+                gather_ms: 3.0,
+            },
             camera: (glam::DVec3::new(1.0, 2.0, 3.0), glam::DVec3::new(0.0, 90.0, 0.0)),
             reprojection: None,
         };
@@ -315,7 +331,7 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 17, "{keys:?}");
+        assert_eq!(keys.len(), 19, "{keys:?}");
         assert_eq!(l["camera"], serde_json::json!([[1.0, 2.0, 3.0], [0.0, 90.0, 0.0]]));
         assert_eq!(
             (l["overlay"].as_str(), lines[1]["overlay"].as_str()),
@@ -330,6 +346,11 @@ mod tests {
         assert!(st.iter().all(|x| x["generation"] == 7));
         assert!(lines[1]["stages"].as_array().unwrap().is_empty());
         assert_eq!(l["photons"], 4096);
+        assert_eq!(l["gather_ms"], 3.0);
+        assert_eq!(
+            caustics_text(&f),
+            "caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms"
+        );
         assert_eq!(l["generation"], 7);
         assert_eq!(l["level"], "4 spp");
         assert_eq!(l["spp"], 4);

@@ -4,7 +4,7 @@
 
 use super::{Ctx, drafted, widgets::colour};
 use crate::viewer::session::Command;
-use crate::viewer::stats::stage_text;
+use crate::viewer::stats::{caustics_text, stage_text};
 
 pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     let header = egui::CollapsingHeader::new("Render");
@@ -41,8 +41,8 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
                 f.render_ms,
                 f.samples_per_s / 1e6
             ));
-            if f.photon_passes > 0 {
-                ui.weak(format!("caustics: {} photons, {} passes", f.photons, f.photon_passes));
+            if f.caustics.passes > 0 {
+                ui.weak(caustics_text(f));
             }
         }
     });
