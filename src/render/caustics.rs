@@ -5,8 +5,9 @@
 //! [`PASSES_PER_SPP`] passes per sample.
 //!
 //! The estimate depends on the lights, objects and materials only, never
-//! on the camera ([`Caustics::same_light_paths`] decides when it can be
-//! kept).
+//! on the camera: it is kept while the editor's `scene::Change` says the
+//! light paths are the same ([`Interleaved::follow`];
+//! [`Caustics::same_light_paths`] checks that in debug builds).
 
 use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::limits::{PHOTON_WORK, Work};
