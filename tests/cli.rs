@@ -52,20 +52,22 @@ fn render_without_a_scene_uses_the_embedded_default() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // The embedded default is the cubes scene: the same picture as rendering
-    // scenes/cubes.toml by name.
+    // scenes/cubes.toml by name (caustics, photon budget and all).
     let img = lensview::render::Image::read_png(&out).unwrap();
     assert_eq!((img.width, img.height), (16, 12));
-    let (_, cubes) = lensview::scene::Scene::load(&scene("cubes.toml")).unwrap();
-    let want = lensview::render::render(
-        &cubes,
-        &lensview::render::RenderSettings {
-            width: 16,
-            height: 12,
-            spp: cubes.spp,
-            seed: 0,
-        },
-        None,
-    );
+    let named = tmp("default-by-name.png");
+    let o = bin()
+        .args([
+            "render",
+            scene("cubes.toml").to_str().unwrap(),
+            "-o",
+            named.to_str().unwrap(),
+        ])
+        .args(["--width", "16", "--height", "12"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let want = lensview::render::Image::read_png(&named).unwrap();
     assert_eq!(img.to_srgb8(), want.to_srgb8());
 }
 
