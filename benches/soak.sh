@@ -8,15 +8,12 @@
 # P renders (pure-black share: where a NaN pixel would show; the frame log
 # has no NaN field), the counts and the exit status, and fails (exit 1) on a panic, a non-zero exit,
 # a hang past --exit-after + margin (thread stacks saved by gdb), an all-black
-# picture, or RSS growth after warm-up. RSS follows the window's size (the
-# picture's buffers), so growth is judged on checkpoints: every 45 s the
-# window goes back to 1100x700 and, 3 s later, RSS is read
-# (checkpoints.csv). Even then RSS holds what the session built, such as the
-# caustic photon map, which grows to its cap (2 M photons, about 100 MB) and
-# starts again on every edit of the objects or lights: the checkpoints of
-# one run (seed 2911) swung between about 200 and 260 MB. A leak raises the floor, so
-# the last quarter's lowest checkpoint over the second quarter's lowest
-# > 1.25 fails (the medians are printed too). rss.csv keeps every reading.
+# picture, or RSS growth after warm-up: every 45 s the window goes back to
+# 1100x700 and, 3 s later, RSS is read (checkpoints.csv); benches/soak_rss.py
+# judges those less the progressive renderer's buffers at the render size the
+# frame log shows (the soak changes the resolution and the panel too), and
+# fails when the last quarter's lowest is over 1.25 times the second
+# quarter's. rss.csv keeps every reading.
 # Needs xvfb, xdotool, imagemagick and python3; run from the repository root:
 #   bash benches/soak.sh [MINUTES] [SEED]
 # LENSVIEW=path/to/binary skips the build; SOAK_OUT=dir keeps the logs there;
@@ -200,19 +197,7 @@ for f in "$tmp"/lensview-*.png; do
     echo "$g $stats black $black" >>"$out/screenshots.txt"
     awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.02) }' && blank=$((blank + 1))
 done
-python3 - "$out/rss.csv" "$out/checkpoints.csv" <<PY >"$out/summary.txt"
-import csv, statistics, sys
-def read(path): return [(int(r["t_s"]), int(r["rss_kb"])) for r in csv.DictReader(open(path))]
-rows, checks = read(sys.argv[1]), read(sys.argv[2])
-print(f"rss samples: {len(rows)} at every size; start {rows[0][1] / 1024:.1f} MiB, end {rows[-1][1] / 1024:.1f} MiB, "
-      f"peak {max(v for _, v in rows) / 1024:.1f} MiB")
-n = len(checks); q = max(n // 4, 1)
-second, last = [v for _, v in checks[q:2 * q]], [v for _, v in checks[-q:]]
-print(f"checkpoints at 1100x700: {n} ({', '.join(f'{v / 1024:.0f}' for _, v in checks)} MiB); "
-      f"last quarter / 2nd quarter: lowest {min(last) / min(second):.3f}, "
-      f"median {statistics.median(last) / statistics.median(second):.3f}")
-print(f"growth {'FAIL' if min(last) / min(second) > 1.25 else 'ok'}")
-PY
+python3 "$root/benches/soak_rss.py" "$out" "$root/src/limits.rs" >"$out/summary.txt"
 cat "$out/summary.txt"
 echo "seed $seed, ${minutes} min: keys $nkeys ($nholds held flight keys), resizes $nresizes, clicks $nclicks, F5 reloads $nreloads ($ninvalid of a broken file), window screenshots $nshots, P renders $nrender ($blank blank in all)"
 [ -e "$out/screenshots.txt" ] && cat "$out/screenshots.txt"
