@@ -294,6 +294,7 @@ impl Level {
         if blocks.last().is_none_or(|b| b.len == BLOCK) {
             blocks.push(Block::EMPTY);
         }
+        // ok: a block was pushed above when there was none with room.
         let b = blocks.last_mut().expect("a block with room");
         let l = b.len;
         for (c, v) in [rel.x as f32, rel.y as f32, rel.z as f32].into_iter().enumerate() {

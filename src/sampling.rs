@@ -11,6 +11,12 @@ pub fn mix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// A hash's top 53 bits as a uniform number in [0, 1).
+#[inline]
+pub fn unit_f64(bits: u64) -> f64 {
+    (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
 /// A tiny counter-based generator keyed by (seed, pixel, sample).
 #[derive(Clone, Debug)]
 pub struct Sampler {
@@ -29,8 +35,9 @@ impl Sampler {
     /// A uniform number in [0, 1) with 53 random bits.
     pub fn next_f64(&mut self) -> f64 {
         self.counter += 1;
-        let bits = mix64(self.key.wrapping_add(self.counter.wrapping_mul(0x9e37_79b9_7f4a_7c15)));
-        (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        unit_f64(mix64(
+            self.key.wrapping_add(self.counter.wrapping_mul(0x9e37_79b9_7f4a_7c15)),
+        ))
     }
 
     /// A 2D point in [0, 1)².

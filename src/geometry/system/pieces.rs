@@ -140,7 +140,7 @@ impl LensSystem {
             }
             if self.rim[k] > 0.0 {
                 let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
-                if covers((z0.min(z1), z0.max(z1))) {
+                if covers(self.edge_span(k)) {
                     for t in self.edge_roots(k, p, u) {
                         let x = p + t * u;
                         if x.z >= z0 && x.z <= z1 {
@@ -202,8 +202,14 @@ impl LensSystem {
         }
     }
 
-    /// The surfaces in the order a ray along `u_z` meets their planes.
+    /// The extent along the axis of glass cell `k`'s edge: between the
+    /// rings of its two faces.
     #[inline(always)]
+    fn edge_span(&self, k: usize) -> (f64, f64) {
+        let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
+        (z0.min(z1), z0.max(z1))
+    }
+
     /// [`LensSystem`]'s `reach`: per surface, the least `z` of the pieces
     /// of it and after it, and the greatest of it and before it.
     pub(super) fn reach_of_pieces(&self) -> Vec<(f64, f64)> {
@@ -211,8 +217,8 @@ impl LensSystem {
         let piece = |k: usize| {
             let (mut lo, mut hi) = self.span[k];
             if self.rim[k] > 0.0 && k + 1 < n {
-                let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
-                (lo, hi) = (lo.min(z0.min(z1)), hi.max(z0.max(z1)));
+                let (e0, e1) = self.edge_span(k);
+                (lo, hi) = (lo.min(e0), hi.max(e1));
             }
             (lo, hi)
         };
@@ -229,6 +235,8 @@ impl LensSystem {
         reach
     }
 
+    /// The surfaces in the order a ray along `u_z` meets their planes.
+    #[inline(always)]
     fn order(&self, uz: f64) -> impl Iterator<Item = usize> {
         let n = self.len();
         (0..n).map(move |i| if uz >= 0.0 { i } else { n - 1 - i })

@@ -8,7 +8,7 @@ use super::pieces::{Crossing, Piece};
 use super::{LensSystem, MAX_SURFACES};
 use crate::geometry::Pruning;
 use crate::optics;
-use crate::sampling::mix64;
+use crate::sampling::{mix64, unit_f64};
 use glam::DVec3;
 
 /// Reflections a real ray may make before it is reported trapped.
@@ -377,7 +377,7 @@ fn roulette(prune: &Pruning, mut child: Live, seed: u64) -> Option<Live> {
     if child.reflections < 2 || !(w < prune.roulette) {
         return Some(child);
     }
-    let u = unit(mix(seed, child.x, child.u));
+    let u = unit_f64(mix(seed, child.x, child.u));
     if u * prune.roulette < w {
         child.weight = prune.roulette / prune.scale;
         Some(child)
@@ -396,9 +396,4 @@ fn mix(seed: u64, x: DVec3, u: DVec3) -> u64 {
     [x.x, x.y, x.z, u.x, u.y, u.z].iter().fold(seed, |h, v| {
         mix64((h ^ v.to_bits()).wrapping_add(0x9e37_79b9_7f4a_7c15))
     })
-}
-
-/// A hash's top 53 bits as a number in [0, 1).
-fn unit(h: u64) -> f64 {
-    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
