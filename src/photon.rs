@@ -443,25 +443,6 @@ crate::simd::with_avx2! {
     fn estimate / estimate_avx2 => estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb
 }
 
-/// A map shared between a scene and the thread that adds passes to the
-/// next one: two are equal when they are the same map (a scene compares
-/// equal to its copy, never photon by photon).
-#[derive(Clone)]
-pub struct SharedMap(pub std::sync::Arc<PhotonMap>);
-
-impl std::fmt::Debug for SharedMap {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let m = &self.0;
-        write!(f, "PhotonMap({} passes, {} photons)", m.passes, m.photons)
-    }
-}
-
-impl PartialEq for SharedMap {
-    fn eq(&self, other: &Self) -> bool {
-        std::sync::Arc::ptr_eq(&self.0, &other.0)
-    }
-}
-
 /// A starting radius for a map from its first pass's photons: the median,
 /// over up to 256 photons spread through the pass, of the distance to the
 /// `k`-th nearest other photon (at least `floor`). `None` without photons.

@@ -5,8 +5,9 @@
 
 use glam::DVec3;
 use lensview::geometry::{LensSurface, LensTraceStatus};
+use lensview::integrator::Lit;
 use lensview::optics::{ThickLens, WAVELENGTH_D_UM, fresnel_at};
-use lensview::render::caustics::{CausticSettings, with_caustics};
+use lensview::render::caustics::{CausticSettings, caustic_map};
 use lensview::render::{RenderSettings, render};
 use lensview::sampling::Sampler;
 use lensview::scene::Scene;
@@ -156,8 +157,7 @@ fn the_focal_spot_has_the_power_and_profile_of_a_ray_count() {
         initial_radius: Some(0.01 * spot),
         seed: 3,
     };
-    let s = with_caustics(&scene(z, "caustics = true"), 24, settings);
-    let map = s.caustic_map.as_ref().expect("a photon map").0.clone();
+    let map = caustic_map(&scene(z, "caustics = true"), 24, settings).expect("a photon map");
     assert!(map.radius() < 0.007 * spot, "{} vs spot {spot}", map.radius());
     // The estimate on the screen, integrated over a grid of cells.
     let cells = 500;
@@ -212,15 +212,14 @@ fn caustics_are_the_same_on_any_thread_count() {
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
-            let s = with_caustics(&s, 5, settings);
-            let map = s.caustic_map.as_ref().unwrap().0.clone();
+            let map = caustic_map(&s, 5, settings).unwrap();
             let probe: Vec<u64> = (0..200)
                 .map(|i| {
                     let p = DVec3::new(i as f64 * 0.01, 0.003 * i as f64, screen_z());
                     map.irradiance(p, -DVec3::Z).x.to_bits()
                 })
                 .collect();
-            (map.photons(), probe, render(&s, &rs, None).pixels)
+            (map.photons(), probe, render(Lit::new(&s, Some(&map)), &rs, None).pixels)
         })
     };
     let (a, b) = (run(1), run(3));
@@ -251,7 +250,7 @@ fn the_caustics_key_and_the_shadow_switch() {
     let plain = format!("{}{}", &text[..start], &text[end..]);
     let s = Scene::parse("plain.toml", &plain).unwrap().1;
     assert!(!s.features.caustics);
-    assert!(with_caustics(&s, 3, CausticSettings::default()).caustic_map.is_none());
+    assert!(caustic_map(&s, 3, CausticSettings::default()).is_none());
 }
 
 /// A bad value is refused in one line naming the file, the line and the key.
@@ -278,16 +277,14 @@ fn bad_values_of_the_key_are_refused_with_their_line() {
 #[test]
 fn the_caustic_enters_the_shading_as_kd_c_e() {
     let z = screen_z();
-    let s = with_caustics(&scene(z, ""), 4, CausticSettings::default());
-    let map = s.caustic_map.as_ref().unwrap().0.clone();
-    let mut bare = s.clone();
-    bare.caustic_map = None;
+    let s = scene(z, "");
+    let map = caustic_map(&s, 4, CausticSettings::default()).unwrap();
     let ray = lensview::math::Ray {
         origin: DVec3::new(0.05, 0.02, z - 1.0),
         dir: DVec3::Z,
     };
-    let with = lensview::integrator::radiance(&s, &ray, 0, WAVELENGTH_D_UM);
-    let without = lensview::integrator::radiance(&bare, &ray, 0, WAVELENGTH_D_UM);
+    let with = lensview::integrator::radiance(Lit::new(&s, Some(&map)), &ray, 0, WAVELENGTH_D_UM);
+    let without = lensview::integrator::radiance(&s, &ray, 0, WAVELENGTH_D_UM);
     let e = map.irradiance(DVec3::new(0.05, 0.02, z), -DVec3::Z);
     assert!(e.x > 0.0);
     assert!(

@@ -3,7 +3,7 @@
 //! that EXR clamped and sRGB-encoded.
 
 use lensview::color::to_srgb8;
-use lensview::render::caustics::{CausticSettings, render_photons, with_caustics};
+use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
 use lensview::render::{RenderSettings, render};
 use lensview::scene::Scene;
 use std::process::Command;
@@ -94,8 +94,8 @@ fn exr_is_the_linear_radiance_and_png_its_clamped_encoding() {
         ..CausticSettings::default()
     };
     let (passes, _) = render_photons(&scene, (40, 30), 2, caustic);
-    let scene = with_caustics(&scene, passes, caustic);
-    let img = render(&scene, &settings, None);
+    let map = caustic_map(&scene, passes, caustic);
+    let img = render(lensview::integrator::Lit::new(&scene, map.as_ref()), &settings, None);
     let (w, h, px) = decode(&std::fs::read(&exr).unwrap());
     assert_eq!((w, h), (40, 30));
     let mut above_one = 0;

@@ -123,11 +123,23 @@ pub fn converge_step(
     for stage in schedule(max_spp) {
         p.run(before, stage, &|| false);
     }
+    // The render thread records a refined picture's first hits while it
+    // waits for input (worker.rs), so a move finds them there.
+    p.record_first_hits(before, &|| false);
     let pixels = (w as f64 * h as f64).max(1.0);
     let mut rows = Vec::new();
     let t0 = std::time::Instant::now();
     p.reproject(after, before, |_| block);
     let mut elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let r = p.reprojection;
+    eprintln!(
+        "reprojection: first hits {:.1} ms, warp {:.1} ms, {} pixels left traced at {l}×{l} in {:.1} ms",
+        r.first_hits_s * 1e3,
+        r.warp_s * 1e3,
+        r.holes,
+        r.fill_s * 1e3,
+        l = r.level,
+    );
     let mut push = |p: &Progressive, stage: Stage, stage_ms: f64, elapsed_ms: f64| {
         let e = rmse(&p.image(), reference);
         rows.push(ConvergeRow {

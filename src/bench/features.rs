@@ -132,8 +132,8 @@ mod tests {
             let (p, hits) = camera_hits(&s, &xs, &[y; LANES], n, 400, 400);
             let paths = PacketPaths::camera(&p, &hits, n);
             let mut scratch = PacketScratch::default();
-            let a = crate::integrator::radiance_packet(&s, &paths, wavelength, &mut scratch);
-            let b = radiance_packet_unspecialised(&s, &paths, wavelength, &mut scratch);
+            let a = crate::integrator::radiance_packet(&(&s).into(), &paths, wavelength, &mut scratch);
+            let b = radiance_packet_unspecialised(&(&s).into(), &paths, wavelength, &mut scratch);
             assert_eq!(a, b);
             for l in 0..n {
                 let ray = s.camera.ray(xs[l], y, 400, 400);

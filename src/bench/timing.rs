@@ -147,7 +147,7 @@ pub fn packet_frame(scene: &Scene, width: u32, height: u32, kernel: PacketKernel
             let mut scratch = PacketScratch::default();
             centre_packets(scene, width, height, band, true, |p, hits, n| {
                 let c = kernel(
-                    scene,
+                    &scene.into(),
                     &PacketPaths::camera(p, hits, n),
                     crate::optics::WAVELENGTH_D_UM,
                     &mut scratch,

@@ -3,7 +3,8 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
-use lensview::render::caustics::{CausticSettings, render_photons, with_caustics};
+use lensview::integrator::Lit;
+use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
 use lensview::render::{ImageFormat, RenderSettings, render};
 use lensview::{files, limits, output};
 use std::path::PathBuf;
@@ -63,18 +64,22 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
-    let scene = with_caustics(&scene, passes, photon_settings);
+    let map = caustic_map(&scene, passes, photon_settings);
     let photon_secs = start.elapsed().as_secs_f64();
-    let img = render(&scene, &settings, callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)));
+    let img = render(
+        Lit::new(&scene, map.as_ref()),
+        &settings,
+        callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)),
+    );
     let secs = start.elapsed().as_secs_f64();
     progress.finish();
     img.write_as(&a.output, format)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
-    let photons = match &scene.caustic_map {
+    let photons = match &map {
         Some(m) => format!(
             ", caustics: {} photon passes in {photon_secs:.3} s, {} photons",
-            m.0.passes(),
-            m.0.photons()
+            m.passes(),
+            m.photons()
         ),
         None => String::new(),
     };

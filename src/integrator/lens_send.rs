@@ -9,6 +9,7 @@
 // Lane loops index several arrays by the lane: the form the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
 
+use super::Lit;
 use super::PacketPaths;
 use super::lens_pass::{LensPasses, Transmitted, chain};
 use super::packet::{Extra, Gather, Onward, further};
@@ -18,7 +19,7 @@ use super::shade::{
 use super::surface::Surface;
 use crate::color::Rgb;
 use crate::geometry::{Inside, Lens, Pruning};
-use crate::scene::{Object, Scene};
+use crate::scene::Object;
 use crate::simd::{LANES, Lanes, lane, live_lanes, mask, with_avx2};
 
 /// [`send_onward`](super::packet) for the lanes whose passes through a lens
@@ -32,7 +33,7 @@ use crate::simd::{LANES, Lanes, lane, live_lanes, mask, with_avx2};
 /// colours take nothing until the rays come back.
 #[inline(never)]
 pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Scene,
+    scene: &Lit,
     paths: &PacketPaths,
     surfaces: &[Option<Surface>; LANES],
     passes: &LensPasses,
@@ -95,7 +96,7 @@ pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MI
 /// lanes whose refracted rays are left to the scalar steps.
 #[inline(always)]
 fn lens_onward_impl(
-    scene: &Scene,
+    scene: &Lit,
     (index, object): (usize, &Object),
     passes: &LensPasses,
     paths: &PacketPaths,
@@ -142,7 +143,7 @@ fn lens_onward_impl(
 with_avx2! {
     /// [`lens_onward_impl`], built for AVX2 where the CPU has it.
     fn lens_onward / lens_onward_avx2 => lens_onward_impl(
-        scene: &Scene,
+        scene: &Lit,
         lens: (usize, &Object),
         passes: &LensPasses,
         paths: &PacketPaths,
@@ -154,7 +155,7 @@ with_avx2! {
 /// A lane of [`send_through_lens`] entering a lens at its surface `s`
 /// (transmitted share `kt`).
 struct LensLane<'a, 's> {
-    scene: &'a Scene,
+    scene: &'a Lit<'a>,
     s: &'a Surface<'s>,
     depth: u32,
     weight: f64,
@@ -205,6 +206,7 @@ mod tests {
     use crate::math::Ray;
     use crate::optics::WAVELENGTH_D_UM;
     use crate::sampling::Sampler;
+    use crate::scene::Scene;
     use crate::trace::{NO_OBJECT, Packet, closest_hits};
     use glam::DVec3;
 
@@ -247,10 +249,14 @@ mod tests {
                     depth,
                     weight,
                 };
-                let got = radiance_packet(&scene, &paths, WAVELENGTH_D_UM, &mut scratch);
+                let got = radiance_packet(&(&scene).into(), &paths, WAVELENGTH_D_UM, &mut scratch);
                 for (l, ray) in rays.iter().enumerate() {
                     let (f, w) = (scene.features, weight[l]);
-                    let want = with_features!(f, kernel, (&scene, ray, usize::MAX, depth[l], WAVELENGTH_D_UM, w));
+                    let want = with_features!(
+                        f,
+                        kernel,
+                        (&(&scene).into(), ray, usize::MAX, depth[l], WAVELENGTH_D_UM, w)
+                    );
                     assert_eq!(got[l].to_array().map(f64::to_bits), want.to_array().map(f64::to_bits));
                     entered += usize::from(hits.object[l] as usize == index);
                 }

@@ -9,12 +9,13 @@
 // Lane loops index several arrays by the lane: the form the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
 
+use super::Lit;
 use super::PacketPaths;
 use super::shade::{ambient, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong};
 use super::surface::{Surface, outward, shadow_ray_from, surface};
 use crate::color::Rgb;
 use crate::light::{Light, LightLanes};
-use crate::scene::Scene;
+
 use crate::simd::{LANES, Lanes, lane, live_lanes, mask, set_lane};
 use crate::trace::{NO_OBJECT, Packet, transmittances};
 
@@ -74,7 +75,7 @@ impl SurfaceLanes {
 /// lane hit.
 #[inline(always)]
 pub(super) fn local_shading<'s, const GLASS: bool>(
-    scene: &'s Scene,
+    scene: &'s Lit<'s>,
     paths: &PacketPaths,
     surfaces: &mut [Option<Surface<'s>>; LANES],
     at: &mut SurfaceLanes,
@@ -106,7 +107,7 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
 /// the lobe cosines; the Phong terms lane by lane where the lobe is on.
 #[inline(always)]
 pub(super) fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
-    scene: &Scene,
+    scene: &Lit,
     p: &Packet,
     at: &SurfaceLanes,
     light: &Light,

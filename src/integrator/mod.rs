@@ -49,6 +49,7 @@ macro_rules! with_features {
 
 mod lens_pass;
 mod lens_send;
+mod lit;
 mod local;
 mod packet;
 mod photons;
@@ -58,6 +59,7 @@ mod surface;
 mod system_pass;
 
 pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
+pub use lit::Lit;
 pub use packet::PacketScratch;
 pub use photons::{Targets, photon_pass, photons_per_light};
 pub use shade::{GHOST_ROULETTE, LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
@@ -65,7 +67,6 @@ pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 
 use crate::color::Rgb;
 use crate::math::Ray;
-use crate::scene::Scene;
 use crate::simd::{LANES, Lanes};
 use crate::trace::{Packet, PacketHits};
 use packet::packet_kernel;
@@ -80,7 +81,9 @@ use scalar::kernel;
 /// specular term — not even a test per hit.
 ///
 /// [`Features`]: crate::scene::Features
-pub fn radiance(scene: &Scene, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
+pub fn radiance<'a>(scene: impl Into<Lit<'a>>, ray: &Ray, depth: u32, lambda_um: f64) -> Rgb {
+    let lit = scene.into();
+    let scene = &lit;
     let f = scene.features;
     with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
 }
@@ -114,12 +117,7 @@ impl<'a> PacketPaths<'a> {
 /// reflected rays of the lanes traced as packets too.
 /// `scratch` is working memory kept from packet to packet (one per thread
 /// of work): it holds no result between calls.
-pub fn radiance_packet(
-    scene: &Scene,
-    paths: &PacketPaths,
-    lambda_um: f64,
-    scratch: &mut PacketScratch,
-) -> [Rgb; LANES] {
+pub fn radiance_packet(scene: &Lit, paths: &PacketPaths, lambda_um: f64, scratch: &mut PacketScratch) -> [Rgb; LANES] {
     let mut out = [Rgb::ZERO; LANES];
     radiance_packet_into(scene, paths, lambda_um, scratch, &mut out);
     out
@@ -128,7 +126,7 @@ pub fn radiance_packet(
 /// [`radiance_packet`] written into `out` (every lane: zero where not live).
 #[inline]
 pub fn radiance_packet_into(
-    scene: &Scene,
+    scene: &Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -141,7 +139,7 @@ pub fn radiance_packet_into(
 /// [`radiance_packet`] with every feature compiled in: what a renderer that
 /// does not specialise would run. For benchmarks of the savings.
 pub fn radiance_packet_unspecialised(
-    scene: &Scene,
+    scene: &Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -152,4 +150,4 @@ pub fn radiance_packet_unspecialised(
 }
 
 /// The signature of [`radiance_packet`] and [`radiance_packet_unspecialised`].
-pub type PacketKernel = fn(&Scene, &PacketPaths, f64, &mut PacketScratch) -> [Rgb; LANES];
+pub type PacketKernel = fn(&Lit, &PacketPaths, f64, &mut PacketScratch) -> [Rgb; LANES];

@@ -3,6 +3,7 @@
 //! The packet kernel (`packet.rs`) runs the same steps over the lanes of a
 //! packet.
 
+use super::Lit;
 use super::lens_pass::{Transmitted, transmitted_rays};
 use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
@@ -12,12 +13,12 @@ use crate::geometry::{LensSystem, Pruning};
 use crate::light::LightSample;
 use crate::math::Ray;
 use crate::optics::fresnel_at;
-use crate::scene::Scene;
+
 use crate::trace::{closest_hit_skip, transmittance_skip};
 use glam::DVec3;
 
 pub(super) fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Scene,
+    scene: &Lit,
     ray: &Ray,
     skip: usize,
     depth: u32,
@@ -32,7 +33,7 @@ pub(super) fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool,
 /// Light `j`'s sample at the surface and, with shadows, the transmittance
 /// of the shadow ray toward it, traced alone (one without shadows).
 #[inline]
-fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
+fn lit_by<const SHADOWS: bool>(scene: &Lit, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
     let ls = light_at(s, &scene.lights[j])?;
     if !(SHADOWS && scene.shadows) {
         return Some((ls, Rgb::ONE));
@@ -47,7 +48,7 @@ fn lit_by<const SHADOWS: bool>(scene: &Scene, j: usize, s: &Surface) -> Option<(
 /// packet.
 #[inline(always)]
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Scene,
+    scene: &Lit,
     ray: &Ray,
     hit: Option<&Surface>,
     depth: u32,
@@ -109,7 +110,7 @@ impl Refraction for Alone {
 
 /// One ray's [`Tracer`]: each ray sent on traced at once by the kernel.
 struct AtOnce<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
-    scene: &'a Scene,
+    scene: &'a Lit<'a>,
     lambda_um: f64,
 }
 

@@ -4,6 +4,7 @@
 //! [`light_matters`] deciding whether a packet traces its shadow ray)
 //! and the rays sent on ([`shade_onward`], [`Secondary`]).
 
+use super::Lit;
 use super::lens_pass::Transmitted;
 use super::surface::{Surface, spawn_ray};
 use crate::color::Rgb;
@@ -132,18 +133,18 @@ pub(super) fn light_matters<const SPECULAR: bool>(
 /// The ambient term at the surface, and the caustic photons' light there
 /// when the scene has a photon map: where local shading starts.
 #[inline(always)]
-pub(super) fn ambient<const GLASS: bool>(scene: &Scene, s: &Surface) -> Rgb {
+pub(super) fn ambient<const GLASS: bool>(scene: &Lit, s: &Surface) -> Rgb {
     let m = &s.object.material;
     let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
     let mut color = Rgb::ZERO;
     color += m.color * scene.ambient * (m.ambient * opacity);
     let kd = diffuse_share::<GLASS>(m);
-    if let Some(map) = &scene.caustic_map
+    if let Some(map) = scene.caustics
         && kd > 0.0
     {
         // The caustic irradiance, lit like a light's: `kd·C·E` (not
         // gathered where it would be multiplied by zero: clear glass).
-        color += m.color * map.0.irradiance(s.p, s.nf) * kd;
+        color += m.color * map.irradiance(s.p, s.nf) * kd;
     }
     color
 }

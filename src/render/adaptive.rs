@@ -11,8 +11,8 @@
 
 use super::sparse::{Batch, FirstHit};
 use crate::color::Rgb;
+use crate::integrator::Lit;
 use crate::sampling::{Pattern, pixel_offset};
-use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
@@ -137,7 +137,7 @@ impl Adaptive {
     /// `cancelled()` turned true (then `new` is partly written).
     pub(super) fn wave(
         &self,
-        scene: &Scene,
+        scene: &Lit,
         (w, h, seed, pattern): (usize, usize, u64, Pattern),
         target: u32,
         (old, new): (&Sums, SumsMut),

@@ -1,6 +1,6 @@
 //! The caustic estimate of a scene, refined pass by pass ([`Caustics`]):
 //! what the render thread interleaves with camera samples, and what
-//! `lensview render` runs before its samples ([`with_caustics`]): photons
+//! `lensview render` runs before its samples ([`caustic_map`]): photons
 //! in proportion to the camera's work ([`PHOTON_SHARE`]), at most
 //! [`PASSES_PER_SPP`] passes per sample.
 //!
@@ -11,7 +11,7 @@
 
 use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::limits::{PHOTON_WORK, Work};
-use crate::photon::{PhotonMap, SharedMap, initial_radius};
+use crate::photon::{PhotonMap, initial_radius};
 use crate::render::progressive::Stage;
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -63,7 +63,7 @@ impl Default for CausticSettings {
 pub struct Caustics {
     targets: Targets,
     settings: CausticSettings,
-    map: Option<Arc<PhotonMap>>,
+    map: Option<PhotonMap>,
     /// Photons a pass traces (all lights), and traced so far.
     per_pass: u64,
     traced: u64,
@@ -115,9 +115,7 @@ impl Caustics {
         self.per_pass
     }
 
-    /// Shoots one more pass and adds it. The map is changed in place when
-    /// no scene holds it any more (drop [`Self::shared`]'s copies first),
-    /// else copied.
+    /// Shoots one more pass and adds it (in place).
     pub fn add_pass(&mut self, scene: &Scene) {
         let pass = self.passes() + 1;
         let s = self.settings;
@@ -128,15 +126,21 @@ impl Caustics {
                 .initial_radius
                 .or_else(|| initial_radius(&photons, FIRST_PASS_NEIGHBOURS, floor))
                 .unwrap_or(1e-3);
-            Arc::new(PhotonMap::new(r0))
+            PhotonMap::new(r0)
         });
-        Arc::make_mut(map).add_pass(&photons);
+        map.add_pass(&photons);
         self.traced += self.per_pass;
     }
 
-    /// The map as a scene holds it (`None` before the first pass).
-    pub fn shared(&self) -> Option<SharedMap> {
-        self.map.clone().map(SharedMap)
+    /// The map, for the kernels to shade with beside the scene
+    /// (`integrator::Lit`; `None` before the first pass).
+    pub fn map(&self) -> Option<&PhotonMap> {
+        self.map.as_ref()
+    }
+
+    /// The map, kept (`None` before the first pass).
+    pub fn into_map(self) -> Option<PhotonMap> {
+        self.map
     }
 }
 
@@ -187,20 +191,18 @@ pub fn render_photons(scene: &Scene, (width, height): (u32, u32), spp: u32, sett
     })
 }
 
-/// `scene` with its caustic map after `passes` passes (the scene itself,
-/// copied, when it computes no caustics). The same on any thread count.
-pub fn with_caustics(scene: &Scene, passes: u32, settings: CausticSettings) -> Scene {
-    let mut out = scene.clone();
-    if let Some(mut c) = Caustics::new(scene, settings) {
-        for _ in 0..passes {
-            if !c.can_refine() {
-                break;
-            }
-            c.add_pass(scene);
+/// `scene`'s caustic map after `passes` passes (`None` when it computes no
+/// caustics), to render with beside it (`integrator::Lit`). The same on
+/// any thread count.
+pub fn caustic_map(scene: &Scene, passes: u32, settings: CausticSettings) -> Option<PhotonMap> {
+    let mut c = Caustics::new(scene, settings)?;
+    for _ in 0..passes {
+        if !c.can_refine() {
+            break;
         }
-        out.caustic_map = c.shared();
+        c.add_pass(scene);
     }
-    out
+    c.into_map()
 }
 
 /// The caustics the render thread keeps from job to job: one photon map
@@ -219,42 +221,6 @@ pub struct Interleaved {
     /// The latest stage's photon-pass and gather times, seconds (the
     /// photon passes before the stage, zero for a stage without any).
     times: (f64, f64),
-    /// The job's scene holding the map, what stages render: kept from stage
-    /// to stage and from job to job, so that a stage hands it a new map
-    /// (one `Arc`) and a camera move copies the camera into it, never the
-    /// objects again ([`refresh`]).
-    with_map: Option<Scene>,
-}
-
-/// Makes `copy` equal to `from`, copying the objects (and what is built
-/// from them) only when they differ (not compared again when the caller
-/// already knows them equal: `objects_equal`); the map it holds stays.
-/// Every field is named, so a new one cannot be forgotten.
-fn refresh(copy: &mut Scene, from: &Scene, objects_equal: bool) {
-    let Scene {
-        camera,
-        ambient,
-        lights,
-        objects,
-        background,
-        max_depth,
-        shadows,
-        spp,
-        caustics,
-        caustic_map: _,
-        features,
-        bvh,
-        others_bounds,
-    } = from;
-    if !objects_equal && copy.objects != *objects {
-        copy.objects.clone_from(objects);
-        copy.bvh.clone_from(bvh);
-        copy.others_bounds.clone_from(others_bounds);
-    }
-    copy.camera = camera.clone();
-    copy.lights.clone_from(lights);
-    (copy.ambient, copy.background, copy.max_depth) = (*ambient, *background, *max_depth);
-    (copy.shadows, copy.spp, copy.caustics, copy.features) = (*shadows, *spp, *caustics, *features);
 }
 
 impl Interleaved {
@@ -275,16 +241,6 @@ impl Interleaved {
             self.caustics = Caustics::new(scene, CausticSettings::default());
             self.credit = 0.0;
         }
-        match (&self.caustics, &mut self.with_map) {
-            (None, w) => *w = None,
-            // `with_map` holds the previous job's objects: `same` compared them.
-            (Some(_), Some(w)) => refresh(w, scene, same),
-            (Some(_), w) => *w = Some(Scene::clone(scene)),
-        }
-        // Until the next stage the map is held only by `caustics`.
-        if let Some(w) = &mut self.with_map {
-            w.caustic_map = None;
-        }
         self.scene = Some(scene.clone());
     }
 
@@ -296,10 +252,6 @@ impl Interleaved {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
-        // The map is then held only by `c` and grows in place.
-        if let Some(w) = &mut self.with_map {
-            w.caustic_map = None;
-        }
         let start = std::time::Instant::now();
         self.credit += photon_allowance(camera_work);
         let per_pass = c.photons_per_pass() as f64;
@@ -324,18 +276,10 @@ impl Interleaved {
         }
     }
 
-    /// The scene to render with: the job's `job` (what [`Self::follow`]
-    /// took) holding the current map, or `job` itself when there is none.
-    /// Nothing but the map's `Arc` is copied.
-    pub fn scene<'a>(&'a mut self, job: &'a Scene) -> &'a Scene {
-        let map = self.caustics.as_ref().and_then(Caustics::shared);
-        match (&mut self.with_map, map) {
-            (Some(w), Some(map)) => {
-                w.caustic_map = Some(map);
-                w
-            }
-            _ => job,
-        }
+    /// The photon map to shade with beside the job's scene (`None` before
+    /// the first pass, or when the scene computes no caustics).
+    pub fn map(&self) -> Option<&PhotonMap> {
+        self.caustics.as_ref().and_then(Caustics::map)
     }
 
     /// Passes and photons of the current map (zero without one).
@@ -400,12 +344,8 @@ mod tests {
         let job = Arc::new(moved.clone());
         it.follow(&job, true);
         assert_eq!(it.counts(), (passes, photons));
-        let shown = it.scene(&job);
-        assert!(!std::ptr::eq(shown, &*job), "the job's scene has no map");
-        let mut want = moved.clone();
-        want.caustic_map = shown.caustic_map.clone();
-        assert_eq!(*shown, want, "the job's scene, camera and all, with the map");
-        assert_eq!(shown.caustic_map.as_ref().unwrap().0.passes(), passes);
+        let map = it.map().expect("a map after a pass");
+        assert_eq!((map.passes(), map.photons()), (passes, photons));
         let mut lit = base.clone();
         if let crate::light::Light::Point { position, .. } = &mut lit.lights[0] {
             position.x += 0.5;
@@ -413,41 +353,10 @@ mod tests {
         let lit = Arc::new(lit);
         it.follow(&lit, false);
         assert_eq!(it.counts(), (0, 0));
-        assert!(std::ptr::eq(it.scene(&lit), &*lit));
+        assert!(it.map().is_none(), "no map before the new light's first pass");
         // Cancelled: no pass.
         it.refine(work_for(&base, 4.0), &|| true);
         assert_eq!(it.counts(), (0, 0));
-    }
-
-    /// Nothing large is copied per stage or per camera move: the scene a
-    /// stage renders keeps its objects through a camera move, and the map
-    /// grows in place between stages (a copy would be a new allocation).
-    #[test]
-    fn stages_copy_neither_the_objects_nor_the_map() {
-        let base = focal_spot();
-        let mut it = Interleaved::default();
-        let job = Arc::new(base.clone());
-        it.follow(&job, false);
-        it.refine(work_for(&base, 0.5), &|| false);
-        let objects = it.scene(&job).objects.as_ptr();
-        let map = |s: &Scene| Arc::as_ptr(&s.caustic_map.as_ref().unwrap().0);
-        let before = map(it.scene(&job));
-        it.refine(work_for(&base, 3.0), &|| false);
-        assert_eq!(map(it.scene(&job)), before, "the map was copied to grow");
-        assert_eq!(it.counts().0, 3);
-        let mut moved = base.clone();
-        moved.camera.position.y += 0.5;
-        let job = Arc::new(moved);
-        it.follow(&job, true);
-        let shown = it.scene(&job);
-        assert_eq!(shown.objects.as_ptr(), objects, "a camera move copied the objects");
-        assert_eq!(shown.camera, job.camera);
-        let mut edited = base;
-        edited.objects[0].material.diffuse *= 0.5;
-        let job = Arc::new(edited);
-        it.follow(&job, false);
-        it.refine(work_for(&job, 0.5), &|| false);
-        assert_eq!(it.scene(&job).objects, job.objects);
     }
 
     /// Issue 29.3: a stage's passes are those its camera work affords
@@ -487,8 +396,8 @@ mod tests {
     fn headless_passes_follow_the_samples() {
         assert_eq!(passes_for_spp(1), MIN_PASSES);
         assert_eq!(passes_for_spp(64), 64 * PASSES_PER_SPP);
-        let s = with_caustics(&focal_spot(), 3, CausticSettings::default());
-        assert_eq!(s.caustic_map.unwrap().0.passes(), 3);
+        let map = caustic_map(&focal_spot(), 3, CausticSettings::default());
+        assert_eq!(map.expect("a photon map").passes(), 3);
     }
 
     /// Issue 30.2: the photons a render traces are capped (passes cut to

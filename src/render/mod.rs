@@ -19,6 +19,7 @@ pub use image::{Image, ImageFormat};
 pub use sparse::{FirstHit, Seen};
 
 use crate::color::Rgb;
+use crate::integrator::Lit;
 use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::{Pattern, pixel_offset};
@@ -40,7 +41,9 @@ pub struct RenderSettings {
 
 /// Radiance of one camera sample at continuous pixel position `(x, y)`.
 #[inline]
-pub fn sample(scene: &Scene, x: f64, y: f64, width: u32, height: u32) -> Rgb {
+pub fn sample<'a>(scene: impl Into<Lit<'a>>, x: f64, y: f64, width: u32, height: u32) -> Rgb {
+    let lit = scene.into();
+    let scene = &lit;
     let ray = scene.camera.ray(x, y, width, height);
     if scene.features.dispersion {
         let mut c = Rgb::ZERO;
@@ -59,7 +62,7 @@ pub fn sample(scene: &Scene, x: f64, y: f64, width: u32, height: u32) -> Rgb {
 /// call to call.
 #[inline]
 pub fn sample_packet(
-    scene: &Scene,
+    scene: &Lit,
     xs: &[f64; LANES],
     ys: &[f64; LANES],
     n: usize,
@@ -77,7 +80,7 @@ pub fn sample_packet(
 /// written into `out` (lanes from `n` on: zero).
 #[inline]
 fn shade_camera_packet(
-    scene: &Scene,
+    scene: &Lit,
     p: &Packet,
     hits: &PacketHits,
     n: usize,
@@ -107,7 +110,7 @@ fn shade_camera_packet(
 /// of eight pixels by the band's rows ([`camera_tile_hits`]), each row of
 /// a tile a packet; every pixel gets exactly what [`sample`] gives it.
 pub fn add_band_samples(
-    scene: &Scene,
+    scene: &Lit,
     y0: u32,
     (i, pattern): (u32, Pattern),
     s: &RenderSettings,
@@ -213,7 +216,9 @@ pub struct BandMemory {
 
 /// The mean of `spp` samples of pixel `(px, py)` at the points of
 /// [`Pattern::R2`] (sample 0: the pixel centre), traced one by one.
-pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb {
+pub fn render_pixel<'a>(scene: impl Into<Lit<'a>>, px: u32, py: u32, s: &RenderSettings) -> Rgb {
+    let lit = scene.into();
+    let scene = &lit;
     let pixel = py as u64 * s.width as u64 + px as u64;
     let mut sum = Rgb::ZERO;
     for i in 0..s.spp.max(1) {
@@ -228,7 +233,7 @@ pub fn render_pixel(scene: &Scene, px: u32, py: u32, s: &RenderSettings) -> Rgb 
 
 /// Renders the whole image in parallel bands of [`TILE`] rows. `progress` is called with the
 /// fraction of rows done (from worker threads, at most about 100 times).
-pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>) -> Image {
+pub fn render<'a>(scene: impl Into<Lit<'a>>, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>) -> Image {
     let mut img = Image::new(0, 0);
     render_into(scene, s, progress, &mut img);
     img
@@ -237,7 +242,14 @@ pub fn render(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) 
 /// [`render`] into `img`, whose buffer is kept when it is large enough (as
 /// a viewer keeps its frame from frame to frame): every pixel is written,
 /// so nothing is cleared first.
-pub fn render_into(scene: &Scene, s: &RenderSettings, progress: Option<&(dyn Fn(f64) + Sync)>, img: &mut Image) {
+pub fn render_into<'a>(
+    scene: impl Into<Lit<'a>>,
+    s: &RenderSettings,
+    progress: Option<&(dyn Fn(f64) + Sync)>,
+    img: &mut Image,
+) {
+    let lit = scene.into();
+    let scene = &lit;
     (img.width, img.height) = (s.width, s.height);
     img.pixels.resize(s.width as usize * s.height as usize, Rgb::ZERO);
     if s.width == 0 || s.height == 0 {

@@ -12,6 +12,7 @@
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits, sample_packet};
 use crate::color::{Rgb, Srgb8};
+use crate::integrator::Lit;
 use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
 use crate::scene::Scene;
@@ -221,7 +222,9 @@ impl Progressive {
     /// is traced at the block size `level(pixels left)` picks (1: each
     /// pixel's centre). Returns `false`, changing nothing, when there is no
     /// picture to move (nothing refined yet, or only block levels).
-    pub fn reproject(&mut self, scene: &Scene, from: &Scene, level: impl Fn(usize) -> u32) -> bool {
+    pub fn reproject<'a>(&mut self, scene: impl Into<Lit<'a>>, from: &Scene, level: impl Fn(usize) -> u32) -> bool {
+        let lit = scene.into();
+        let scene = &lit;
         use super::reproject::{Source, fill, warp};
         let n = self.width as usize * self.height as usize;
         if !(self.spp > 0 || self.reprojected) || n == 0 {
@@ -317,7 +320,9 @@ impl Progressive {
 
     /// Renders one stage. Returns `false` (leaving the image as it was
     /// before the stage for sample stages) if `cancelled()` turned true.
-    pub fn run(&mut self, scene: &Scene, stage: Stage, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+    pub fn run<'a>(&mut self, scene: impl Into<Lit<'a>>, stage: Stage, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+        let lit = scene.into();
+        let scene = &lit;
         let (w, h) = (self.width as usize, self.height as usize);
         if w == 0 || h == 0 {
             return true;
@@ -363,7 +368,7 @@ impl Progressive {
     /// after the first sample) a wave over the pixels that need it. The
     /// sums are replaced only when the whole stage completes; a cancelled
     /// stage leaves them untouched.
-    fn run_samples(&mut self, scene: &Scene, target: u32, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+    fn run_samples(&mut self, scene: &Lit, target: u32, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
         let from = self.spp;
         if target <= from {
             return true;
@@ -423,7 +428,7 @@ impl Progressive {
     /// cast, or `None` if cancelled.
     fn every_pixel(
         &mut self,
-        scene: &Scene,
+        scene: &Lit,
         from: u32,
         target: u32,
         (next, next_sq, next_count): (&mut [Rgb], &mut [[f32; 3]], &mut [u32]),

@@ -6,6 +6,7 @@
 
 use super::{BandMemory, shade_camera_packet};
 use crate::color::Rgb;
+use crate::integrator::Lit;
 use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::simd::Lanes;
@@ -149,7 +150,7 @@ impl Batch {
     /// Adds the camera sample at continuous position `(x, y)` whose result
     /// goes to `dst`; casts the tile when it is full.
     #[inline]
-    pub fn push(&mut self, scene: &Scene, (w, h): (u32, u32), (x, y): (f64, f64), dst: u32, sink: &mut impl Sink) {
+    pub fn push(&mut self, scene: &Lit, (w, h): (u32, u32), (x, y): (f64, f64), dst: u32, sink: &mut impl Sink) {
         self.xs[self.rows][self.lane] = x;
         self.ys[self.rows][self.lane] = y;
         self.dst[self.rows][self.lane] = dst;
@@ -164,7 +165,7 @@ impl Batch {
     }
 
     /// Casts every point pushed so far.
-    pub fn flush(&mut self, scene: &Scene, (w, h): (u32, u32), sink: &mut impl Sink) {
+    pub fn flush(&mut self, scene: &Lit, (w, h): (u32, u32), sink: &mut impl Sink) {
         let packets = self.rows + usize::from(self.lane > 0);
         if packets == 0 {
             return;

@@ -12,6 +12,7 @@ use super::caustics::{CausticStats, Interleaved, stage_work};
 use super::first_frame::{Costs, First};
 use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
+use crate::integrator::Lit;
 use crate::scene::{Change, Scene};
 use crossbeam_channel::{Receiver, Sender, unbounded};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -230,12 +231,12 @@ enum Start {
 /// full-resolution sample) where [`Costs::choose`] finds that sharper
 /// within the budget; otherwise a fresh start at the first stage that fits
 /// the budget. `shown` is the scene whose picture `prog` holds; the holes
-/// are traced in `traced` (the job's scene with its photon map).
+/// are traced in `traced` (the job's scene with its photon map beside it).
 fn start(
     prog: &mut Progressive,
     shown: &mut Held,
     job: &Job,
-    traced: &Scene,
+    traced: Lit,
     stages: &[Stage],
     costs: &mut Costs,
 ) -> Start {
@@ -356,7 +357,7 @@ fn run(
             }
             ok
         };
-        let traced = caustics.scene(&job.scene);
+        let traced = Lit::new(&job.scene, caustics.map());
         let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
             Start::Moved(dt) => {
                 if !send(
@@ -451,7 +452,7 @@ fn run_stage(
     );
     let traced = Instant::now();
     caustics.gather_clock(false);
-    if !prog.run(caustics.scene(scene), stage, cancelled) {
+    if !prog.run(Lit::new(scene, caustics.map()), stage, cancelled) {
         return None;
     }
     caustics.gather_clock(true);

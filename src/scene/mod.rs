@@ -204,7 +204,7 @@ pub struct Features {
     /// Caustics by photon mapping: on by `[render] caustics`, or by default
     /// when glass or a mirror and a light are present. Shadow rays then stop
     /// at glass ([`Scene::shadow_filter`]): light through it arrives as
-    /// photons ([`Scene::caustic_map`]).
+    /// photons (the map the kernels get beside the scene: `integrator::Lit`).
     pub caustics: bool,
 }
 
@@ -238,9 +238,6 @@ pub struct Scene {
     /// `[render] caustics` as written (`None`: the default, see
     /// [`Features::caustics`]).
     pub caustics: Option<bool>,
-    /// The caustic photon map shading adds (`kd·C·E`), when one has been
-    /// built for this scene (`crate::render::caustics`); `None` adds nothing.
-    pub caustic_map: Option<crate::photon::SharedMap>,
     /// What the scene uses ([`Scene::compile`]).
     pub features: Features,
     /// A BVH over `objects` when there are at least [`BVH_MIN_OBJECTS`].
@@ -405,7 +402,6 @@ impl Scene {
             shadows,
             spp,
             caustics,
-            caustic_map: None,
             features: Features::ALL,
             bvh: None,
             others_bounds: Vec::new(),

@@ -208,7 +208,7 @@ impl Refine {
         let msg = format!("saving {} ({w}×{h}, {spp} spp)…", name.display());
         std::thread::spawn(move || {
             let mut p = Progressive::new(w, h, 0);
-            p.run(&scene, Stage::Samples(spp), &|| false);
+            p.run(&*scene, Stage::Samples(spp), &|| false);
             match p.image().write_as(&name, format) {
                 Ok(()) => eprintln!("saved {}", name.display()),
                 Err(e) => eprintln!("error: {e}"),

@@ -3,8 +3,8 @@
 //! with the holes between block centres interpolated.
 
 use crate::color::Rgb;
+use crate::integrator::Lit;
 use crate::render::sparse::{Batch, FirstHit, Seen};
-use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
@@ -14,7 +14,15 @@ use rayon::prelude::*;
 /// sample at the centre of each `block × block` block holding some (the
 /// point a block level samples), from which they are interpolated.
 /// Returns the samples cast.
-pub fn fill(scene: &Scene, (w, h): (u32, u32), block: u32, out: &mut [Rgb], first: &mut [FirstHit]) -> u64 {
+pub fn fill<'a>(
+    scene: impl Into<Lit<'a>>,
+    (w, h): (u32, u32),
+    block: u32,
+    out: &mut [Rgb],
+    first: &mut [FirstHit],
+) -> u64 {
+    let lit = scene.into();
+    let scene = &lit;
     if block <= 1 {
         return pixels(scene, (w, h), out, first);
     }
@@ -90,7 +98,7 @@ fn interpolate(coarse: &[Option<Rgb>], (bw, bh): (usize, usize), n: usize, (x, y
 }
 
 /// [`fill`] at each hole's centre, in bands of [`TILE`] rows.
-fn pixels(scene: &Scene, (w, h): (u32, u32), out: &mut [Rgb], first: &mut [FirstHit]) -> u64 {
+fn pixels(scene: &Lit, (w, h): (u32, u32), out: &mut [Rgb], first: &mut [FirstHit]) -> u64 {
     let wu = w as usize;
     out.par_chunks_mut(wu * TILE)
         .zip(first.par_chunks_mut(wu * TILE))
