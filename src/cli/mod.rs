@@ -40,11 +40,19 @@ pub use view::ViewArgs;
 #[command(
     name = "lensview",
     version,
-    about = "A ray tracer that shows how a thick biconvex glass lens distorts a 3D scene"
+    about = "A ray tracer that shows how a glass lens, or a system of them, distorts a 3D scene",
+    long_about = "A ray tracer that shows how a glass lens, or a system of them, distorts a 3D scene.\n\n\
+                  `lensview [SCENE] [VIEW OPTIONS]` opens the viewer on SCENE (the embedded default \
+                  without one), as `lensview view` does.",
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Without a command: the viewer, with `view`'s arguments.
+    #[command(flatten)]
+    pub view: ViewArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -57,7 +65,7 @@ pub enum Command {
     Converge(ConvergeArgs),
     /// Performance: time against image size and object count, ray throughput, feature costs.
     Bench(BenchArgs),
-    /// Exact lens optics: real rays (`trace`) and paraxial data (`info`).
+    /// Exact lens optics: real rays (`trace`), paraxial data (`info`, `system`), figures (`fan`, `spot`, `distortion`).
     #[command(subcommand)]
     Lens(LensCommand),
 }
@@ -72,16 +80,43 @@ pub fn load_scene(path: Option<&Path>) -> Result<(SceneFile, Scene)> {
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        None => view::view(ViewArgs {
-            max_spp: 64,
-            width: 1280,
-            height: 720,
-            ..Default::default()
-        }),
+        None => view::view(cli.view),
         Some(Command::View(a)) => view::view(a),
         Some(Command::Render(a)) => render::render_cmd(a),
         Some(Command::Converge(a)) => converge::converge(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Lens(c)) => lens::lens(c),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 33.7: `lensview SCENE` and `lensview --exit-after N` open the
+    /// viewer as `lensview view …` does, with the same defaults; a command
+    /// still wins where one is named.
+    #[test]
+    fn the_viewers_arguments_work_without_view() {
+        let parse = |args: &[&str]| Cli::try_parse_from(args).expect("parses");
+        let bare = parse(&["lensview", "scenes/cubes.toml", "--exit-after", "2", "--no-panel"]);
+        assert!(bare.command.is_none());
+        assert_eq!(bare.view.scene.as_deref(), Some(Path::new("scenes/cubes.toml")));
+        assert_eq!(bare.view.exit_after, Some(2.0));
+        assert!(bare.view.no_panel);
+        let Some(Command::View(v)) = parse(&["lensview", "view", "scenes/cubes.toml"]).command else {
+            panic!("`view` is the view command");
+        };
+        let d = parse(&["lensview"]).view;
+        assert_eq!((d.max_spp, d.width, d.height), (v.max_spp, v.width, v.height));
+        assert_eq!((d.max_spp, d.width, d.height), (64, 1280, 720));
+        assert!(matches!(
+            parse(&["lensview", "render"]).command,
+            Some(Command::Render(_))
+        ));
+        assert!(
+            Cli::try_parse_from(["lensview", "scenes/cubes.toml", "render"]).is_err(),
+            "a scene and a command together"
+        );
     }
 }
