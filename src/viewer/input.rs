@@ -143,6 +143,8 @@ impl Viewer {
             Action::ToggleCaustics => s.toggle_caustics(),
             Action::DeleteSelected => s.delete_selected(),
             Action::DuplicateSelected => s.duplicate_selected(),
+            // The help window closes first, as the panel's windows do.
+            Action::Quit if self.display.help => self.display.help = false,
             Action::Quit => s.request_quit(),
             _ => {}
         }

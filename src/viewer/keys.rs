@@ -211,7 +211,7 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         KeyCode::Escape,
         "Esc",
         Action::Quit,
-        "quit (asks first if there are unsaved changes)",
+        "close the open window or question; else quit (asks if there are unsaved changes, else wants a second Esc)",
     ),
 ];
 

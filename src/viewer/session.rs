@@ -44,7 +44,12 @@ pub struct Session {
     /// The line under the panel's buttons and at the foot of the overlay.
     pub message: String,
     out: Outcome,
+    /// When Escape last asked to be pressed again to quit (nothing to lose).
+    quit_armed: Option<std::time::Instant>,
 }
+
+/// How long a second Escape has to quit a session with nothing unsaved.
+pub const QUIT_AGAIN: std::time::Duration = std::time::Duration::from_secs(3);
 
 impl Session {
     pub fn new(doc: Document, ui: UiState) -> Self {
@@ -53,6 +58,7 @@ impl Session {
             ui,
             message: "F2: help  F4: panel".into(),
             out: Outcome::default(),
+            quit_armed: None,
         }
     }
 
@@ -239,17 +245,37 @@ impl Session {
         }
     }
 
-    /// Escape: answers "cancel" to a question or closes the file dialog;
-    /// otherwise quits (asking first if there are unsaved changes).
+    /// Escape: closes what is open first (answers "cancel" to a question,
+    /// closes the file dialog, then the analysis window); otherwise quits:
+    /// with unsaved changes it asks, with none it asks for a second Escape
+    /// within [`QUIT_AGAIN`] (a stray key must not end the session
+    /// without a word).
     pub fn request_quit(&mut self) {
+        self.redraw();
         if self.ui.confirm.take().is_some() {
             self.message = "cancelled".into();
             return;
         }
         if self.ui.file_dialog.take().is_some() {
+            self.message = "closed the file dialog".into();
+            self.quit_armed = None;
             return;
         }
-        self.perform(Pending::Quit, true);
+        if std::mem::take(&mut self.ui.analysis.window) {
+            self.message = "closed the analysis window".into();
+            self.quit_armed = None;
+            return;
+        }
+        if self.doc.has_unsaved_content() {
+            return self.perform(Pending::Quit, true);
+        }
+        match self.quit_armed.take() {
+            Some(t) if t.elapsed() <= QUIT_AGAIN => self.perform(Pending::Quit, false),
+            _ => {
+                self.quit_armed = Some(std::time::Instant::now());
+                self.message = format!("press Esc again to quit (within {} s)", QUIT_AGAIN.as_secs());
+            }
+        }
     }
 
     /// Answers the unsaved-changes question (buttons, or keys S, D, Esc).
@@ -343,13 +369,28 @@ mod tests {
     fn quitting_with_unsaved_changes_asks_first_and_escape_cancels() {
         let mut s = session();
         s.request_quit();
-        assert_eq!(s.take_outcome().commands, [Command::Quit], "nothing to lose: quits");
-        // Flying alone: quits without the question (Save would keep the view).
+        assert!(s.take_outcome().commands.is_empty(), "a stray Escape quit");
+        assert!(s.message.starts_with("press Esc again"), "{}", s.message);
+        s.request_quit();
+        assert_eq!(s.take_outcome().commands, [Command::Quit], "nothing to lose: the second Escape quits");
+        // Flying alone: no question (Save would keep the view), two presses.
         let (p, r) = s.doc.camera_pose();
         s.doc.fly_camera(p + glam::DVec3::X, r).unwrap();
         s.request_quit();
+        s.request_quit();
         assert_eq!(s.ui.confirm, None);
         assert_eq!(s.take_outcome().commands, [Command::Quit], "a flight alone: quits");
+        // A press long ago does not count.
+        s.request_quit();
+        s.quit_armed = Some(std::time::Instant::now() - QUIT_AGAIN * 2);
+        s.request_quit();
+        assert!(s.take_outcome().commands.is_empty(), "an old Escape counted");
+        // Escape closes the analysis window before anything else.
+        s.ui.analysis.window = true;
+        s.request_quit();
+        s.request_quit();
+        assert!(!s.ui.analysis.window);
+        assert!(s.take_outcome().commands.is_empty(), "quit with the analysis window open");
         s.apply_edit(Edit::LensDiameter(0.1));
         s.request_quit();
         assert_eq!(s.ui.confirm, Some(Pending::Quit));
