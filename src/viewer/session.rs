@@ -372,7 +372,11 @@ mod tests {
         assert!(s.take_outcome().commands.is_empty(), "a stray Escape quit");
         assert!(s.message.starts_with("press Esc again"), "{}", s.message);
         s.request_quit();
-        assert_eq!(s.take_outcome().commands, [Command::Quit], "nothing to lose: the second Escape quits");
+        assert_eq!(
+            s.take_outcome().commands,
+            [Command::Quit],
+            "nothing to lose: the second Escape quits"
+        );
         // Flying alone: no question (Save would keep the view), two presses.
         let (p, r) = s.doc.camera_pose();
         s.doc.fly_camera(p + glam::DVec3::X, r).unwrap();
@@ -390,7 +394,10 @@ mod tests {
         s.request_quit();
         s.request_quit();
         assert!(!s.ui.analysis.window);
-        assert!(s.take_outcome().commands.is_empty(), "quit with the analysis window open");
+        assert!(
+            s.take_outcome().commands.is_empty(),
+            "quit with the analysis window open"
+        );
         s.apply_edit(Edit::LensDiameter(0.1));
         s.request_quit();
         assert_eq!(s.ui.confirm, Some(Pending::Quit));
