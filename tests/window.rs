@@ -434,3 +434,63 @@ fn holding_a_key_shows_the_flight_and_converges_after_it() {
     let end = s.frames().into_iter().rev().find(|f| f["generation"] == last).unwrap();
     assert!(dist(pos(&end)) >= *ds.last().unwrap(), "{end}");
 }
+
+/// Issue 33.2: P saves the picture on screen, refined as shown (caustics
+/// and all), as a PNG and a linear EXR in the `--screenshots` folder, and
+/// says where (stderr and the message bar).
+#[test]
+fn p_saves_the_picture_on_screen_with_its_exr() {
+    let (w, h) = (320u32, 240u32);
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, _) = test_dir("screenshot");
+    let shots = dir.join("shots");
+    let _ = std::fs::remove_dir_all(&shots);
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/focal-spot.toml");
+    let (ws, hs, folder) = (w.to_string(), h.to_string(), shots.display().to_string());
+    let args = [
+        "--width",
+        &ws,
+        "--height",
+        &hs,
+        "--max-spp",
+        "4",
+        "--exit-after",
+        "600",
+        "--no-panel",
+        "--screenshots",
+        &folder,
+    ];
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    s.overlay_to("full");
+    s.overlay_to("off");
+    let g = s.wait_frame_where(0, 4, "refined", |f| f["width"] == w && f["x0"] == 0);
+    let on_screen = s.screenshot("on-screen.png");
+    s.key("p");
+    let png = || {
+        std::fs::read_dir(&shots)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "png"))
+    };
+    assert!(
+        wait_until(Duration::from_secs(60), || png()
+            .is_some_and(|p| p.with_extension("exr").exists())),
+        "P wrote no PNG and EXR into {}",
+        shots.display()
+    );
+    let saved = lensview::render::Image::read_png(&png().unwrap()).expect("a PNG");
+    assert_eq!((saved.width, saved.height), (w, h));
+    let d = diff(&saved, &on_screen, 0, h);
+    assert!(d < 1.0, "the saved picture differs from the screen by {d:.2} levels");
+    let exr = std::fs::read(png().unwrap().with_extension("exr")).unwrap();
+    assert_eq!(&exr[..4], &[0x76, 0x2f, 0x31, 0x01], "not an EXR");
+    assert_eq!(s.last_generation(), g, "P restarted refinement");
+    s.key("Escape");
+    s.key("Escape");
+    let (status, err) = s.wait_exit("two Escapes");
+    assert!(status.success(), "{err}");
+    assert!(err.contains("saved ") && err.contains(&folder), "{err}");
+}

@@ -32,6 +32,9 @@ pub struct ViewArgs {
     /// Write the screen rectangles of the panel's buttons to this file (JSON), for scripted tests.
     #[arg(long, hide = true)]
     pub ui_log: Option<PathBuf>,
+    /// Folder for screenshots (P: the picture on screen as PNG and linear EXR); made when needed.
+    #[arg(long, default_value = "lensview-screenshots")]
+    pub screenshots: PathBuf,
 }
 
 pub fn view(a: ViewArgs) -> Result<()> {
@@ -67,5 +70,6 @@ pub fn view(a: ViewArgs) -> Result<()> {
         height: a.height,
         panel: !a.no_panel,
         ui_log: a.ui_log,
+        screenshots: a.screenshots,
     })
 }

@@ -73,6 +73,20 @@ pub struct Frame {
     pub reprojection: Option<ReprojectTimes>,
 }
 
+/// The picture the render thread holds, in linear light: what the window
+/// shows (the newest stage sent), for a screenshot ([`Worker::snapshot`]).
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    pub image: super::Image,
+    /// Samples per pixel (0 for a block preview or a reprojection).
+    pub spp: u32,
+    /// The job it belongs to.
+    pub generation: u64,
+}
+
+/// Where a snapshot goes: `None` when there is no picture yet.
+type SnapshotReply = Sender<Option<Snapshot>>;
+
 /// The value of `Worker::wanted` that no job has: nothing is to be rendered.
 const NOTHING: u64 = u64::MAX;
 
@@ -88,6 +102,8 @@ pub struct Worker {
     /// thread to write the next frames into (a frame's buffer is megabytes,
     /// mapped afresh and faulted in page by page when allocated).
     spare: Sender<Vec<u8>>,
+    /// Requests for the picture held ([`Self::snapshot`]).
+    snapshots: Sender<SnapshotReply>,
     handle: Option<JoinHandle<()>>,
 }
 
@@ -141,10 +157,11 @@ impl Worker {
         let wanted = Arc::new(AtomicU64::new(NOTHING));
         let shown = Arc::new(Shown::default());
         let (spare, spare_rx) = crossbeam_channel::bounded(SPARE_BUFFERS);
+        let (snapshots, snap_rx) = unbounded::<SnapshotReply>();
         let (w, s) = (wanted.clone(), shown.clone());
         let handle = std::thread::Builder::new()
             .name("lensview-render".into())
-            .spawn(move || run(job_rx, frame_tx, (w, s, spare_rx), wake))
+            .spawn(move || run((job_rx, snap_rx), frame_tx, (w, s, spare_rx), wake))
             .ok();
         Worker {
             jobs: Some(job_tx),
@@ -152,8 +169,18 @@ impl Worker {
             wanted,
             shown,
             spare,
+            snapshots,
             handle,
         }
+    }
+
+    /// Asks for the picture the render thread holds, in linear light (the
+    /// newest stage it sent): answered between stages, or at once when it
+    /// is idle. `None` comes back when there is no picture yet.
+    pub fn snapshot(&self) -> Receiver<Option<Snapshot>> {
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        let _ = self.snapshots.send(tx);
+        rx
     }
 
     /// From now on, after sending the first frame of a job, the render
@@ -318,8 +345,26 @@ impl Frame {
     }
 }
 
+/// `prog`'s picture, of job `generation` (`None`: none sent yet).
+fn snapshot_of(prog: &Progressive, generation: Option<u64>) -> Option<Snapshot> {
+    generation
+        .filter(|_| prog.width > 0 && prog.height > 0)
+        .map(|g| Snapshot {
+            image: prog.image(),
+            spp: prog.spp,
+            generation: g,
+        })
+}
+
+/// Answers the snapshot requests waiting.
+fn answer_snapshots(requests: &Receiver<SnapshotReply>, prog: &Progressive, generation: Option<u64>) {
+    for reply in requests.try_iter() {
+        let _ = reply.send(snapshot_of(prog, generation));
+    }
+}
+
 fn run(
-    jobs: Receiver<Job>,
+    (jobs, snapshots): (Receiver<Job>, Receiver<SnapshotReply>),
     frames: Sender<Frame>,
     (wanted, screen, spare): (Arc<AtomicU64>, Arc<Shown>, Receiver<Vec<u8>>),
     wake: impl Fn(),
@@ -333,7 +378,22 @@ fn run(
     let mut shown = Held::default();
     // What changed since the scene `caustics` last followed.
     let mut since_followed = Change::Picture;
-    while let Ok(job) = jobs.recv() {
+    // The job whose stage `prog` holds last sent (for snapshots).
+    let mut pictured = None;
+    loop {
+        let job = crossbeam_channel::select! {
+            recv(jobs) -> j => match j {
+                Ok(j) => j,
+                Err(_) => return,
+            },
+            recv(snapshots) -> r => match r {
+                Ok(reply) => {
+                    let _ = reply.send(snapshot_of(&prog, pictured));
+                    continue;
+                }
+                Err(_) => return,
+            },
+        };
         let (job, change) = newest(job, &jobs);
         shown.since = shown.since.max(change);
         since_followed = since_followed.max(change);
@@ -370,9 +430,15 @@ fn run(
                 ) {
                     return;
                 }
+                pictured = Some(job.generation);
+                answer_snapshots(&snapshots, &prog, pictured);
                 stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0)
             }
-            Start::At(first) => first,
+            Start::At(first) => {
+                // The picture was started afresh: none to hand out until a stage is sent.
+                pictured = None;
+                first
+            }
         };
         for (i, &stage) in stages.iter().enumerate().skip(first) {
             if cancelled() {
@@ -386,6 +452,8 @@ fn run(
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.stats()) {
                 return;
             }
+            pictured = Some(job.generation);
+            answer_snapshots(&snapshots, &prog, pictured);
         }
         // Refined (or cancelled): with nothing else to do, record the
         // picture's first hits for the next move's reprojection (which

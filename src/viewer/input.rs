@@ -9,7 +9,6 @@ use super::panel::{Answer, DialogMode};
 use super::session::Command;
 use glam::DVec3;
 use lensview::edit::{Edit, LIGHT_PRESETS};
-use lensview::render::ImageFormat;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta};
 use winit::keyboard::{KeyCode, PhysicalKey};
 
@@ -125,8 +124,7 @@ impl Viewer {
             Action::ResetView => s.reset_view(),
             Action::Reload => s.reload(),
             Action::HalfResolution => s.ask(Command::Resolution(if self.display.res_div == 1 { 2 } else { 1 })),
-            Action::Screenshot => s.ask(Command::Screenshot(ImageFormat::Png)),
-            Action::ScreenshotExr => s.ask(Command::Screenshot(ImageFormat::Exr)),
+            Action::Screenshot | Action::ScreenshotExr => s.ask(Command::Screenshot),
             Action::ToggleOverlay => self.display.overlay = self.display.overlay.next(),
             Action::ToggleHelp => self.display.help = !self.display.help,
             Action::ToggleOptics => s.ui.analysis.optics ^= true,

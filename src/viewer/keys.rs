@@ -176,7 +176,7 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         KeyCode::KeyP,
         "P",
         Action::Screenshot,
-        "save a screenshot PNG (full resolution)",
+        "save the picture on screen: PNG as shown and linear EXR, in the screenshot folder",
     ),
     (
         KeyCode::F1,
@@ -229,13 +229,7 @@ pub const CTRL_BINDINGS: &[(KeyCode, bool, &str, Action, &str)] = &[
         "save the scene as…",
     ),
     (KeyCode::KeyO, false, "Ctrl+O", Action::Open, "open a scene file"),
-    (
-        KeyCode::KeyP,
-        false,
-        "Ctrl+P",
-        Action::ScreenshotExr,
-        "save a screenshot EXR (linear float, unclamped)",
-    ),
+    (KeyCode::KeyP, false, "Ctrl+P", Action::ScreenshotExr, "the same as P"),
     (
         KeyCode::KeyD,
         false,

@@ -76,11 +76,16 @@ pub struct ViewOptions {
     /// Write the screen rectangles of the panel's main buttons here (JSON),
     /// so scripted tests can click them.
     pub ui_log: Option<PathBuf>,
+    /// Where screenshots (P) go.
+    pub screenshots: PathBuf,
 }
 
 #[derive(Debug)]
 enum UserEvent {
     FrameReady,
+    /// A line for the message bar from a thread of the window's (a
+    /// screenshot saved, or not).
+    Notice(String),
 }
 
 struct Viewer {
@@ -111,6 +116,8 @@ struct Viewer {
     /// Set when the window should close (after any question was answered).
     quit: bool,
     error: Option<anyhow::Error>,
+    /// For threads of the window's to send it events.
+    proxy: winit::event_loop::EventLoopProxy<UserEvent>,
 }
 
 pub fn run(opts: ViewOptions) -> Result<()> {
@@ -125,8 +132,9 @@ pub fn run(opts: ViewOptions) -> Result<()> {
     })?;
     watchdog::arm(opts.exit_after);
     let proxy = event_loop.create_proxy();
+    let wake = proxy.clone();
     let worker = Worker::spawn(move || {
-        let _ = proxy.send_event(UserEvent::FrameReady);
+        let _ = wake.send_event(UserEvent::FrameReady);
     });
     let source = match &opts.scene_path {
         Some(p) => Source::File(p.clone()),
@@ -166,6 +174,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         exposed: false,
         quit: false,
         error: None,
+        proxy,
     };
     event_loop.run_app(&mut app).context("event loop failed")?;
     match app.error.take() {
@@ -279,13 +288,12 @@ impl Viewer {
                     self.submit();
                 }
             }
-            Command::Screenshot(format) => {
-                let Some((w, h)) = self.screen.as_ref().and_then(|s| s.render_size(&self.display)) else {
-                    return;
+            Command::Screenshot => {
+                let proxy = self.proxy.clone();
+                let notify = move |line| {
+                    let _ = proxy.send_event(UserEvent::Notice(line));
                 };
-                let div = self.display.res_div;
-                let scene = self.session.doc.built().clone();
-                self.session.message = self.refine.screenshot(scene, (w * div, h * div), format);
+                self.session.message = self.refine.screenshot(self.opts.screenshots.clone(), notify);
             }
         }
     }
@@ -499,6 +507,10 @@ impl ApplicationHandler<UserEvent> for Viewer {
                     self.pacer.frame_arrived(f.generation);
                     self.ask_redraw();
                 }
+            }
+            UserEvent::Notice(line) => {
+                self.session.message = line;
+                self.ask_redraw();
             }
         }
     }

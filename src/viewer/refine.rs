@@ -2,16 +2,14 @@
 //! new generation of refinement; the newest frame of the current one is
 //! kept for drawing. Pausing cancels the running job
 //! (`Worker::cancel`); while paused an edit is still shown, refined to one
-//! sample per pixel. The full-resolution screenshot renders here too, on a
-//! thread of its own.
+//! sample per pixel. A screenshot takes the render thread's picture and
+//! writes it on a thread of its own.
 
-use lensview::limits;
 use lensview::render::ImageFormat;
-use lensview::render::progressive::{Progressive, Stage};
-use lensview::render::worker::{Frame, Job, Worker};
+use lensview::render::worker::{Frame, Job, Snapshot, Worker};
 use lensview::scene::Change;
 use lensview::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -183,39 +181,62 @@ impl Refine {
         self.input_time
     }
 
-    /// Saves `scene` at `width`×`height` with the samples refined so far
-    /// (at least one), rendered on its own thread so the window stays live.
-    /// Returns the line for the message bar.
-    pub fn screenshot(&mut self, scene: Arc<Scene>, (w, h): (u32, u32), format: ImageFormat) -> String {
-        let spp = self.frame.as_ref().map_or(1, |f| f.spp.max(1));
-        // The same limits as `render`: refused before anything is allocated.
-        let bpp = limits::PROGRESSIVE_BYTES_PER_PIXEL + 3;
-        if let Err(e) = limits::check_image("screenshot", w, h, bpp).and(limits::check_total(
-            "screenshot",
-            limits::Work::samples(w, h, spp as u64, 1).with_lights(scene.lights.len()),
-        )) {
-            return format!("cannot save a screenshot: {e}");
-        }
+    /// Saves the picture on screen, as refined so far (caustics and all),
+    /// into `dir` (made if missing): a PNG as shown and an EXR of the same
+    /// picture in linear light, `lensview-SECONDS-N.png|exr`. The render
+    /// thread hands the picture over between stages and a thread of its
+    /// own writes it, so the window stays live; `notify` gets the line
+    /// that says where the files went (or why not). Returns the line for
+    /// the message bar meanwhile.
+    pub fn screenshot(&mut self, dir: PathBuf, notify: impl Fn(String) + Send + 'static) -> String {
         self.screenshots += 1;
-        let name = PathBuf::from(format!(
-            "lensview-{}-{}.{}",
+        let stem = format!(
+            "lensview-{}-{}",
             std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_secs()),
-            self.screenshots,
-            if format == ImageFormat::Exr { "exr" } else { "png" }
-        ));
-        let msg = format!("saving {} ({w}×{h}, {spp} spp)…", name.display());
+            self.screenshots
+        );
+        let picture = self.worker.snapshot();
+        let saving = format!("saving the picture on screen into {}…", dir.display());
         std::thread::spawn(move || {
-            let mut p = Progressive::new(w, h, 0);
-            p.run(&*scene, Stage::Samples(spp), &|| false);
-            match p.image().write_as(&name, format) {
-                Ok(()) => eprintln!("saved {}", name.display()),
-                Err(e) => eprintln!("error: {e}"),
-            }
+            let line = match picture.recv_timeout(SNAPSHOT_WAIT) {
+                Ok(Some(snap)) => match save_snapshot(&snap, &dir, &stem) {
+                    Ok(png) => format!(
+                        "saved {} and .exr ({}×{}, {} spp)",
+                        png.display(),
+                        snap.image.width,
+                        snap.image.height,
+                        snap.spp
+                    ),
+                    Err(e) => format!("screenshot not saved: {e}"),
+                },
+                Ok(None) => "screenshot not saved: no picture yet".into(),
+                Err(_) => "screenshot not saved: the render thread did not answer".into(),
+            };
+            eprintln!("{line}");
+            notify(line);
         });
-        msg
+        saving
     }
+}
+
+/// How long a screenshot waits for the render thread to hand over its
+/// picture (it answers between stages: a stage at 64 spp of a large
+/// window can take seconds).
+const SNAPSHOT_WAIT: Duration = Duration::from_secs(120);
+
+/// Writes `snap` as `dir/stem.png` and `dir/stem.exr`; the PNG's path.
+fn save_snapshot(snap: &Snapshot, dir: &Path, stem: &str) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let png = dir.join(format!("{stem}.png"));
+    let full = std::path::absolute(&png).unwrap_or(png);
+    snap.image
+        .write_as(&full, ImageFormat::Png)
+        .map_err(|e| e.to_string())?;
+    let exr = full.with_extension("exr");
+    snap.image.write_as(&exr, ImageFormat::Exr).map_err(|e| e.to_string())?;
+    Ok(full)
 }
 
 #[cfg(test)]

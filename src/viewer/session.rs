@@ -23,7 +23,7 @@ pub enum Command {
     SampleCap(u32),
     TogglePause,
     /// Save the picture at full resolution in this format.
-    Screenshot(lensview::render::ImageFormat),
+    Screenshot,
 }
 
 /// What the keys and clicks since the last [`Session::take_outcome`] did.

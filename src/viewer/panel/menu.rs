@@ -104,8 +104,8 @@ fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
     if entry(ui, "Reset the view", Action::ResetView) {
         cx.reset_view();
     }
-    if entry(ui, "Screenshot PNG", Action::Screenshot) {
-        cx.ask(Command::Screenshot(lensview::render::ImageFormat::Png));
+    if entry(ui, "Screenshot (PNG and EXR)", Action::Screenshot) {
+        cx.ask(Command::Screenshot);
     }
 }
 
