@@ -494,3 +494,77 @@ fn p_saves_the_picture_on_screen_with_its_exr() {
     assert!(status.success(), "{err}");
     assert!(err.contains("saved ") && err.contains(&folder), "{err}");
 }
+
+/// Issue 33.1: a click on the picture selects what is under the cursor
+/// (one ray through the pixel): the selection is outlined over the picture
+/// around the click; a click on the background clears it.
+#[test]
+fn a_click_selects_the_object_under_the_cursor() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, ui_log) = test_dir("pick");
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let args = ui_args(1100, 760, 600, &ui_log);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let g = s.wait_frame(0, 1, "start");
+    let f = s.frames().into_iter().find(|f| f["generation"] == g).unwrap();
+    let (x0, w, h) = (
+        f["x0"].as_u64().unwrap(),
+        f["width"].as_u64().unwrap(),
+        f["height"].as_u64().unwrap(),
+    );
+    let (_, sc) = Scene::load(&scene).unwrap();
+    // A primitive whose centre's pixel sees it first (not behind the lens).
+    let (name, px, py) = sc
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| o.lens().is_none() && o.system().is_none())
+        .find_map(|(i, o)| {
+            let d = o.position - sc.camera.position;
+            let z = d.dot(sc.camera.forward());
+            let tan = (0.5 * sc.camera.fov_y_deg.to_radians()).tan();
+            let (wf, hf) = (w as f64, h as f64);
+            let px = (d.dot(sc.camera.right()) / z / (tan * wf / hf) + 1.0) * 0.5 * wf;
+            let py = (1.0 - d.dot(sc.camera.up()) / z / tan) * 0.5 * hf;
+            let (px, py) = (px.floor() + 0.5, py.floor() + 0.5);
+            let inside = z > 0.0 && px > 0.0 && py > 0.0 && px < wf && py < hf;
+            let ray = sc.camera.ray(px, py, w as u32, h as u32);
+            let hit = lensview::trace::closest_hit(&sc, &ray, f64::INFINITY).map(|h| h.0);
+            (inside && hit == Some(i)).then(|| (o.name.clone(), px, py))
+        })
+        .expect("a primitive in view");
+    let at = ((x0 as f64 + px) as i64, py as i64);
+    s.click_at(at);
+    let key = format!("selected {name}");
+    let mut outline = None;
+    assert!(
+        wait_until(Duration::from_secs(30), || {
+            outline = s.rects(&ui_log).get(&key).cloned();
+            outline.is_some()
+        }),
+        "clicking at {at:?} did not select {name}: {:?}",
+        s.rects(&ui_log).keys().collect::<Vec<_>>()
+    );
+    // (Kept for a look: the outline and the light's marker.)
+    let _ = s.screenshot("picked.png");
+    let r: Vec<f64> = outline
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|v| v.as_f64())
+        .collect();
+    let (cx, cy) = (at.0 as f64, at.1 as f64);
+    assert!(
+        r[0] <= cx && cx <= r[2] && r[1] <= cy && cy <= r[3],
+        "the outline {r:?} is not around the click {at:?}"
+    );
+    // The top row of the picture is background (the sky): nothing selected.
+    s.click_at(((x0 + w / 2) as i64, 2));
+    assert!(
+        wait_until(Duration::from_secs(30), || !s.rects(&ui_log).contains_key(&key)),
+        "a click on the background kept the selection"
+    );
+}

@@ -12,6 +12,10 @@ use lensview::edit::{Edit, LIGHT_PRESETS};
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta};
 use winit::keyboard::{KeyCode, PhysicalKey};
 
+/// How far (window pixels) the cursor may move between a press and its
+/// release for the two to be a click rather than a mouse-look drag.
+const CLICK_SLOP: f64 = 4.0;
+
 impl Viewer {
     pub(super) fn keyboard_input(&mut self, event: &KeyEvent, is_synthetic: bool, consumed: bool) {
         // winit fakes presses for keys held when focus arrives.
@@ -156,12 +160,26 @@ impl Viewer {
         }
         if state == ElementState::Released {
             self.flight.end_drag();
+            // A press and release in one place (within a few pixels) is a
+            // click: it picks what is under the cursor.
+            let at = self.flight.cursor();
+            if let Some(p) = self.press_at.take()
+                && (p.0 - at.0).hypot(p.1 - at.1) <= CLICK_SLOP
+                && let Some(screen) = &self.screen
+                && let Some(pic) = super::optics::picture(screen, &self.display)
+            {
+                let ppp = screen.window.scale_factor();
+                let picked = super::pick::pick(&self.session.doc, &pic, at, ppp);
+                self.session.picked(picked);
+                self.settle();
+            }
             return;
         }
         let columns = self.screen.as_ref().map_or(0, |s| s.panel_columns(&self.display));
         let over_panel = self.display.panel && self.flight.cursor().0 < columns as f64 * self.display.res_div as f64;
         if !consumed && !over_panel {
             self.flight.start_drag();
+            self.press_at = Some(self.flight.cursor());
         }
     }
 

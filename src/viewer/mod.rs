@@ -36,6 +36,7 @@ mod optics;
 mod overlay;
 mod pacing;
 mod panel;
+mod pick;
 mod platform;
 mod refine;
 mod screen;
@@ -115,6 +116,8 @@ struct Viewer {
     exposed: bool,
     /// Set when the window should close (after any question was answered).
     quit: bool,
+    /// Where the left button went down over the picture (a click picks).
+    press_at: Option<(f64, f64)>,
     error: Option<anyhow::Error>,
     /// For threads of the window's to send it events.
     proxy: winit::event_loop::EventLoopProxy<UserEvent>,
@@ -174,6 +177,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         exposed: false,
         quit: false,
         error: None,
+        press_at: None,
         proxy,
     };
     event_loop.run_app(&mut app).context("event loop failed")?;
@@ -350,6 +354,15 @@ impl Viewer {
             overlay::show(ui.ctx(), picture, lines);
             panel::show(ui, &mut cx);
             optics::overlay(ui.ctx(), cx.session, pic);
+            if let Some(pic) = pic {
+                let selected = cx.session.ui.selected;
+                if let Some(r) = pick::paint(ui.ctx(), &cx.session.doc, pic, selected)
+                    && let Some(item) = selected
+                {
+                    let name = format!("selected {}", cx.session.doc.item_name(item));
+                    cx.session.ui.note_rect(&name, r, ui.ctx().pixels_per_point());
+                }
+            }
             overlay::help_window(ui.ctx(), &mut cx.display.help);
         });
         self.repaint_at = delay.map(|d| Instant::now() + d);

@@ -31,6 +31,38 @@ pub struct Picture {
     pub window: (u32, u32),
 }
 
+impl Picture {
+    /// The whole factor the framebuffer is scaled up by, and the window
+    /// position (physical pixels) of its corner.
+    fn layout(&self) -> (f64, [f64; 2]) {
+        let (bw, bh) = (self.x0 + self.size.0, self.size.1);
+        let s = (f64::from(self.window.0) / f64::from(bw))
+            .min(f64::from(self.window.1) / f64::from(bh))
+            .floor()
+            .max(1.0);
+        let off = [
+            0.5 * (f64::from(self.window.0) - s * f64::from(bw)),
+            0.5 * (f64::from(self.window.1) - s * f64::from(bh)),
+        ];
+        (s, off)
+    }
+
+    /// A continuous picture position in window pixels (physical).
+    pub fn to_window(&self, p: [f64; 2]) -> [f64; 2] {
+        let (s, off) = self.layout();
+        [off[0] + s * (f64::from(self.x0) + p[0]), off[1] + s * p[1]]
+    }
+
+    /// The picture position under window pixel `w` (physical), if it is
+    /// on the picture: the inverse of [`Self::to_window`].
+    pub fn from_window(&self, w: [f64; 2]) -> Option<[f64; 2]> {
+        let (s, off) = self.layout();
+        let p = [(w[0] - off[0]) / s - f64::from(self.x0), (w[1] - off[1]) / s];
+        let inside = p[0] >= 0.0 && p[1] >= 0.0 && p[0] < f64::from(self.size.0) && p[1] < f64::from(self.size.1);
+        inside.then_some(p)
+    }
+}
+
 /// F′'s marker colour (also what tests/window.rs looks for).
 pub const F_BACK: egui::Color32 = egui::Color32::from_rgb(255, 0, 255);
 const F_FRONT: egui::Color32 = egui::Color32::from_rgb(0, 230, 255);
@@ -219,20 +251,9 @@ pub fn system_figure(sys: &LensSystem, up_hint: DVec3, object_distance: Option<f
 /// Paints `fig` over the picture.
 pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
     let ppp = f64::from(ctx.pixels_per_point());
-    let (bw, bh) = (pic.x0 + pic.size.0, pic.size.1);
-    let s = (f64::from(pic.window.0) / f64::from(bw))
-        .min(f64::from(pic.window.1) / f64::from(bh))
-        .floor()
-        .max(1.0);
-    let off = [
-        0.5 * (f64::from(pic.window.0) - s * f64::from(bw)),
-        0.5 * (f64::from(pic.window.1) - s * f64::from(bh)),
-    ];
     let to_pt = |p: [f64; 2]| {
-        egui::pos2(
-            ((off[0] + s * (f64::from(pic.x0) + p[0])) / ppp) as f32,
-            ((off[1] + s * p[1]) / ppp) as f32,
-        )
+        let w = pic.to_window(p);
+        egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
     };
     let clip_rect = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));
     let painter = ctx

@@ -339,6 +339,30 @@ impl Session {
             Item::Object(_) => {}
         }
     }
+
+    /// A click on the picture picked `p` (`None`: the background, which
+    /// clears the selection): the panel shows it.
+    pub fn picked(&mut self, p: Option<super::pick::Picked>) {
+        use super::pick::Picked;
+        self.redraw();
+        match p {
+            Some(Picked::Item(item)) => {
+                self.select(item);
+                if matches!(item, Item::Lens(_)) {
+                    self.ui.open_lens();
+                }
+                self.message = format!("selected {}", self.doc.item_name(item));
+            }
+            Some(Picked::Light(i)) => {
+                self.ui.show_light(i);
+                self.message = format!("light {} (the Light section shows it)", i + 1);
+            }
+            None => {
+                self.ui.selected = None;
+                self.message = "nothing selected".into();
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -322,6 +322,16 @@ impl<'a> Session<'a> {
     }
 
     /// Clicks the middle of the button called `name` once it is on screen.
+    /// Clicks the left button at window pixel `(x, y)`.
+    pub fn click_at(&self, (x, y): (i64, i64)) {
+        self.xdotool(&["mousemove", "--window", &self.window, &x.to_string(), &y.to_string()]);
+        std::thread::sleep(Duration::from_millis(300));
+        self.xdotool(&["mousedown", "1"]);
+        std::thread::sleep(Duration::from_millis(150));
+        self.xdotool(&["mouseup", "1"]);
+        std::thread::sleep(Duration::from_millis(300));
+    }
+
     pub fn click(&self, ui_log: &Path, name: &str) {
         let mut at = None;
         assert!(

@@ -28,6 +28,34 @@ impl Document {
         v
     }
 
+    /// The item built object `o` (an index into [`Self::built`]'s objects)
+    /// comes from: the scene builds primitives, then lenses, then systems,
+    /// one object each.
+    pub fn item_of_object(&self, o: usize) -> Option<Item> {
+        let (n, l, s) = (
+            self.scene.objects.len(),
+            self.scene.lenses.len(),
+            self.scene.systems.len(),
+        );
+        debug_assert_eq!(self.built().objects.len(), n + l + s);
+        match o {
+            _ if o < n => Some(Item::Object(o)),
+            _ if o < n + l => Some(Item::Lens(o - n)),
+            _ if o < n + l + s => Some(Item::System(o - n - l)),
+            _ => None,
+        }
+    }
+
+    /// The built object of `item` (the inverse of [`Self::item_of_object`]).
+    pub fn object_of_item(&self, item: Item) -> usize {
+        let (n, l) = (self.scene.objects.len(), self.scene.lenses.len());
+        match item {
+            Item::Object(i) => i,
+            Item::Lens(i) => n + i,
+            Item::System(i) => n + l + i,
+        }
+    }
+
     /// The displayed name of an item (its `name`, or the default the
     /// renderer gives it).
     pub fn item_name(&self, item: Item) -> String {

@@ -9,7 +9,8 @@ use lensview::edit::document::switch_light_kind;
 use lensview::scene::file::{AmbientFile, LightFile, LightKind};
 
 pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
-    let header = egui::CollapsingHeader::new("Light");
+    let open = std::mem::take(&mut cx.ui.open_light).then_some(true);
+    let header = egui::CollapsingHeader::new("Light").open(open);
     super::section(ui, cx, header, "Light", |ui, cx| {
         ui.horizontal(|ui| choose_add_delete(ui, cx));
         let count = cx.doc.scene().lights.len();

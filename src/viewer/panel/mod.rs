@@ -124,6 +124,8 @@ pub struct UiState {
     open_lens: bool,
     /// Whether to open the *System* section (a system was selected).
     open_system: bool,
+    /// Whether to open the *Light* section (a light was picked).
+    open_light: bool,
     /// The light the *Light* section shows.
     light: usize,
     /// The last black-body colour chosen (slider, or the , and . keys).
@@ -156,6 +158,7 @@ impl UiState {
             drafts: Drafts::default(),
             lens: 0,
             open_lens: false,
+            open_light: false,
             open_system: false,
             light: 0,
             temperature: 6500.0,
@@ -182,6 +185,17 @@ impl UiState {
         self.open_system = true;
     }
 
+    /// Shows light `i` in the *Light* section, opened at the next frame.
+    pub fn show_light(&mut self, i: usize) {
+        self.light = i;
+        self.open_light = true;
+    }
+
+    /// Opens the *Lens* section at the next frame.
+    pub fn open_lens(&mut self) {
+        self.open_lens = true;
+    }
+
     pub fn open_file_dialog(&mut self, mode: DialogMode, source: &Source) {
         self.file_dialog = Some(FileDialog::for_source(mode, source, &self.start_dir));
     }
@@ -191,6 +205,12 @@ impl UiState {
         if ui.clip_rect().contains_rect(r.rect) {
             self.rects.insert(name, r.rect, ui.ctx().pixels_per_point());
         }
+    }
+
+    /// Records a rectangle drawn over the picture (a selection's outline)
+    /// under `name`, for the `--ui-log` file.
+    pub fn note_rect(&mut self, name: &str, r: egui::Rect, pixels_per_point: f32) {
+        self.rects.insert(name, r, pixels_per_point);
     }
 
     /// Writes the rectangles of the named buttons (physical pixels, window

@@ -1,0 +1,106 @@
+//! Picking in the picture (issue 33.1): a click on the picture selects
+//! what is under the cursor — a point light's marker, else the object,
+//! lens or lens system the pixel's centre ray meets first — and the panel
+//! shows it. Every point light has a marker; the selection is outlined
+//! (its box, projected).
+
+use super::optics::{Picture, project};
+use lensview::edit::{Document, Item};
+use lensview::light::Light;
+use lensview::math::Ray;
+use lensview::scene::Scene;
+
+/// What a click picked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Picked {
+    Item(Item),
+    /// Light `i` of the scene (its marker).
+    Light(usize),
+}
+
+/// A light marker's radius, and how near (window pixels, logical) a click
+/// must be to pick it.
+const MARKER_RADIUS: f32 = 7.0;
+const MARKER_PICK: f64 = 12.0;
+const LIGHT_MARK: egui::Color32 = egui::Color32::from_rgb(255, 220, 60);
+const SELECTED: egui::Color32 = egui::Color32::from_rgb(80, 200, 255);
+
+/// Point light `i`'s position in the picture (continuous pixels).
+fn light_at(scene: &Scene, i: usize, pic: &Picture) -> Option<[f64; 2]> {
+    match scene.lights.get(i)? {
+        Light::Point { position, .. } => project(&scene.camera, *position, pic.size),
+        _ => None,
+    }
+}
+
+/// What lies under window pixel `cursor` (physical), at `ppp` physical
+/// pixels a logical one: the nearest light marker within reach, else what
+/// the centre ray of the pixel meets first; `None` off the picture or
+/// over the background.
+pub fn pick(doc: &Document, pic: &Picture, cursor: (f64, f64), ppp: f64) -> Option<Picked> {
+    let scene = doc.built();
+    let p = pic.from_window([cursor.0, cursor.1])?;
+    let reach = MARKER_PICK * ppp;
+    let near = (0..scene.lights.len())
+        .filter_map(|i| {
+            let q = pic.to_window(light_at(scene, i, pic)?);
+            let d = (q[0] - cursor.0).hypot(q[1] - cursor.1);
+            (d <= reach).then_some((d, i))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, i)) = near {
+        return Some(Picked::Light(i));
+    }
+    let (w, h) = pic.size;
+    let ray: Ray = scene.camera.ray(p[0], p[1], w, h);
+    let (o, _) = lensview::trace::closest_hit(scene, &ray, f64::INFINITY)?;
+    doc.item_of_object(o).map(Picked::Item)
+}
+
+/// The light markers and the selection's outline over the picture;
+/// returns the outline (logical points), if drawn.
+pub fn paint(ctx: &egui::Context, doc: &Document, pic: Picture, selected: Option<Item>) -> Option<egui::Rect> {
+    let scene = doc.built();
+    let ppp = f64::from(ctx.pixels_per_point());
+    let to_pt = |p: [f64; 2]| {
+        let w = pic.to_window(p);
+        egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
+    };
+    let clip = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));
+    let painter = ctx
+        .layer_painter(egui::LayerId::new(
+            egui::Order::Background,
+            egui::Id::new("lensview-pick"),
+        ))
+        .with_clip_rect(clip);
+    let dark = egui::Stroke::new(3.0, egui::Color32::from_black_alpha(200));
+    for i in 0..scene.lights.len() {
+        if let Some(p) = light_at(scene, i, &pic) {
+            let at = to_pt(p);
+            painter.circle_stroke(at, MARKER_RADIUS, dark);
+            painter.circle_stroke(at, MARKER_RADIUS, egui::Stroke::new(1.5, LIGHT_MARK));
+            painter.circle_filled(at, 2.0, LIGHT_MARK);
+        }
+    }
+    let obj = selected.and_then(|item| scene.objects.get(doc.object_of_item(item)))?;
+    // The box's corners in front of the camera, projected: their extent.
+    let (lo, hi) = (obj.world_bounds.min, obj.world_bounds.max);
+    let corners = (0..8).filter_map(|k| {
+        let c = glam::DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        project(&scene.camera, c, pic.size).map(to_pt)
+    });
+    let mut r = egui::Rect::NOTHING;
+    for c in corners {
+        r.extend_with(c);
+    }
+    let r = r.intersect(clip);
+    r.is_positive().then(|| {
+        painter.rect_stroke(r, 2.0, dark, egui::StrokeKind::Outside);
+        painter.rect_stroke(r, 2.0, egui::Stroke::new(1.5, SELECTED), egui::StrokeKind::Outside);
+        r
+    })
+}
