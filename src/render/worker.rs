@@ -345,6 +345,24 @@ impl Frame {
     }
 }
 
+/// Waits for the next job, answering snapshot requests meanwhile with
+/// `prog`'s picture (of job `pictured`); `None` once the worker is gone.
+fn next_job(
+    jobs: &Receiver<Job>,
+    snapshots: &Receiver<SnapshotReply>,
+    prog: &Progressive,
+    pictured: Option<u64>,
+) -> Option<Job> {
+    loop {
+        crossbeam_channel::select! {
+            recv(jobs) -> j => return j.ok(),
+            recv(snapshots) -> r => {
+                let _ = r.ok()?.send(snapshot_of(prog, pictured));
+            }
+        }
+    }
+}
+
 /// `prog`'s picture, of job `generation` (`None`: none sent yet).
 fn snapshot_of(prog: &Progressive, generation: Option<u64>) -> Option<Snapshot> {
     generation
@@ -379,21 +397,8 @@ fn run(
     // What changed since the scene `caustics` last followed.
     let mut since_followed = Change::Picture;
     // The job whose stage `prog` holds last sent (for snapshots).
-    let mut pictured = None;
-    loop {
-        let job = crossbeam_channel::select! {
-            recv(jobs) -> j => match j {
-                Ok(j) => j,
-                Err(_) => return,
-            },
-            recv(snapshots) -> r => match r {
-                Ok(reply) => {
-                    let _ = reply.send(snapshot_of(&prog, pictured));
-                    continue;
-                }
-                Err(_) => return,
-            },
-        };
+    let pictured = std::cell::Cell::new(None);
+    while let Some(job) = next_job(&jobs, &snapshots, &prog, pictured.get()) {
         let (job, change) = newest(job, &jobs);
         shown.since = shown.since.max(change);
         since_followed = since_followed.max(change);
@@ -412,6 +417,8 @@ fn run(
             let frame = Frame::of(prog, &job, (stage, rgba), Timing { dt, cast, queued_ms }, last, c);
             let ok = frames.send(frame).is_ok();
             wake();
+            pictured.set(Some(generation));
+            answer_snapshots(&snapshots, prog, pictured.get());
             if ok && !last && !first_sent.replace(true) {
                 screen.hold(generation, &cancelled);
             }
@@ -420,23 +427,15 @@ fn run(
         let traced = Lit::new(&job.scene, caustics.map());
         let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
             Start::Moved(dt) => {
-                if !send(
-                    &prog,
-                    Stage::Reprojected,
-                    dt,
-                    prog.samples_cast,
-                    false,
-                    caustics.stats(),
-                ) {
+                let cast = prog.samples_cast;
+                if !send(&prog, Stage::Reprojected, dt, cast, false, caustics.stats()) {
                     return;
                 }
-                pictured = Some(job.generation);
-                answer_snapshots(&snapshots, &prog, pictured);
                 stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0)
             }
             Start::At(first) => {
                 // The picture was started afresh: none to hand out until a stage is sent.
-                pictured = None;
+                pictured.set(None);
                 first
             }
         };
@@ -452,18 +451,20 @@ fn run(
             if !send(&prog, stage, dt, cost, i + 1 == stages.len(), caustics.stats()) {
                 return;
             }
-            pictured = Some(job.generation);
-            answer_snapshots(&snapshots, &prog, pictured);
         }
-        // Refined (or cancelled): with nothing else to do, record the
-        // picture's first hits for the next move's reprojection (which
-        // otherwise records them itself, on the input's time).
-        if prog.record_first_hits(&job.scene, &cancelled)
-            && let Some(share) = prog.specular_share()
-        {
-            // What the next move's reprojection will have to trace, at least.
-            costs.holes = share;
-        }
+        record_first_hits(&mut prog, &job.scene, &mut costs, &cancelled);
+    }
+}
+
+/// Refined (or cancelled): with nothing else to do, records the picture's
+/// first hits for the next move's reprojection (which otherwise records
+/// them itself, on the input's time).
+fn record_first_hits(prog: &mut Progressive, scene: &Scene, costs: &mut Costs, cancelled: &(dyn Fn() -> bool + Sync)) {
+    if prog.record_first_hits(scene, cancelled)
+        && let Some(share) = prog.specular_share()
+    {
+        // What the next move's reprojection will have to trace, at least.
+        costs.holes = share;
     }
 }
 

@@ -48,14 +48,14 @@ impl Picture {
     }
 
     /// A continuous picture position in window pixels (physical).
-    pub fn to_window(&self, p: [f64; 2]) -> [f64; 2] {
+    pub fn window_point(&self, p: [f64; 2]) -> [f64; 2] {
         let (s, off) = self.layout();
         [off[0] + s * (f64::from(self.x0) + p[0]), off[1] + s * p[1]]
     }
 
     /// The picture position under window pixel `w` (physical), if it is
-    /// on the picture: the inverse of [`Self::to_window`].
-    pub fn from_window(&self, w: [f64; 2]) -> Option<[f64; 2]> {
+    /// on the picture: the inverse of [`Self::window_point`].
+    pub fn picture_point(&self, w: [f64; 2]) -> Option<[f64; 2]> {
         let (s, off) = self.layout();
         let p = [(w[0] - off[0]) / s - f64::from(self.x0), (w[1] - off[1]) / s];
         let inside = p[0] >= 0.0 && p[1] >= 0.0 && p[0] < f64::from(self.size.0) && p[1] < f64::from(self.size.1);
@@ -252,7 +252,7 @@ pub fn system_figure(sys: &LensSystem, up_hint: DVec3, object_distance: Option<f
 pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
     let ppp = f64::from(ctx.pixels_per_point());
     let to_pt = |p: [f64; 2]| {
-        let w = pic.to_window(p);
+        let w = pic.window_point(p);
         egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
     };
     let clip_rect = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));

@@ -39,11 +39,11 @@ fn light_at(scene: &Scene, i: usize, pic: &Picture) -> Option<[f64; 2]> {
 /// over the background.
 pub fn pick(doc: &Document, pic: &Picture, cursor: (f64, f64), ppp: f64) -> Option<Picked> {
     let scene = doc.built();
-    let p = pic.from_window([cursor.0, cursor.1])?;
+    let p = pic.picture_point([cursor.0, cursor.1])?;
     let reach = MARKER_PICK * ppp;
     let near = (0..scene.lights.len())
         .filter_map(|i| {
-            let q = pic.to_window(light_at(scene, i, pic)?);
+            let q = pic.window_point(light_at(scene, i, pic)?);
             let d = (q[0] - cursor.0).hypot(q[1] - cursor.1);
             (d <= reach).then_some((d, i))
         })
@@ -63,7 +63,7 @@ pub fn paint(ctx: &egui::Context, doc: &Document, pic: Picture, selected: Option
     let scene = doc.built();
     let ppp = f64::from(ctx.pixels_per_point());
     let to_pt = |p: [f64; 2]| {
-        let w = pic.to_window(p);
+        let w = pic.window_point(p);
         egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
     };
     let clip = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));
