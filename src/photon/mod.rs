@@ -186,6 +186,8 @@ impl Block {
 /// their radius of `q` (in the cells' frame) that arrived on the side the
 /// normal `n` faces.
 #[inline(always)]
+// Halves and channels index several arrays: the form the vectoriser wants.
+#[allow(clippy::needless_range_loop)]
 fn sum_blocks(blocks: &[Block], q: [f32; 3], n: [f32; 3], acc: &mut [Col; 3]) {
     let (q, n) = (q.map(Vec4::splat), n.map(Vec4::splat));
     for b in blocks {
