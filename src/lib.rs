@@ -55,7 +55,7 @@
 //! | the pass through a lens, scalar and in lanes | `integrator/lens_pass.rs` |
 //! | feature dispatch, entry points | `integrator/mod.rs` |
 //! | rendering an image, the progressive schedule, the render thread | `render/{mod,progressive,worker}.rs` |
-//! | caustics: the photon map, photons traced, passes scheduled | `photon.rs`, `integrator/photons.rs`, `render/caustics.rs` |
+//! | caustics: the photon map, photons traced, passes scheduled | `photon/`, `integrator/photons.rs`, `render/caustics.rs` |
 //! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
 //! | the viewer's shell, flight, refinement, statistics; its heap policy | `viewer/{mod,flight,refine,stats,session,screen,input,heap}.rs` (binary) |
