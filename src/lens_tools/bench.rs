@@ -140,14 +140,17 @@ pub struct LineSpot<R> {
     pub rays: Vec<R>,
 }
 
+/// The spots of the C, d and F lines in an image plane.
+pub(super) struct Spots<R> {
+    /// The plane's distance from the last vertex, and its `z`.
+    pub from_last: f64,
+    pub plane_z: f64,
+    pub spots: Vec<LineSpot<R>>,
+}
+
 /// The spots of the C, d and F lines with `rings` hexapolar rings in the
-/// image plane (`image_plane` or the real image): its distance from the
-/// last vertex, its `z`, and the spots.
-pub(super) fn spots<B: Bench>(
-    bench: &B,
-    image_plane: Option<f64>,
-    rings: u32,
-) -> Result<(f64, f64, Vec<LineSpot<B::Ray>>), SetupError> {
+/// image plane (`image_plane` or the real image).
+pub(super) fn spots<B: Bench>(bench: &B, image_plane: Option<f64>, rings: u32) -> Result<Spots<B::Ray>, SetupError> {
     check_rings(rings)?;
     let from_last = bench.image_plane(image_plane)?;
     let plane_z = bench.plane_z(from_last);
@@ -167,7 +170,11 @@ pub(super) fn spots<B: Bench>(
             }
         })
         .collect();
-    Ok((from_last, plane_z, spots))
+    Ok(Spots {
+        from_last,
+        plane_z,
+        spots,
+    })
 }
 
 /// The pupil x of each of `rays` meridional fan rays, from −1 to 1 (0 for

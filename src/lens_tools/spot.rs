@@ -92,9 +92,9 @@ pub(super) fn check_rings(rings: u32) -> Result<(), SetupError> {
 }
 
 pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Result<SpotDiagram, SetupError> {
-    let (from_v2, plane_z, spots) = super::bench::spots(setup, image_plane, rings)?;
-    let spots = spots
-        .into_iter()
+    let traced = super::bench::spots(setup, image_plane, rings)?;
+    let (from_v2, plane_z) = (traced.from_last, traced.plane_z);
+    let spots = (traced.spots.into_iter())
         .map(|s| Spot {
             line: s.line,
             wavelength_um: s.wavelength_um,

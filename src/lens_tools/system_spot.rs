@@ -32,7 +32,7 @@ pub struct SystemSpotDiagram {
 }
 
 pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) -> Result<SystemSpotDiagram, SetupError> {
-    let (from_last, plane_z, spots) = super::bench::spots(bench, image_plane, rings)?;
+    let traced = super::bench::spots(bench, image_plane, rings)?;
     Ok(SystemSpotDiagram {
         surfaces: bench.system.len(),
         object_distance: bench.object_distance,
@@ -41,10 +41,10 @@ pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) ->
         rings,
         pupil: bench.aim,
         pupil_centre: bench.centre,
-        image_plane_from_last_vertex: from_last,
-        image_plane_z: plane_z,
+        image_plane_from_last_vertex: traced.from_last,
+        image_plane_z: traced.plane_z,
         paraxial_image_from_last_vertex: bench.paraxial_image().map(|p| p.0),
-        spots,
+        spots: traced.spots,
     })
 }
 
