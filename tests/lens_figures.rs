@@ -15,9 +15,11 @@
 #[allow(dead_code)]
 mod reference;
 
+mod support;
+
 use reference::{DD, Face, LensSpec, Path, Status, V3};
 use serde_json::Value;
-use std::process::Command;
+use support::run;
 
 /// Lenses from a ball lens to nearly flat, n from 1.0001 to 4, with a
 /// dispersive glass: (d, r1, r2, n as given to --n).
@@ -32,18 +34,6 @@ const LENSES: &[(f64, f64, f64, &str)] = &[
     (1e-3, 0.01, 0.02, "4"),
     (3.0, 1.5000001, 1e5, "1.0001"),
 ];
-
-fn run(args: &[String]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .args(args)
-        .output()
-        .expect("lensview runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn json(cmd: &str, d: f64, r1: f64, r2: f64, n: &str, extra: &[&str]) -> Value {
     let mut args: Vec<String> = ["lens", cmd, "--d", &d.to_string(), "--r1", &r1.to_string()]

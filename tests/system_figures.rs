@@ -7,6 +7,8 @@
 // `!(x <= tol)` on purpose: it also fails for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod support;
+
 use glam::DVec3;
 use lensview::geometry::{LensSystem, SurfaceSpec};
 use lensview::lens_tools::setup::SPOT_WAVELENGTHS_UM;
@@ -17,19 +19,7 @@ use lensview::lens_tools::{Setup, fan, spot_diagram};
 use lensview::optics::{Index, WAVELENGTH_D_UM, sagitta};
 use lensview::prescription;
 use serde_json::Value;
-use std::process::Command;
-
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .args(args)
-        .output()
-        .expect("lensview runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use support::run;
 
 fn preset(name: &str) -> LensSystem {
     let rows = prescription::parse(name, prescription::preset(name).unwrap()).unwrap();

@@ -2,6 +2,7 @@
 //! of the stop, the lens's centre C) against the thick-lens paraxial image
 //! height, in the paraxial image plane at the d line.
 
+use super::bench::{distortion_percent, field_sweep};
 use super::setup::{ListedRay, Setup, SetupError, bad};
 use serde::Serialize;
 
@@ -44,26 +45,23 @@ pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Disto
     let (from_v2, m) = setup.real_image(n)?;
     let efl = setup.paraxial(n).efl;
     let plane_z = setup.plane_z(from_v2);
-    let points = (1..=steps)
-        .map(|k| {
-            let a = max_field_deg * f64::from(k) / f64::from(steps);
-            let s = Setup {
-                field_deg: a,
-                ..setup.clone()
-            };
-            let (chief_ray, _) = ListedRay::traced(&s, 0.0, 0.0, n, plane_z);
-            let t = a.to_radians().tan();
-            let paraxial_height = match (setup.object_distance, m) {
-                (Some(dist), Some(m)) => m * (dist + s.sag1()) * t,
-                _ => -efl * t,
-            };
+    let sweep = field_sweep(
+        setup,
+        setup.object_distance,
+        (efl, m, setup.sag1()),
+        (max_field_deg, steps),
+    );
+    let points = sweep
+        .into_iter()
+        .map(|f| {
+            let (chief_ray, _) = ListedRay::traced(&f.bench, 0.0, 0.0, n, plane_z);
             let real_height = chief_ray.image_point.map(|p| p[0]);
             DistortionPoint {
-                field_deg: a,
+                field_deg: f.field_deg,
                 chief_ray,
                 real_height,
-                paraxial_height,
-                distortion_percent: real_height.map(|h| 100.0 * (h - paraxial_height) / paraxial_height),
+                paraxial_height: f.paraxial_height,
+                distortion_percent: distortion_percent(real_height, f.paraxial_height),
             }
         })
         .collect();

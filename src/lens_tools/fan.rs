@@ -1,7 +1,7 @@
 //! The meridional ray fan and the longitudinal spherical aberration curve,
 //! and the cross-section they are drawn on ([`super::sketch`]).
 
-use super::setup::{ListedRay, PUPIL_FILL, Setup, SetupError, bad, exit_axis_crossing};
+use super::setup::{ListedRay, Setup, SetupError, bad, exit_axis_crossing};
 use super::sketch::{Kind, Sketch};
 use super::{LensInfo, lens_info};
 use crate::optics::{WAVELENGTH_D_UM, sagitta};
@@ -91,26 +91,14 @@ pub fn cardinal(setup: &Setup) -> Result<Cardinal, SetupError> {
     })
 }
 
-/// The LSA curve at index `n`: heights PUPIL_FILL·(d/2)·k/steps.
-pub fn lsa_curve(setup: &Setup, n: f64, steps: u32) -> Vec<LsaPoint> {
-    let axial = Setup {
-        field_deg: 0.0,
-        ..setup.clone()
-    };
-    let paraxial = axial.paraxial_image(n).map(|p| p.0);
-    let plane_z = axial.plane_z(paraxial.unwrap_or(0.0));
-    (1..=steps)
-        .map(|k| {
-            let px = f64::from(k) / f64::from(steps);
-            let (ray, _) = ListedRay::traced(&axial, px, 0.0, n, plane_z);
-            let (o, u) = axial.ray(px, 0.0);
-            let focus = exit_axis_crossing(&axial.lens, o, u, n).filter(|_| paraxial.is_some());
-            LsaPoint {
-                height: px * PUPIL_FILL * 0.5 * setup.lens.d,
-                ray,
-                focus_from_v2: focus,
-                lsa: focus.zip(paraxial).map(|(f, p)| f - p),
-            }
+/// The LSA curve at the d line: heights PUPIL_FILL·(d/2)·k/steps.
+pub fn lsa_curve(setup: &Setup, steps: u32) -> Vec<LsaPoint> {
+    (super::bench::lsa(setup, steps).into_iter())
+        .map(|p| LsaPoint {
+            height: p.height,
+            ray: p.ray,
+            focus_from_v2: p.focus,
+            lsa: p.lsa,
         })
         .collect()
 }
@@ -119,19 +107,10 @@ pub fn lsa_curve(setup: &Setup, n: f64, steps: u32) -> Vec<LsaPoint> {
 /// `image_plane` (default: the real paraxial image, refused without one as
 /// `spot` and `distortion` refuse: [`Setup::real_image`]).
 pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, SetupError> {
-    if !(1..=MAX_FAN_RAYS).contains(&rays) {
-        return Err(bad("rays", format!("{rays} must be between 1 and {MAX_FAN_RAYS}")));
-    }
+    let pupil = super::bench::fan_pupil(rays)?;
     let n = setup.index.nominal();
     let from_v2 = setup.image_plane(image_plane)?;
     let plane_z = setup.plane_z(from_v2);
-    let px = |k: u32| {
-        if rays == 1 {
-            0.0
-        } else {
-            -1.0 + 2.0 * f64::from(k) / f64::from(rays - 1)
-        }
-    };
     Ok(Fan {
         d: setup.lens.d,
         r1: setup.lens.r1,
@@ -141,8 +120,8 @@ pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, Se
         field_deg: setup.field_deg,
         image_plane_from_v2: from_v2,
         cardinal: cardinal(setup)?,
-        rays: (0..rays).map(|k| fan_ray(setup, px(k), n, plane_z)).collect(),
-        lsa: lsa_curve(setup, n, LSA_STEPS),
+        rays: pupil.iter().map(|&px| fan_ray(setup, px, n, plane_z)).collect(),
+        lsa: lsa_curve(setup, LSA_STEPS),
     })
 }
 

@@ -5,6 +5,7 @@
 //! the pupil; `fan.rs`: ray fan, cardinal points and LSA; `spot.rs`: spot
 //! diagram; `distortion.rs`; `sketch.rs`: the cross-section and its SVG).
 
+pub mod bench;
 pub mod distortion;
 pub mod fan;
 pub mod setup;

@@ -17,6 +17,7 @@
 //! an object at distance D before V1 every ray starts at the object point
 //! ((D + sag1)·tan A, 0, sag1 + D) ([`Setup::object_point`]).
 
+use super::bench::{self, Bench, Names};
 use crate::geometry::{Lens, LensError, LensPath, LensSurface, LensTraceStatus};
 use crate::optics::{Index, ThickLens, WAVELENGTH_D_UM};
 use crate::render::RGB_WAVELENGTHS_UM;
@@ -44,6 +45,15 @@ pub struct SetupError {
     pub field: &'static str,
     pub message: String,
 }
+
+/// The lens bench's words in its refusals.
+const NAMES: Names = Names {
+    who: "lens",
+    field: "n",
+    last: "V2",
+    after: "the rear vertex V2",
+    where_: ", inside or in front of the glass",
+};
 
 pub(super) fn bad(field: &'static str, message: String) -> SetupError {
     SetupError { field, message }
@@ -147,7 +157,7 @@ impl Setup {
     /// aimed at C at the field angle, starts.
     pub fn object_point(&self, distance: f64) -> DVec3 {
         let z = self.sag1() + distance;
-        DVec3::new(z * self.field_deg.to_radians().tan(), 0.0, z)
+        bench::object_point(z, z, self.field_deg)
     }
 
     /// The real ray for the pupil point (px, py): its origin and unit
@@ -155,19 +165,9 @@ impl Setup {
     pub fn ray(&self, px: f64, py: f64) -> (DVec3, DVec3) {
         let rho = PUPIL_FILL * 0.5 * self.lens.d;
         let aim = DVec3::new(px * rho, py * rho, 0.0);
-        match self.object_distance {
-            Some(dist) => {
-                let o = self.object_point(dist);
-                (o, (aim - o).normalize())
-            }
-            None => {
-                let a = self.field_deg.to_radians();
-                let dir = DVec3::new(-a.sin(), 0.0, -a.cos());
-                // Back along the ray to the plane d beyond V1.
-                let t = (self.sag1() + self.lens.d) / a.cos();
-                (aim - t * dir, dir)
-            }
-        }
+        let object = self.object_distance.map(|dist| self.object_point(dist));
+        // From infinity: back along the ray to the plane d beyond V1.
+        bench::pupil_ray(aim, object, self.field_deg, -1.0, self.sag1() + self.lens.d)
     }
 
     /// The real ray traced by [`Lens::trace`] at index `n`.
@@ -207,22 +207,7 @@ impl Setup {
                 format!("the lens has no power at n = {n} (n = 1, or faces that cancel): it forms no image"),
             ));
         }
-        let Some((from_v2, m)) = self.paraxial_image(n) else {
-            return Err(bad(
-                "object-distance",
-                "the object is inside the front focal point: the lens forms no real image of it".into(),
-            ));
-        };
-        if !(from_v2 > 0.0) {
-            return Err(bad(
-                "n",
-                format!(
-                    "the paraxial image lies {:.6} before V2, inside or in front of the glass: the lens forms no real image after it",
-                    -from_v2
-                ),
-            ));
-        }
-        Ok((from_v2, m))
+        bench::real_image(&NAMES, self.paraxial_image(n))
     }
 
     /// World z of the plane `from_v2` beyond V2 along the light.
@@ -233,20 +218,7 @@ impl Setup {
     /// The image plane: `image_plane` if given (checked: after V2), else the
     /// paraxial image at the d line.
     pub fn image_plane(&self, image_plane: Option<f64>) -> Result<f64, SetupError> {
-        match image_plane {
-            Some(z) if z > 0.0 && z <= crate::math::domain::MAX_LENGTH => Ok(z),
-            Some(z) => Err(bad(
-                "image-plane",
-                format!("{z} must be a distance after the rear vertex V2 along the light (> 0, at most 1e9)"),
-            )),
-            None => self.real_image(self.index.nominal()).map(|(z, _)| z).map_err(|e| {
-                let why = e.message;
-                bad(
-                    e.field,
-                    format!("{why}; give --image-plane to trace to a plane of your own"),
-                )
-            }),
-        }
+        bench::image_plane(&NAMES, image_plane, || self.real_image(self.index.nominal()))
     }
 }
 
@@ -323,5 +295,51 @@ impl ListedRay {
             image_point: plane_crossing(&path, plane_z).map(|p| p.to_array()),
         };
         (ray, path)
+    }
+}
+
+impl Bench for Setup {
+    type Ray = ListedRay;
+
+    fn at_field(&self, field_deg: f64) -> Setup {
+        Setup {
+            field_deg,
+            ..self.clone()
+        }
+    }
+
+    fn axial(&self) -> Setup {
+        self.at_field(0.0)
+    }
+
+    fn paraxial_image(&self) -> Option<(f64, Option<f64>)> {
+        Setup::paraxial_image(self, self.index.nominal())
+    }
+
+    fn image_plane(&self, given: Option<f64>) -> Result<f64, SetupError> {
+        Setup::image_plane(self, given)
+    }
+
+    fn plane_z(&self, from_last: f64) -> f64 {
+        Setup::plane_z(self, from_last)
+    }
+
+    fn pupil_height(&self, px: f64) -> f64 {
+        px * PUPIL_FILL * 0.5 * self.lens.d
+    }
+
+    fn listed(&self, px: f64, py: f64, lambda_um: f64, plane_z: f64) -> ListedRay {
+        ListedRay::traced(self, px, py, self.index.at(lambda_um), plane_z).0
+    }
+
+    fn image_point(ray: &ListedRay) -> Option<[f64; 3]> {
+        ray.image_point
+    }
+
+    fn focus_ray(&self, px: f64, plane_z: f64) -> (ListedRay, Option<f64>) {
+        let n = self.index.nominal();
+        let (ray, _) = ListedRay::traced(self, px, 0.0, n, plane_z);
+        let (o, u) = self.ray(px, 0.0);
+        (ray, exit_axis_crossing(&self.lens, o, u, n))
     }
 }

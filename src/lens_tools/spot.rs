@@ -1,7 +1,7 @@
 //! The spot diagram: hexapolar pupil rays for the C, d and F lines, where
 //! each crosses the image plane, and their RMS radius about the centroid.
 
-use super::setup::{ListedRay, SPOT_WAVELENGTHS_UM, Setup, SetupError, bad};
+use super::setup::{ListedRay, Setup, SetupError, bad};
 use serde::Serialize;
 
 /// The most hexapolar rings (1 + 3·K·(K+1) rays per wavelength: 12 481 at 64).
@@ -22,7 +22,8 @@ pub fn hexapolar(rings: u32) -> Vec<[f64; 2]> {
     pts
 }
 
-/// One wavelength's spot.
+/// One wavelength's spot: a system's ([`super::bench::LineSpot`]) with
+/// the lens's index.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Spot {
     /// `C`, `d` or `F`.
@@ -91,27 +92,17 @@ pub(super) fn check_rings(rings: u32) -> Result<(), SetupError> {
 }
 
 pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Result<SpotDiagram, SetupError> {
-    check_rings(rings)?;
-    let from_v2 = setup.image_plane(image_plane)?;
-    let plane_z = setup.plane_z(from_v2);
-    let pupil = hexapolar(rings);
-    let spots = SPOT_WAVELENGTHS_UM
-        .iter()
-        .map(|&(line, l)| {
-            let n = setup.index.at(l);
-            let rays: Vec<ListedRay> = (pupil.iter())
-                .map(|p| ListedRay::traced(setup, p[0], p[1], n, plane_z).0)
-                .collect();
-            let (ray_count, stats) = spot_stats(rays.iter().map(|r| r.image_point));
-            Spot {
-                line,
-                wavelength_um: l,
-                n,
-                ray_count,
-                centroid: stats.map(|s| s.0),
-                rms_radius: stats.map(|s| s.1),
-                rays,
-            }
+    let traced = super::bench::spots(setup, image_plane, rings)?;
+    let (from_v2, plane_z) = (traced.from_last, traced.plane_z);
+    let spots = (traced.spots.into_iter())
+        .map(|s| Spot {
+            line: s.line,
+            wavelength_um: s.wavelength_um,
+            n: setup.index.at(s.wavelength_um),
+            ray_count: s.ray_count,
+            centroid: s.centroid,
+            rms_radius: s.rms_radius,
+            rays: s.rays,
         })
         .collect();
     Ok(SpotDiagram {

@@ -16,6 +16,7 @@
 //! ([`super::setup`]) with its pupil plane (through the lens's centre C) and
 //! radius replaced by the entrance pupil's.
 
+use super::bench::{self, Bench, Names};
 use super::setup::{SPOT_WAVELENGTHS_UM, SetupError, bad};
 use crate::geometry::{EventKind, LensSystem, Paraxial, PieceKind, RayStatus, RealRay};
 use crate::optics::WAVELENGTH_D_UM;
@@ -35,6 +36,15 @@ pub struct Aim {
 /// aperture (the achromat's first face) the rim rays meet the cap, not the
 /// edge it ends on, by a rounding.
 pub const PUPIL_EDGE: f64 = 1.0 - 1e-9;
+
+/// A system bench's words in its refusals.
+const NAMES: Names = Names {
+    who: "system",
+    field: "system",
+    last: "the last vertex",
+    after: "the last vertex",
+    where_: "",
+};
 
 /// A system, where the light comes from, and the field angle.
 #[derive(Clone, Debug)]
@@ -133,26 +143,15 @@ impl SystemBench {
 
     /// The object point for a finite object distance.
     pub fn object_point(&self, distance: f64) -> DVec3 {
-        let t = self.field_deg.to_radians().tan();
-        DVec3::new((distance + self.aim.z) * t, 0.0, -distance)
+        bench::object_point(distance + self.aim.z, -distance, self.field_deg)
     }
 
     /// The local ray for the pupil point (px, py): origin and unit direction.
     pub fn ray(&self, px: f64, py: f64) -> (DVec3, DVec3) {
         let rho = self.aim.radius;
         let aim = DVec3::new((self.centre + px) * rho, py * rho, self.aim.z);
-        match self.object_distance {
-            Some(dist) => {
-                let o = self.object_point(dist);
-                (o, (aim - o).normalize())
-            }
-            None => {
-                let a = self.field_deg.to_radians();
-                let dir = DVec3::new(-a.sin(), 0.0, a.cos());
-                let t = (aim.z - self.start_z()) / a.cos();
-                (aim - t * dir, dir)
-            }
-        }
+        let object = self.object_distance.map(|dist| self.object_point(dist));
+        bench::pupil_ray(aim, object, self.field_deg, 1.0, aim.z - self.start_z())
     }
 
     /// The pupil ray (px, py) traced at `lambda_um`: its local origin and
@@ -248,40 +247,13 @@ impl SystemBench {
         if !self.paraxial.efl.is_finite() {
             return Err(bad("system", "the system has no power: it forms no image".into()));
         }
-        let Some((from_last, m)) = self.paraxial_image() else {
-            return Err(bad(
-                "object-distance",
-                "the object is inside the front focal point: the system forms no real image of it".into(),
-            ));
-        };
-        if !(from_last > 0.0) {
-            return Err(bad(
-                "system",
-                format!(
-                    "the paraxial image lies {:.6} before the last vertex: the system forms no real image after it",
-                    -from_last
-                ),
-            ));
-        }
-        Ok((from_last, m))
+        bench::real_image(&NAMES, self.paraxial_image())
     }
 
     /// The image plane from the last vertex: `image_plane` if given
     /// (checked), else the paraxial image at the d line.
     pub fn image_plane(&self, image_plane: Option<f64>) -> Result<f64, SetupError> {
-        match image_plane {
-            Some(z) if z > 0.0 && z <= crate::math::domain::MAX_LENGTH => Ok(z),
-            Some(z) => Err(bad(
-                "image-plane",
-                format!("{z} must be a distance after the last vertex along the light (> 0, at most 1e9)"),
-            )),
-            None => self.real_image().map(|(z, _)| z).map_err(|e| {
-                bad(
-                    e.field,
-                    format!("{}; give --image-plane to trace to a plane of your own", e.message),
-                )
-            }),
-        }
+        bench::image_plane(&NAMES, image_plane, || self.real_image())
     }
 
     /// Local `z` of the plane `from_last` after the last vertex.
@@ -408,5 +380,53 @@ impl SystemRay {
             absorbed_at: absorbed.map(|e| bench.local(e.point).to_array()),
             absorbed_surface: absorbed.map(|e| e.piece.surface),
         }
+    }
+}
+
+impl Bench for SystemBench {
+    type Ray = SystemRay;
+
+    fn at_field(&self, field_deg: f64) -> SystemBench {
+        SystemBench {
+            field_deg,
+            ..self.clone()
+        }
+    }
+
+    fn axial(&self) -> SystemBench {
+        SystemBench {
+            field_deg: 0.0,
+            centre: 0.0,
+            ..self.clone()
+        }
+    }
+
+    fn paraxial_image(&self) -> Option<(f64, Option<f64>)> {
+        SystemBench::paraxial_image(self)
+    }
+
+    fn image_plane(&self, given: Option<f64>) -> Result<f64, SetupError> {
+        SystemBench::image_plane(self, given)
+    }
+
+    fn plane_z(&self, from_last: f64) -> f64 {
+        SystemBench::plane_z(self, from_last)
+    }
+
+    fn pupil_height(&self, px: f64) -> f64 {
+        px * self.aim.radius
+    }
+
+    fn listed(&self, px: f64, py: f64, lambda_um: f64, plane_z: f64) -> SystemRay {
+        SystemRay::traced(self, px, py, lambda_um, plane_z).0
+    }
+
+    fn image_point(ray: &SystemRay) -> Option<[f64; 3]> {
+        ray.image_point
+    }
+
+    fn focus_ray(&self, px: f64, plane_z: f64) -> (SystemRay, Option<f64>) {
+        let (ray, real) = SystemRay::traced(self, px, 0.0, WAVELENGTH_D_UM, plane_z);
+        (ray, self.axis_crossing(&real))
     }
 }

@@ -2,8 +2,9 @@
 //! spherical aberration curve (at the d line), and the system's
 //! cross-section they are drawn on ([`super::sketch`]).
 
-use super::fan::{LSA_STEPS, MAX_FAN_RAYS};
-use super::setup::{SetupError, bad};
+use super::bench::Bench;
+use super::fan::LSA_STEPS;
+use super::setup::SetupError;
 use super::sketch::{Kind, Sketch};
 use super::system_bench::{Aim, SystemBench, SystemRay};
 use super::system_info::{SystemInfo, system_info};
@@ -66,18 +67,9 @@ pub struct SystemFan {
     pub lsa: Vec<SystemLsaPoint>,
 }
 
-/// The bench for the axial object point.
-fn axial(bench: &SystemBench) -> SystemBench {
-    SystemBench {
-        field_deg: 0.0,
-        centre: 0.0,
-        ..bench.clone()
-    }
-}
-
 /// The first-order data and the object's real marginal focus.
 pub fn system_cardinal(bench: &SystemBench) -> SystemCardinal {
-    let axial = axial(bench);
+    let axial = bench.axial();
     let (_, _, ray) = axial.trace(1.0, 0.0, WAVELENGTH_D_UM);
     SystemCardinal {
         info: system_info(&bench.system, WAVELENGTH_D_UM),
@@ -89,20 +81,12 @@ pub fn system_cardinal(bench: &SystemBench) -> SystemCardinal {
 
 /// The LSA curve: pupil heights radius·k/steps, k = 1..steps, at the d line.
 pub fn system_lsa(bench: &SystemBench, steps: u32) -> Vec<SystemLsaPoint> {
-    let axial = axial(bench);
-    let paraxial = axial.paraxial_image().map(|p| p.0);
-    let plane_z = axial.plane_z(paraxial.unwrap_or(0.0));
-    (1..=steps)
-        .map(|k| {
-            let px = f64::from(k) / f64::from(steps);
-            let (ray, real) = SystemRay::traced(&axial, px, 0.0, WAVELENGTH_D_UM, plane_z);
-            let focus = axial.axis_crossing(&real).filter(|_| paraxial.is_some());
-            SystemLsaPoint {
-                height: px * bench.aim.radius,
-                ray,
-                focus_from_last_vertex: focus,
-                lsa: focus.zip(paraxial).map(|(f, p)| f - p),
-            }
+    (super::bench::lsa(bench, steps).into_iter())
+        .map(|p| SystemLsaPoint {
+            height: p.height,
+            ray: p.ray,
+            focus_from_last_vertex: p.focus,
+            lsa: p.lsa,
         })
         .collect()
 }
@@ -110,18 +94,9 @@ pub fn system_lsa(bench: &SystemBench, steps: u32) -> Vec<SystemLsaPoint> {
 /// `rays` meridional rays (pupil x from −1 to 1) at the d line, followed to
 /// `image_plane` (default: the paraxial image).
 pub fn system_fan(bench: &SystemBench, rays: u32, image_plane: Option<f64>) -> Result<SystemFan, SetupError> {
-    if !(1..=MAX_FAN_RAYS).contains(&rays) {
-        return Err(bad("rays", format!("{rays} must be between 1 and {MAX_FAN_RAYS}")));
-    }
+    let pupil = super::bench::fan_pupil(rays)?;
     let from_last = bench.image_plane(image_plane)?;
     let plane_z = bench.plane_z(from_last);
-    let px = |k: u32| {
-        if rays == 1 {
-            0.0
-        } else {
-            -1.0 + 2.0 * f64::from(k) / f64::from(rays - 1)
-        }
-    };
     let fan_ray = |px: f64| {
         let (ray, real) = SystemRay::traced(bench, px, 0.0, WAVELENGTH_D_UM, plane_z);
         let mut path: Vec<[f64; 3]> = bench
@@ -149,7 +124,7 @@ pub fn system_fan(bench: &SystemBench, rays: u32, image_plane: Option<f64>) -> R
         pupil_centre: bench.centre,
         image_plane_from_last_vertex: from_last,
         cardinal: system_cardinal(bench),
-        rays: (0..rays).map(|k| fan_ray(px(k))).collect(),
+        rays: pupil.iter().map(|&px| fan_ray(px)).collect(),
         lsa: system_lsa(bench, LSA_STEPS),
     })
 }

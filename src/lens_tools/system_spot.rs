@@ -1,8 +1,8 @@
 //! The spot diagram (C, d and F lines, hexapolar pupil) and the distortion
 //! of the real chief ray for a lens system, on [`SystemBench`].
 
-use super::setup::{SPOT_WAVELENGTHS_UM, SetupError};
-use super::spot::{check_rings, hexapolar, spot_stats};
+use super::bench::{LineSpot, distortion_percent, field_sweep};
+use super::setup::SetupError;
 use super::system_bench::{Aim, SystemBench, SystemRay};
 use super::system_colour::{ChiefColour, lateral_colour_at};
 use crate::optics::WAVELENGTH_D_UM;
@@ -10,19 +10,7 @@ use serde::Serialize;
 use std::fmt;
 
 /// One wavelength's spot.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct SystemSpot {
-    /// `C`, `d` or `F`.
-    pub line: &'static str,
-    pub wavelength_um: f64,
-    /// Rays that reach the image plane (those with an `image_point`).
-    pub ray_count: usize,
-    /// Mean of the image points' x and y (local) over those rays.
-    pub centroid: Option<[f64; 2]>,
-    /// √(mean of |p − centroid|²) over those rays, in the plane.
-    pub rms_radius: Option<f64>,
-    pub rays: Vec<SystemRay>,
-}
+pub type SystemSpot = LineSpot<SystemRay>;
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SystemSpotDiagram {
@@ -44,27 +32,7 @@ pub struct SystemSpotDiagram {
 }
 
 pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) -> Result<SystemSpotDiagram, SetupError> {
-    check_rings(rings)?;
-    let from_last = bench.image_plane(image_plane)?;
-    let plane_z = bench.plane_z(from_last);
-    let pupil = hexapolar(rings);
-    let spots = SPOT_WAVELENGTHS_UM
-        .iter()
-        .map(|&(line, l)| {
-            let rays: Vec<SystemRay> = (pupil.iter())
-                .map(|p| SystemRay::traced(bench, p[0], p[1], l, plane_z).0)
-                .collect();
-            let (ray_count, stats) = spot_stats(rays.iter().map(|r| r.image_point));
-            SystemSpot {
-                line,
-                wavelength_um: l,
-                ray_count,
-                centroid: stats.map(|s| s.0),
-                rms_radius: stats.map(|s| s.1),
-                rays,
-            }
-        })
-        .collect();
+    let traced = super::bench::spots(bench, image_plane, rings)?;
     Ok(SystemSpotDiagram {
         surfaces: bench.system.len(),
         object_distance: bench.object_distance,
@@ -73,10 +41,10 @@ pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) ->
         rings,
         pupil: bench.aim,
         pupil_centre: bench.centre,
-        image_plane_from_last_vertex: from_last,
-        image_plane_z: plane_z,
+        image_plane_from_last_vertex: traced.from_last,
+        image_plane_z: traced.plane_z,
         paraxial_image_from_last_vertex: bench.paraxial_image().map(|p| p.0),
-        spots,
+        spots: traced.spots,
     })
 }
 
@@ -121,30 +89,28 @@ pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) ->
     let (from_last, m) = bench.real_image()?;
     let efl = bench.paraxial.efl;
     let plane_z = bench.plane_z(from_last);
-    let points = (1..=steps)
-        .map(|k| {
-            let a = max_field_deg * f64::from(k) / f64::from(steps);
-            let s = SystemBench {
-                field_deg: a,
-                ..bench.clone()
-            };
+    let sweep = field_sweep(
+        bench,
+        bench.object_distance,
+        (efl, m, bench.aim.z),
+        (max_field_deg, steps),
+    );
+    let points = sweep
+        .into_iter()
+        .map(|f| {
+            let s = f.bench;
             let chief = s.chief_ray(WAVELENGTH_D_UM);
             let chief_ray = chief
                 .as_ref()
                 .map(|c| SystemRay::listed([c.px, 0.0], c.origin, c.dir, &c.ray, &s, WAVELENGTH_D_UM, plane_z));
-            let t = a.to_radians().tan();
-            let paraxial_height = match (bench.object_distance, m) {
-                (Some(dist), Some(m)) => m * (dist + bench.aim.z) * t,
-                _ => -efl * t,
-            };
             let real_height = chief_ray.as_ref().and_then(|r| r.image_point).map(|p| p[0]);
             SystemDistortionPoint {
-                field_deg: a,
+                field_deg: f.field_deg,
                 chief_ray,
                 stop_height: chief.map(|c| c.stop_height),
                 real_height,
-                paraxial_height,
-                distortion_percent: real_height.map(|h| 100.0 * (h - paraxial_height) / paraxial_height),
+                paraxial_height: f.paraxial_height,
+                distortion_percent: distortion_percent(real_height, f.paraxial_height),
                 colour: lateral_colour_at(&s, plane_z),
             }
         })

@@ -120,13 +120,22 @@ impl LensSystem {
             // The stretch of z the ray covers on (t_lo, nearest so far):
             // a surface (or edge) wholly outside it is not tested. Exact:
             // each piece lies within its span.
-            let bound = best.best.map_or(t_hi, |b| b.t);
-            // Every piece still to test lies beyond the stretch: none can be
-            // met (surfaces are walked in the ray's direction along z).
-            let far = p.z + bound * u.z;
-            if (u.z > 0.0 && self.reach[k].0 > far) || (u.z < 0.0 && self.reach[k].1 < far) {
-                break;
-            }
+            let bound = match best.best {
+                Some(b) => {
+                    // Every piece still to test lies beyond the nearest
+                    // crossing so far: none can be nearer (surfaces are
+                    // walked in the ray's direction along z). Not asked
+                    // before a crossing is found: up to `t_hi` none is
+                    // taken anyway, and a singlet's ray met its first
+                    // surface without one (the test cost 4 % of its walk).
+                    let far = p.z + b.t * u.z;
+                    if (u.z > 0.0 && self.reach[k].0 > far) || (u.z < 0.0 && self.reach[k].1 < far) {
+                        break;
+                    }
+                    b.t
+                }
+                None => t_hi,
+            };
             let covers = |(lo, hi): (f64, f64)| {
                 if u.z == 0.0 {
                     return p.z >= lo && p.z <= hi;

@@ -3,10 +3,9 @@
 //! of the values as typed, and *Point at the camera* / *Put in front of the
 //! camera*.
 
-use super::widgets::{Field, colour, index, name, number, vec3};
+use super::widgets::{Field, axis_rows, colour, index, name, number, readout_grid, vec3};
 use super::{Ctx, ERROR, drafted};
 use lensview::edit::Item;
-use lensview::edit::document::{axis_angles, axis_from_angles};
 use lensview::optics::{Index, ThickLens};
 use lensview::scene::file::{IndexFile, LensFile};
 
@@ -75,12 +74,7 @@ fn lens_rows(ui: &mut egui::Ui, l: &mut LensFile) {
     ui.label("centre");
     vec3(ui, &mut l.center, 0.01, Field::Coordinate);
     ui.end_row();
-    ui.label("orientation");
-    orientation(ui, l);
-    ui.end_row();
-    ui.label("axis");
-    vec3(ui, &mut l.axis, 0.01, Field::Coordinate);
-    ui.end_row();
+    axis_rows(ui, &mut l.axis, None);
     for (label, x, hover) in [
         ("d", &mut l.d, "diameter"),
         ("r1", &mut l.r1, "radius of S1 (faces +axis), at least d/2"),
@@ -98,43 +92,17 @@ fn lens_rows(ui: &mut egui::Ui, l: &mut LensFile) {
     ui.end_row();
 }
 
-/// The axis as yaw and pitch (degrees).
-fn orientation(ui: &mut egui::Ui, l: &mut LensFile) {
-    let (mut yaw, mut pitch) = axis_angles(l.axis);
-    let changed = ui
-        .horizontal(|ui| {
-            let a = ui.add(egui::DragValue::new(&mut yaw).speed(0.5).max_decimals(2).prefix("yaw "));
-            let b = ui.add(
-                egui::DragValue::new(&mut pitch)
-                    .speed(0.5)
-                    .range(-90.0..=90.0)
-                    .max_decimals(2)
-                    .prefix("pitch "),
-            );
-            a.changed() || b.changed()
-        })
-        .inner;
-    if changed {
-        l.axis = axis_from_angles(yaw, pitch);
-    }
-}
-
 /// Thickness, EFL, BFD and FFD of the lens as shown, or why it is impossible.
 fn readout(ui: &mut egui::Ui, l: &LensFile, i: usize) {
     match paraxial(l) {
         Ok(p) => {
-            egui::Grid::new(("lens-readout", i)).num_columns(2).show(ui, |ui| {
-                for (k, v) in [
-                    ("thickness", p.thickness),
-                    ("EFL", p.efl),
-                    ("BFD", p.bfd),
-                    ("FFD", p.ffd),
-                ] {
-                    ui.label(k);
-                    ui.monospace(format!("{v:.6}"));
-                    ui.end_row();
-                }
-            });
+            let rows = [
+                ("thickness", p.thickness),
+                ("EFL", p.efl),
+                ("BFD", p.bfd),
+                ("FFD", p.ffd),
+            ];
+            readout_grid(ui, ("lens-readout", i), &rows, 6);
             ui.weak(format!("paraxial, at n = {:.5} (d line)", p.n));
         }
         Err(why) => {

@@ -6,10 +6,10 @@
 //! as built, and *As a table of surfaces*. Every change is a `Document`
 //! edit; one that does not validate is kept as a draft with its reason.
 
-use super::widgets::{Field, colour, glass_choice, index_or_glass, name, number, vec3};
+use super::widgets::{Field, axis_rows, colour, glass_choice, index_or_glass, name, number, readout_grid, vec3};
 use super::{Ctx, drafted};
 use lensview::edit::Item;
-use lensview::edit::document::{axis_angles, axis_from_angles, system_kind_label};
+use lensview::edit::document::system_kind_label;
 use lensview::optics::WAVELENGTH_D_UM;
 use lensview::prescription::PRESETS;
 use lensview::scene::file::{IndexFile, SurfaceFile, SystemFile};
@@ -103,28 +103,7 @@ fn pose_rows(ui: &mut egui::Ui, s: &mut SystemFile, op: &mut Option<RowOp>) {
         vec3(ui, p, 0.01, Field::Coordinate);
         ui.end_row();
     }
-    ui.label("orientation");
-    let (mut yaw, mut pitch) = axis_angles(s.axis);
-    let changed = ui
-        .horizontal(|ui| {
-            let a = ui.add(egui::DragValue::new(&mut yaw).speed(0.5).max_decimals(2).prefix("yaw "));
-            let b = ui.add(
-                egui::DragValue::new(&mut pitch)
-                    .speed(0.5)
-                    .range(-90.0..=90.0)
-                    .max_decimals(2)
-                    .prefix("pitch "),
-            );
-            a.changed() || b.changed()
-        })
-        .inner;
-    if changed {
-        s.axis = axis_from_angles(yaw, pitch);
-    }
-    ui.end_row();
-    ui.label("axis").on_hover_text("the direction the first surface faces");
-    vec3(ui, &mut s.axis, 0.01, Field::Coordinate);
-    ui.end_row();
+    axis_rows(ui, &mut s.axis, Some("the direction the first surface faces"));
     ui.label("tint");
     colour(ui, &mut s.tint);
     ui.end_row();
@@ -319,19 +298,14 @@ fn readout(ui: &mut egui::Ui, cx: &Ctx, i: usize) {
         return;
     };
     let p = sys.paraxial(WAVELENGTH_D_UM);
-    egui::Grid::new(("system-readout", i)).num_columns(2).show(ui, |ui| {
-        for (k, v) in [
-            ("surfaces", sys.len() as f64),
-            ("length", sys.length()),
-            ("diameter", 2.0 * sys.radius()),
-            ("EFL", p.efl),
-            ("BFD", p.bfd),
-            ("f-number", p.f_number),
-        ] {
-            ui.label(k);
-            ui.monospace(format!("{v:.5}"));
-            ui.end_row();
-        }
-    });
+    let rows = [
+        ("surfaces", sys.len() as f64),
+        ("length", sys.length()),
+        ("diameter", 2.0 * sys.radius()),
+        ("EFL", p.efl),
+        ("BFD", p.bfd),
+        ("f-number", p.f_number),
+    ];
+    readout_grid(ui, ("system-readout", i), &rows, 5);
     ui.weak("paraxial, d line; lens keys move and reshape the selected system");
 }

@@ -6,7 +6,7 @@
 //! scene file may hold.
 
 use super::ERROR;
-use lensview::edit::document::index_with_dispersion;
+use lensview::edit::document::{axis_angles, axis_from_angles, index_with_dispersion};
 use lensview::math::domain;
 use lensview::scene::file::IndexFile;
 use std::ops::RangeInclusive;
@@ -119,6 +119,53 @@ pub fn name(ui: &mut egui::Ui, name: &mut Option<String>) {
     if ui.text_edit_singleline(&mut n).changed() {
         *name = if n.trim().is_empty() { None } else { Some(n) };
     }
+}
+
+/// The *orientation* (yaw and pitch, degrees) and *axis* rows of a grid
+/// over one axis (a lens's or a system's): turning either writes the axis.
+pub fn axis_rows(ui: &mut egui::Ui, axis: &mut [f64; 3], hover: Option<&str>) {
+    ui.label("orientation");
+    let (mut yaw, mut pitch) = axis_angles(*axis);
+    let changed = ui
+        .horizontal(|ui| {
+            let a = ui.add(egui::DragValue::new(&mut yaw).speed(0.5).max_decimals(2).prefix("yaw "));
+            let b = ui.add(
+                egui::DragValue::new(&mut pitch)
+                    .speed(0.5)
+                    .range(-90.0..=90.0)
+                    .max_decimals(2)
+                    .prefix("pitch "),
+            );
+            a.changed() || b.changed()
+        })
+        .inner;
+    if changed {
+        *axis = axis_from_angles(yaw, pitch);
+    }
+    ui.end_row();
+    let label = ui.label("axis");
+    if let Some(h) = hover {
+        label.on_hover_text(h);
+    }
+    vec3(ui, axis, 0.01, Field::Coordinate);
+    ui.end_row();
+}
+
+/// A grid of read-only numbers (first-order data), each with `decimals`
+/// digits after the point.
+pub fn readout_grid(
+    ui: &mut egui::Ui,
+    id: impl std::hash::Hash + std::fmt::Debug,
+    rows: &[(&str, f64)],
+    decimals: usize,
+) {
+    egui::Grid::new(id).num_columns(2).show(ui, |ui| {
+        for (k, v) in rows {
+            ui.label(*k);
+            ui.monospace(format!("{v:.decimals$}"));
+            ui.end_row();
+        }
+    });
 }
 
 /// A refractive index: a constant, or Cauchy's A and B; a catalogue glass
