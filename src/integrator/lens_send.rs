@@ -33,7 +33,7 @@ use crate::simd::{LANES, Lanes, lane, live_lanes, mask, with_avx2};
 /// colours take nothing until the rays come back.
 #[inline(never)]
 pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     surfaces: &[Option<Surface>; LANES],
     passes: &LensPasses,
@@ -55,7 +55,7 @@ pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MI
         let Some(s) = &surfaces[l] else { continue };
         let Some(lens) = s.object.lens() else { continue };
         let (depth, weight, kt) = (paths.depth[l], paths.weight[l], shares[1][l]);
-        let prune = lens_pruning(scene, depth, weight, kt);
+        let prune = lens_pruning(scene.scene, depth, weight, kt);
         let lane = LensLane {
             scene,
             s,
@@ -96,7 +96,7 @@ pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MI
 /// lanes whose refracted rays are left to the scalar steps.
 #[inline(always)]
 fn lens_onward_impl(
-    scene: &Lit,
+    scene: Lit,
     (index, object): (usize, &Object),
     passes: &LensPasses,
     paths: &PacketPaths,
@@ -122,10 +122,10 @@ fn lens_onward_impl(
         mirror.write(l, &reflected(&at, lane(&passes.dir, l), depth, weight, kr[l]));
         sent[2][l] = live & followed(kr[l], weight);
         let through = live & followed(kt[l], weight);
-        let f = passes.finished(l, &lens_pruning(scene, depth, weight, kt[l]));
+        let f = passes.finished(l, &lens_pruning(scene.scene, depth, weight, kt[l]));
         let done = through & f.done;
-        let a = done & f.kept[0] & within_depth(scene, depth, 2);
-        let b = done & f.kept[1] & within_depth(scene, depth, 3);
+        let a = done & f.kept[0] & within_depth(scene.scene, depth, 2);
+        let b = done & f.kept[1] & within_depth(scene.scene, depth, 3);
         let (first, second) = (passes.ray_out(0, l, f.out[0]), passes.ray_out(1, l, f.out[1]));
         let firsts = if a { first } else { second };
         out0.write(l, &carried_on(&at, depth, weight, kt[l], firsts));
@@ -143,7 +143,7 @@ fn lens_onward_impl(
 with_avx2! {
     /// [`lens_onward_impl`], built for AVX2 where the CPU has it.
     fn lens_onward / lens_onward_avx2 => lens_onward_impl(
-        scene: &Lit,
+        scene: Lit,
         lens: (usize, &Object),
         passes: &LensPasses,
         paths: &PacketPaths,
@@ -155,7 +155,7 @@ with_avx2! {
 /// A lane of [`send_through_lens`] entering a lens at its surface `s`
 /// (transmitted share `kt`).
 struct LensLane<'a, 's> {
-    scene: &'a Lit<'a>,
+    scene: Lit<'a>,
     s: &'a Surface<'s>,
     depth: u32,
     weight: f64,
@@ -167,7 +167,7 @@ impl LensLane<'_, '_> {
     /// [`refracted`] for a ray out of the lens.
     #[inline(always)]
     fn refracted(&self, tr: Transmitted) -> Option<Secondary> {
-        refracted(self.scene, self.s, self.depth, self.weight, self.kt, tr)
+        refracted(self.scene.scene, self.s, self.depth, self.weight, self.kt, tr)
     }
 }
 
@@ -255,7 +255,7 @@ mod tests {
                     let want = with_features!(
                         f,
                         kernel,
-                        (&(&scene).into(), ray, usize::MAX, depth[l], WAVELENGTH_D_UM, w)
+                        ((&scene).into(), ray, usize::MAX, depth[l], WAVELENGTH_D_UM, w)
                     );
                     assert_eq!(got[l].to_array().map(f64::to_bits), want.to_array().map(f64::to_bits));
                     entered += usize::from(hits.object[l] as usize == index);

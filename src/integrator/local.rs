@@ -75,7 +75,7 @@ impl SurfaceLanes {
 /// lane hit.
 #[inline(always)]
 pub(super) fn local_shading<'s, const GLASS: bool>(
-    scene: &'s Lit<'s>,
+    scene: Lit<'s>,
     paths: &PacketPaths,
     surfaces: &mut [Option<Surface<'s>>; LANES],
     at: &mut SurfaceLanes,
@@ -89,7 +89,7 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
         }
         match paths.hits.get(l) {
             Some((i, h)) => {
-                let s = surface(scene, &paths.rays.ray(l), i, h);
+                let s = surface(scene.scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
                 at.set::<GLASS>(l, &s);
                 surfaces[l] = Some(s);
@@ -107,7 +107,7 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
 /// the lobe cosines; the Phong terms lane by lane where the lobe is on.
 #[inline(always)]
 pub(super) fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     p: &Packet,
     at: &SurfaceLanes,
     light: &Light,
@@ -149,7 +149,7 @@ pub(super) fn add_light_lanes<const SHADOWS: bool, const GLASS: bool, const SPEC
         let live = mask(&matters) & lit;
         if live != 0 {
             shadow.fill_unused(live);
-            vis = transmittances(scene, shadow, &skip);
+            vis = transmittances(scene.scene, shadow, &skip);
         }
     }
     // [`super::shade::add_light`]'s steps: the light that arrives (none

@@ -85,7 +85,7 @@ pub fn radiance<'a>(scene: impl Into<Lit<'a>>, ray: &Ray, depth: u32, lambda_um:
     let lit = scene.into();
     let scene = &lit;
     let f = scene.features;
-    with_features!(f, kernel, (scene, ray, usize::MAX, depth, lambda_um, 1.0))
+    with_features!(f, kernel, (*scene, ray, usize::MAX, depth, lambda_um, 1.0))
 }
 
 /// The rays of a packet in flight: their closest hits, which lanes are live
@@ -133,7 +133,7 @@ pub fn radiance_packet_into(
     out: &mut Lanes<Rgb>,
 ) {
     let f = scene.features;
-    with_features!(f, packet_kernel, (scene, paths, lambda_um, scratch, out));
+    with_features!(f, packet_kernel, (*scene, paths, lambda_um, scratch, out));
 }
 
 /// [`radiance_packet`] with every feature compiled in: what a renderer that
@@ -145,7 +145,7 @@ pub fn radiance_packet_unspecialised(
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
     let mut out = [Rgb::ZERO; LANES];
-    packet_kernel::<true, true, true, true>(scene, paths, lambda_um, scratch, &mut out);
+    packet_kernel::<true, true, true, true>(*scene, paths, lambda_um, scratch, &mut out);
     out
 }
 

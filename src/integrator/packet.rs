@@ -151,7 +151,7 @@ impl Onward {
     #[inline(always)]
     fn trace<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
         &mut self,
-        scene: &Lit,
+        scene: Lit,
         lambda_um: f64,
         scratch: &mut PacketScratch,
         back: &mut Lanes<Rgb>,
@@ -181,7 +181,7 @@ impl Onward {
                 self.skip[l] = NO_OBJECT;
             }
         }
-        let hits = closest_hits(scene, &self.rays, &self.skip);
+        let hits = closest_hits(scene.scene, &self.rays, &self.skip);
         let paths = PacketPaths {
             rays: &self.rays,
             hits: &hits,
@@ -197,7 +197,7 @@ impl Onward {
     /// meets nothing and brings back the background, which is what tracing
     /// it would give (the rays a lens reflects away from the scene, mostly).
     #[inline(always)]
-    fn all_escape(&self, scene: &Lit) -> bool {
+    fn all_escape(&self, scene: Lit) -> bool {
         for l in live_lanes(self.live) {
             let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
                 return false;
@@ -231,7 +231,7 @@ impl Onward {
 /// save the register copies of the SSE2 build, and the lane loops run four
 /// lanes to an instruction instead of two.
 pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -262,7 +262,7 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn packet_kernel_avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -275,7 +275,7 @@ fn packet_kernel_avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
 fn packet_kernel_avx512<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -287,7 +287,7 @@ fn packet_kernel_avx512<const SHADOWS: bool, const GLASS: bool, const MIRROR: bo
 /// [`packet_kernel`]'s steps, compiled into each build.
 #[inline(always)]
 fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     lambda_um: f64,
     scratch: &mut PacketScratch,
@@ -362,7 +362,7 @@ struct Sent<'a> {
 /// scalar kernel (into `extra`). Whether any lane sends a ray on.
 #[inline(always)]
 fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     paths: &PacketPaths,
     surfaces: &[Option<Surface>; LANES],
     lambda_um: f64,
@@ -398,7 +398,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
         gather.l = l;
         let dir = p.dir(l);
         shade_onward::<GLASS, MIRROR>(
-            scene,
+            scene.scene,
             dir,
             s,
             paths.depth[l],
@@ -416,7 +416,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
 /// kernel (rare: out of line, so that the common path stays small).
 #[inline(never)]
 pub(super) fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     lane: usize,
     sec: &Secondary,
     lambda_um: f64,
@@ -435,7 +435,7 @@ pub(super) fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 /// every lane; a third refracted ray (out of a lens) is traced at once by
 /// the scalar kernel (into `extra`).
 pub(super) struct Gather<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
-    pub(super) scene: &'a Lit<'a>,
+    pub(super) scene: Lit<'a>,
     pub(super) lambda_um: f64,
     pub(super) l: usize,
     pub(super) onward: &'a mut [Onward; 3],
@@ -500,7 +500,7 @@ mod tests {
                     with_features!(
                         f,
                         packet_kernel_impl,
-                        (&scene.into(), &paths, WAVELENGTH_D_UM, &mut scratch, &mut out)
+                        (scene.into(), &paths, WAVELENGTH_D_UM, &mut scratch, &mut out)
                     );
                     for l in 0..LANES {
                         let want = radiance(scene, &p.ray(l), 0, WAVELENGTH_D_UM);

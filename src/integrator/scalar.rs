@@ -18,28 +18,28 @@ use crate::trace::{closest_hit_skip, transmittance_skip};
 use glam::DVec3;
 
 pub(super) fn kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     ray: &Ray,
     skip: usize,
     depth: u32,
     lambda_um: f64,
     weight: f64,
 ) -> Rgb {
-    let hit = closest_hit_skip(scene, ray, f64::INFINITY, skip);
-    let hit = hit.map(|(i, h)| surface(scene, ray, i, h));
+    let hit = closest_hit_skip(scene.scene, ray, f64::INFINITY, skip);
+    let hit = hit.map(|(i, h)| surface(scene.scene, ray, i, h));
     shade::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, ray, hit.as_ref(), depth, lambda_um, weight)
 }
 
 /// Light `j`'s sample at the surface and, with shadows, the transmittance
 /// of the shadow ray toward it, traced alone (one without shadows).
 #[inline]
-fn lit_by<const SHADOWS: bool>(scene: &Lit, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
+fn lit_by<const SHADOWS: bool>(scene: Lit, j: usize, s: &Surface) -> Option<(LightSample, Rgb)> {
     let ls = light_at(s, &scene.lights[j])?;
     if !(SHADOWS && scene.shadows) {
         return Some((ls, Rgb::ONE));
     }
     let (sr, dist) = shadow_ray(s, &ls);
-    Some((ls, transmittance_skip(scene, &sr, dist, s.leaving(ls.to_light))))
+    Some((ls, transmittance_skip(scene.scene, &sr, dist, s.leaving(ls.to_light))))
 }
 
 /// The radiance along `ray` given its closest hit, one ray alone: light
@@ -48,7 +48,7 @@ fn lit_by<const SHADOWS: bool>(scene: &Lit, j: usize, s: &Surface) -> Option<(Li
 /// packet.
 #[inline(always)]
 fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: &Lit,
+    scene: Lit,
     ray: &Ray,
     hit: Option<&Surface>,
     depth: u32,
@@ -61,12 +61,12 @@ fn shade<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECU
     let mut color = ambient::<GLASS>(scene, s);
     for j in 0..scene.lights.len() {
         if let Some((ls, visible)) = lit_by::<SHADOWS>(scene, j, s) {
-            add_light::<SHADOWS, GLASS, SPECULAR>(scene, s, ray.dir, &ls, visible, &mut color);
+            add_light::<SHADOWS, GLASS, SPECULAR>(scene.scene, s, ray.dir, &ls, visible, &mut color);
         }
     }
     if GLASS || MIRROR {
         shade_onward::<GLASS, MIRROR>(
-            scene,
+            scene.scene,
             ray.dir,
             s,
             depth,
@@ -110,7 +110,7 @@ impl Refraction for Alone {
 
 /// One ray's [`Tracer`]: each ray sent on traced at once by the kernel.
 struct AtOnce<'a, const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool> {
-    scene: &'a Lit<'a>,
+    scene: Lit<'a>,
     lambda_um: f64,
 }
 

@@ -133,7 +133,7 @@ pub(super) fn light_matters<const SPECULAR: bool>(
 /// The ambient term at the surface, and the caustic photons' light there
 /// when the scene has a photon map: where local shading starts.
 #[inline(always)]
-pub(super) fn ambient<const GLASS: bool>(scene: &Lit, s: &Surface) -> Rgb {
+pub(super) fn ambient<const GLASS: bool>(scene: Lit, s: &Surface) -> Rgb {
     let m = &s.object.material;
     let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
     let mut color = Rgb::ZERO;
