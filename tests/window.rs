@@ -561,6 +561,34 @@ fn a_click_selects_the_object_under_the_cursor() {
         r[0] <= cx && cx <= r[2] && r[1] <= cy && cy <= r[3],
         "the outline {r:?} is not around the click {at:?}"
     );
+    // Dragging the selected cube moves it (the outline follows, the title
+    // says unsaved), and Ctrl+Z undoes the whole drag in one step.
+    let outline_x = || -> Option<f64> { s.rects(&ui_log).get(&key)?.as_array()?[0].as_f64() };
+    let before = outline_x().unwrap();
+    s.xdotool(&["mousemove", "--window", &s.window, &at.0.to_string(), &at.1.to_string()]);
+    s.xdotool(&["mousedown", "1"]);
+    for dx in (8..=48).step_by(8) {
+        std::thread::sleep(Duration::from_millis(80));
+        let x = (at.0 + dx).to_string();
+        s.xdotool(&["mousemove", "--window", &s.window, &x, &at.1.to_string()]);
+    }
+    std::thread::sleep(Duration::from_millis(200));
+    s.xdotool(&["mouseup", "1"]);
+    assert!(
+        wait_until(Duration::from_secs(30), || outline_x()
+            .is_some_and(|x| x > before + 30.0)),
+        "dragging 48 px right moved the outline from {before} to {:?}",
+        outline_x()
+    );
+    assert!(s.title().ends_with('*'), "{}", s.title());
+    s.xdotool(&["windowfocus", "--sync", &s.window]);
+    s.chord("ctrl+z");
+    assert!(
+        wait_until(Duration::from_secs(30), || outline_x()
+            .is_some_and(|x| (x - before).abs() < 1.0)),
+        "Ctrl+Z did not undo the drag at once: the outline is at {:?}, was {before}",
+        outline_x()
+    );
     // The top row of the picture is background (the sky): nothing selected.
     s.click_at(((x0 + w / 2) as i64, 2));
     assert!(

@@ -80,7 +80,21 @@ pub fn load_scene(path: Option<&Path>) -> Result<(SceneFile, Scene)> {
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        None => view::view(cli.view),
+        None => {
+            // A word that names no command and no file is a mistyped
+            // command more likely than a scene.
+            if let Some(p) = &cli.view.scene
+                && !p.exists()
+                && p.extension().is_none()
+                && p.components().count() == 1
+            {
+                anyhow::bail!(
+                    "'{}' is neither a command nor a scene file (commands: view, render, converge, bench, lens); see lensview --help",
+                    p.display()
+                );
+            }
+            view::view(cli.view)
+        }
         Some(Command::View(a)) => view::view(a),
         Some(Command::Render(a)) => render::render_cmd(a),
         Some(Command::Converge(a)) => converge::converge(&a),

@@ -33,7 +33,7 @@ pub struct ViewArgs {
     #[arg(long, hide = true)]
     pub ui_log: Option<PathBuf>,
     /// Folder for screenshots (P: the picture on screen as PNG and linear EXR); made when needed.
-    #[arg(long, default_value = "lensview-screenshots")]
+    #[arg(long, value_name = "DIR", default_value = "lensview-screenshots")]
     pub screenshots: PathBuf,
 }
 

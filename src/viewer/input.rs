@@ -160,6 +160,9 @@ impl Viewer {
         }
         if state == ElementState::Released {
             self.flight.end_drag();
+            if self.grab.take().is_some() {
+                self.session.end_drag();
+            }
             // A press and release in one place (within a few pixels) is a
             // click: it picks what is under the cursor.
             let at = self.flight.cursor();
@@ -178,14 +181,43 @@ impl Viewer {
         let columns = self.screen.as_ref().map_or(0, |s| s.panel_columns(&self.display));
         let over_panel = self.display.panel && self.flight.cursor().0 < columns as f64 * self.display.res_div as f64;
         if !consumed && !over_panel {
-            self.flight.start_drag();
-            self.press_at = Some(self.flight.cursor());
+            let at = self.flight.cursor();
+            self.press_at = Some(at);
+            // On a light's marker or on the selected item, a drag moves it;
+            // anywhere else it looks around.
+            self.grab = self.grab_at(at);
+            if self.grab.is_none() {
+                self.flight.start_drag();
+            }
         }
     }
 
-    /// A drag is applied by the next flight step (once per frame shown).
+    /// What a press at `at` grabs: a light's marker, or the item selected.
+    fn grab_at(&self, at: (f64, f64)) -> Option<super::pick::Grab> {
+        use super::pick::{Grab, Picked, pick};
+        let screen = self.screen.as_ref()?;
+        let pic = super::optics::picture(screen, &self.display)?;
+        let doc = &self.session.doc;
+        match pick(doc, &pic, at, screen.window.scale_factor())? {
+            Picked::Item(item) if self.session.ui.selected != Some(item) => None,
+            what => Grab::new(doc, what, at),
+        }
+    }
+
+    /// A look-around drag is applied by the next flight step (once per
+    /// frame shown); a grab moves what it holds at once.
     pub(super) fn cursor_moved(&mut self, x: f64, y: f64) {
         self.flight.cursor_moved((x, y));
+        let along = self.modifiers.shift_key();
+        if let Some(mut grab) = self.grab
+            && let Some(screen) = &self.screen
+            && let Some(pic) = super::optics::picture(screen, &self.display)
+        {
+            let by = grab.step(&self.session.doc, &pic, (x, y), along);
+            self.grab = Some(grab);
+            self.session.drag(grab.what, by);
+            self.settle();
+        }
     }
 
     /// The wheel (over the picture) changes the flight speed.

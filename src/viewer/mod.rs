@@ -118,6 +118,8 @@ struct Viewer {
     quit: bool,
     /// Where the left button went down over the picture (a click picks).
     press_at: Option<(f64, f64)>,
+    /// What a left-button drag is moving (else it looks around).
+    grab: Option<pick::Grab>,
     error: Option<anyhow::Error>,
     /// For threads of the window's to send it events.
     proxy: winit::event_loop::EventLoopProxy<UserEvent>,
@@ -178,6 +180,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         quit: false,
         error: None,
         press_at: None,
+        grab: None,
         proxy,
     };
     event_loop.run_app(&mut app).context("event loop failed")?;
@@ -590,7 +593,7 @@ impl ApplicationHandler<UserEvent> for Viewer {
             .screen
             .as_ref()
             .is_some_and(|s| s.gui.typing() || s.gui.ctx.egui_is_using_pointer());
-        if !flying && !self.flight.is_dragging() && !ui_busy {
+        if !flying && !self.flight.is_dragging() && self.grab.is_none() && !ui_busy {
             self.session.doc.seal();
         }
         event_loop.set_control_flow(match self.next_wake(flying) {

@@ -61,6 +61,11 @@ impl Picture {
         let inside = p[0] >= 0.0 && p[1] >= 0.0 && p[0] < f64::from(self.size.0) && p[1] < f64::from(self.size.1);
         inside.then_some(p)
     }
+
+    /// Window pixels (physical) per picture pixel.
+    pub fn scale(&self) -> f64 {
+        self.layout().0
+    }
 }
 
 /// F′'s marker colour (also what tests/window.rs looks for).

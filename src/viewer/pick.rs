@@ -5,6 +5,7 @@
 //! (its box, projected).
 
 use super::optics::{Picture, project};
+use glam::DVec3;
 use lensview::edit::{Document, Item};
 use lensview::light::Light;
 use lensview::math::Ray;
@@ -103,4 +104,75 @@ pub fn paint(ctx: &egui::Context, doc: &Document, pic: Picture, selected: Option
         painter.rect_stroke(r, 2.0, egui::Stroke::new(1.5, SELECTED), egui::StrokeKind::Outside);
         r
     })
+}
+
+/// A drag of a picked thing (the selected item, or a light's marker):
+/// moved in the plane through its point facing the camera, or with Shift
+/// along the view.
+#[derive(Clone, Copy, Debug)]
+pub struct Grab {
+    pub what: Picked,
+    /// The world point that follows the cursor.
+    anchor: DVec3,
+    /// The cursor's last window position (physical pixels).
+    last: (f64, f64),
+}
+
+/// The world point a picked thing is dragged by: a light's position, an
+/// item's box centre.
+fn anchor_of(doc: &Document, what: Picked) -> Option<DVec3> {
+    let scene = doc.built();
+    match what {
+        Picked::Light(i) => match scene.lights.get(i)? {
+            Light::Point { position, .. } => Some(*position),
+            _ => None,
+        },
+        Picked::Item(item) => {
+            let b = scene.objects.get(doc.object_of_item(item))?.world_bounds;
+            Some(0.5 * (b.min + b.max))
+        }
+    }
+}
+
+impl Grab {
+    /// A grab of `what` with the cursor at `cursor`.
+    pub fn new(doc: &Document, what: Picked, cursor: (f64, f64)) -> Option<Grab> {
+        Some(Grab {
+            what,
+            anchor: anchor_of(doc, what)?,
+            last: cursor,
+        })
+    }
+
+    /// The move that takes the grabbed point under the cursor at `to`
+    /// (in its plane facing the camera), or along the view by the
+    /// cursor's vertical travel with `along` (Shift: up moves away); zero
+    /// where the cursor is off the picture or the plane is edge-on.
+    pub fn step(&mut self, doc: &Document, pic: &Picture, to: (f64, f64), along: bool) -> DVec3 {
+        let cam = &doc.built().camera;
+        let f = cam.forward();
+        let depth = (self.anchor - cam.position).dot(f);
+        let by = if along {
+            let dy = (to.1 - self.last.1) / f64::from(pic.size.1.max(1)) / pic.scale();
+            f * (-2.0 * dy * depth.abs().max(1e-3))
+        } else {
+            let Some(p) = pic.picture_point([to.0, to.1]) else {
+                return DVec3::ZERO;
+            };
+            let ray = cam.ray(p[0], p[1], pic.size.0, pic.size.1);
+            let along_f = ray.dir.dot(f);
+            if along_f.abs() < 1e-9 || depth <= 0.0 {
+                return DVec3::ZERO;
+            }
+            let t = (self.anchor - ray.origin).dot(f) / along_f;
+            ray.origin + ray.dir * t - self.anchor
+        };
+        self.last = to;
+        if by.is_finite() {
+            self.anchor += by;
+            by
+        } else {
+            DVec3::ZERO
+        }
+    }
 }

@@ -340,6 +340,31 @@ impl Session {
         }
     }
 
+    /// A drag moved what was picked by `by` (world units): one undo step
+    /// per drag, ended by [`Self::end_drag`].
+    pub fn drag(&mut self, what: super::pick::Picked, by: glam::DVec3) {
+        use super::pick::Picked;
+        if by == glam::DVec3::ZERO {
+            return;
+        }
+        let (moved, name) = match what {
+            Picked::Item(item) => (self.doc.move_item(item, by), self.doc.item_name(item)),
+            Picked::Light(k) => (self.doc.move_light(k, by), format!("light {}", k + 1)),
+        };
+        match moved {
+            Ok(c) => {
+                self.message = format!("moving {name} (Ctrl+Z undoes the whole drag)");
+                self.changed(c);
+            }
+            Err(e) => self.message = format!("{name} not moved: {e}"),
+        }
+    }
+
+    /// The drag ended: the next one is its own undo step.
+    pub fn end_drag(&mut self) {
+        self.doc.seal();
+    }
+
     /// A click on the picture picked `p` (`None`: the background, which
     /// clears the selection): the panel shows it.
     pub fn picked(&mut self, p: Option<super::pick::Picked>) {

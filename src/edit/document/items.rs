@@ -56,6 +56,32 @@ impl Document {
         }
     }
 
+    /// Moves `item` by `by` (world units), one undo step per drag (merged
+    /// until [`Self::seal`]): a primitive's position, a lens's centre, a
+    /// system's vertex or centre (whichever places it).
+    pub fn move_item(&mut self, item: Item, by: glam::DVec3) -> Result<Change, Rejected> {
+        let shift = |p: &mut V3| *p = (glam::DVec3::from(*p) + by).to_array();
+        let name = self.item_name(item);
+        self.edit_merged(&format!("drag {name}"), &format!("move {name}"), |sf| match item {
+            Item::Object(i) => sf.objects.get_mut(i).into_iter().for_each(|o| shift(&mut o.position)),
+            Item::Lens(i) => sf.lenses.get_mut(i).into_iter().for_each(|l| shift(&mut l.center)),
+            Item::System(i) => {
+                if let Some(s) = sf.systems.get_mut(i) {
+                    s.vertex.iter_mut().chain(s.center.iter_mut()).for_each(shift);
+                }
+            }
+        })
+    }
+
+    /// Moves point light `k` by `by`, one undo step per drag.
+    pub fn move_light(&mut self, k: usize, by: glam::DVec3) -> Result<Change, Rejected> {
+        self.edit_merged(&format!("drag light {k}"), &format!("move light {}", k + 1), |sf| {
+            if let Some(p) = sf.lights.get_mut(k).and_then(|l| l.position.as_mut()) {
+                *p = (glam::DVec3::from(*p) + by).to_array();
+            }
+        })
+    }
+
     /// The displayed name of an item (its `name`, or the default the
     /// renderer gives it).
     pub fn item_name(&self, item: Item) -> String {

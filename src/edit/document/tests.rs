@@ -412,3 +412,41 @@ fn reload_of_a_broken_file_says_where_and_keeps_everything() {
     assert_eq!(doc.reload(true).unwrap(), Change::Picture);
     assert_eq!(doc.scene().lights[0].intensity, 250.0);
 }
+
+/// Issue 33.1: a drag moves a primitive, a lens, a lens system (by the
+/// key that places it) or a point light; a drag's moves are one undo step,
+/// and the built objects map back to their items.
+#[test]
+fn drags_move_items_and_lights_in_one_undo_step_each() {
+    let mut doc = Document::preset("lens family").unwrap();
+    let before = doc.scene().clone();
+    let by = glam::DVec3::new(0.1, -0.2, 0.3);
+    let items = doc.items();
+    for (k, &(item, _)) in items.iter().enumerate() {
+        assert_eq!(doc.item_of_object(doc.object_of_item(item)), Some(item));
+        let o = doc.object_of_item(item);
+        let b0 = doc.built().objects[o].world_bounds;
+        doc.move_item(item, by).unwrap();
+        doc.move_item(item, by).unwrap();
+        let b1 = doc.built().objects[o].world_bounds;
+        let moved = 0.5 * (b1.min + b1.max) - 0.5 * (b0.min + b0.max);
+        assert!((moved - 2.0 * by).length() < 1e-9, "{item:?} moved by {moved}");
+        doc.seal();
+        assert_eq!(doc.undo_depth(), k + 1, "one step per drag");
+    }
+    assert_eq!(doc.item_of_object(items.len()), None);
+    let light = doc
+        .scene()
+        .lights
+        .iter()
+        .position(|l| l.kind == LightKind::Point)
+        .unwrap();
+    let p0 = doc.scene().lights[light].position.unwrap();
+    doc.move_light(light, by).unwrap();
+    let p1 = doc.scene().lights[light].position.unwrap();
+    assert!((glam::DVec3::from(p1) - glam::DVec3::from(p0) - by).length() < 1e-12);
+    for _ in 0..=items.len() {
+        doc.undo();
+    }
+    assert_eq!(*doc.scene(), before);
+}
