@@ -29,6 +29,9 @@ for _ in $(seq 8); do
     xdotool key --window "$win" w
     sleep 2
 done
+# Escape twice: with nothing unsaved, one press only asks for a second.
+xdotool key --window "$win" Escape
+sleep 0.5
 xdotool key --window "$win" Escape
 wait $app || true
 python3 - "$tmp/frames.jsonl" <<'PY'

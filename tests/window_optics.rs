@@ -101,8 +101,7 @@ fn the_lens_family_shows_and_an_added_system_moves_with_the_lens_keys() {
         "{}",
         s.title()
     );
-    s.key("Escape");
-    let (status, err) = s.wait_exit("Escape");
+    let (status, err) = s.escape_out(3);
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
 
@@ -137,8 +136,7 @@ fn optics_overlay_draws_a_lens_systems_f_prime() {
     );
     s.key("F6");
     s.wait_screenshot("optics.png", "the system's F′ at its projected pixel", magenta_near);
-    s.key("Escape");
-    let (status, err) = s.wait_exit("Escape");
+    let (status, err) = s.escape_out(3);
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
 
@@ -202,7 +200,6 @@ fn the_analysis_window_draws_every_figure_of_a_lens_system() {
             .contains_key("Lens analysis")),
         "F7 did not close the window"
     );
-    s.key("Escape");
-    let (status, err) = s.wait_exit("Escape");
+    let (status, err) = s.escape_out(3);
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }

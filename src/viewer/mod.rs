@@ -357,7 +357,9 @@ impl Viewer {
             overlay::show(ui.ctx(), picture, lines);
             panel::show(ui, &mut cx);
             optics::overlay(ui.ctx(), cx.session, pic);
-            if let Some(pic) = pic {
+            // Markers and the selection's outline are overlay: F1's "off"
+            // leaves the bare picture.
+            if let Some(pic) = pic.filter(|_| cx.display.overlay != overlay::OverlayMode::Off) {
                 let selected = cx.session.ui.selected;
                 if let Some(r) = pick::paint(ui.ctx(), &cx.session.doc, pic, selected)
                     && let Some(item) = selected

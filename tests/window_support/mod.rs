@@ -422,6 +422,19 @@ pub fn changed_box(a: &Image, b: &Image, level: u8) -> Option<(u32, u32, u32, u3
 
 impl Session<'_> {
     /// Waits (up to 60 s) for the viewer to exit; its status and stderr.
+    /// Presses Escape until the viewer exits, at most `presses` times (it
+    /// closes what is open first, and with nothing unsaved wants a second
+    /// press within `QUIT_AGAIN`, 3 s); its status and stderr.
+    pub fn escape_out(&mut self, presses: usize) -> (std::process::ExitStatus, String) {
+        for _ in 0..presses {
+            self.key("Escape");
+            if wait_until(Duration::from_secs(1), || self.app.try_wait().unwrap().is_some()) {
+                break;
+            }
+        }
+        self.wait_exit("Escape")
+    }
+
     pub fn wait_exit(&mut self, what: &str) -> (std::process::ExitStatus, String) {
         let mut status = None;
         wait_until(Duration::from_secs(60), || {
