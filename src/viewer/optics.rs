@@ -68,6 +68,32 @@ impl Picture {
     }
 }
 
+/// A painter over the picture, clipped to it, on its own background layer
+/// `id`, and the map from picture positions to its points.
+pub struct Canvas {
+    pub painter: egui::Painter,
+    pic: Picture,
+    ppp: f64,
+}
+
+impl Canvas {
+    pub fn new(ctx: &egui::Context, pic: Picture, id: &'static str) -> Canvas {
+        let ppp = f64::from(ctx.pixels_per_point());
+        let painter = ctx.layer_painter(egui::LayerId::new(egui::Order::Background, egui::Id::new(id)));
+        let mut canvas = Canvas { painter, pic, ppp };
+        let size = [f64::from(pic.size.0), f64::from(pic.size.1)];
+        let clip = egui::Rect::from_min_max(canvas.pt([0.0, 0.0]), canvas.pt(size));
+        canvas.painter.set_clip_rect(clip);
+        canvas
+    }
+
+    /// The point (logical) of continuous picture position `p`.
+    pub fn pt(&self, p: [f64; 2]) -> egui::Pos2 {
+        let w = self.pic.window_point(p);
+        egui::pos2((w[0] / self.ppp) as f32, (w[1] / self.ppp) as f32)
+    }
+}
+
 /// F′'s marker colour (also what tests/window.rs looks for).
 pub const F_BACK: egui::Color32 = egui::Color32::from_rgb(255, 0, 255);
 const F_FRONT: egui::Color32 = egui::Color32::from_rgb(0, 230, 255);
@@ -255,18 +281,8 @@ pub fn system_figure(sys: &LensSystem, up_hint: DVec3, object_distance: Option<f
 
 /// Paints `fig` over the picture.
 pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
-    let ppp = f64::from(ctx.pixels_per_point());
-    let to_pt = |p: [f64; 2]| {
-        let w = pic.window_point(p);
-        egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
-    };
-    let clip_rect = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));
-    let painter = ctx
-        .layer_painter(egui::LayerId::new(
-            egui::Order::Background,
-            egui::Id::new("lensview-optics"),
-        ))
-        .with_clip_rect(clip_rect);
+    let canvas = Canvas::new(ctx, pic, "lensview-optics");
+    let (painter, to_pt) = (&canvas.painter, |p| canvas.pt(p));
     let line = |pts: &[DVec3], stroke: egui::Stroke| {
         for w in pts.windows(2) {
             if let Some((a, b)) = clip(cam, w[0], w[1])

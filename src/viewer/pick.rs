@@ -4,7 +4,7 @@
 //! shows it. Every point light has a marker; the selection is outlined
 //! (its box, projected).
 
-use super::optics::{Picture, project};
+use super::optics::{Canvas, Picture, project};
 use glam::DVec3;
 use lensview::edit::{Document, Item};
 use lensview::light::Light;
@@ -62,18 +62,9 @@ pub fn pick(doc: &Document, pic: &Picture, cursor: (f64, f64), ppp: f64) -> Opti
 /// returns the outline (logical points), if drawn.
 pub fn paint(ctx: &egui::Context, doc: &Document, pic: Picture, selected: Option<Item>) -> Option<egui::Rect> {
     let scene = doc.built();
-    let ppp = f64::from(ctx.pixels_per_point());
-    let to_pt = |p: [f64; 2]| {
-        let w = pic.window_point(p);
-        egui::pos2((w[0] / ppp) as f32, (w[1] / ppp) as f32)
-    };
-    let clip = egui::Rect::from_min_max(to_pt([0.0, 0.0]), to_pt([f64::from(pic.size.0), f64::from(pic.size.1)]));
-    let painter = ctx
-        .layer_painter(egui::LayerId::new(
-            egui::Order::Background,
-            egui::Id::new("lensview-pick"),
-        ))
-        .with_clip_rect(clip);
+    let canvas = Canvas::new(ctx, pic, "lensview-pick");
+    let (painter, to_pt) = (&canvas.painter, |p| canvas.pt(p));
+    let clip = painter.clip_rect();
     let dark = egui::Stroke::new(3.0, egui::Color32::from_black_alpha(200));
     for i in 0..scene.lights.len() {
         if let Some(p) = light_at(scene, i, &pic) {

@@ -321,7 +321,6 @@ impl<'a> Session<'a> {
             .unwrap_or_default()
     }
 
-    /// Clicks the middle of the button called `name` once it is on screen.
     /// Clicks the left button at window pixel `(x, y)`.
     pub fn click_at(&self, (x, y): (i64, i64)) {
         self.xdotool(&["mousemove", "--window", &self.window, &x.to_string(), &y.to_string()]);
@@ -332,6 +331,7 @@ impl<'a> Session<'a> {
         std::thread::sleep(Duration::from_millis(300));
     }
 
+    /// Clicks the middle of the button called `name` once it is on screen.
     pub fn click(&self, ui_log: &Path, name: &str) {
         let mut at = None;
         assert!(
@@ -345,13 +345,7 @@ impl<'a> Session<'a> {
             "no button `{name}` on screen: {:?}",
             self.rects(ui_log)
         );
-        let (x, y) = at.unwrap();
-        self.xdotool(&["mousemove", "--window", &self.window, &x.to_string(), &y.to_string()]);
-        std::thread::sleep(Duration::from_millis(300));
-        self.xdotool(&["mousedown", "1"]);
-        std::thread::sleep(Duration::from_millis(150));
-        self.xdotool(&["mouseup", "1"]);
-        std::thread::sleep(Duration::from_millis(300));
+        self.click_at(at.unwrap());
     }
 
     pub fn hold(&self, key: &str, ms: u64) {
