@@ -63,6 +63,11 @@ impl Gui {
         self.ctx.text_edit_focused()
     }
 
+    /// Whether a menu or popup is open (Escape is then egui's: it closes it).
+    pub fn menu_open(&self) -> bool {
+        self.ctx.any_popup_open()
+    }
+
     /// Runs one UI pass and tessellates it for [`Self::paint`]. Returns how
     /// soon egui wants to run again (animations, tooltips), if at all, and
     /// whether the pass looks different from the one before.

@@ -145,7 +145,9 @@ impl Viewer {
             Action::ToggleCaustics => s.toggle_caustics(),
             Action::DeleteSelected => s.delete_selected(),
             Action::DuplicateSelected => s.duplicate_selected(),
-            // The help window closes first, as the panel's windows do.
+            // An open menu closes first (egui does it), then the help
+            // window, as the panel's windows do.
+            Action::Quit if self.screen.as_ref().is_some_and(|s| s.gui.menu_open()) => {}
             Action::Quit if self.display.help => self.display.help = false,
             Action::Quit => s.request_quit(),
             _ => {}
