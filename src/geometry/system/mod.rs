@@ -125,17 +125,9 @@ pub struct LensSystem {
     /// Each surface's ring (or diaphragm) outer radius: no ring where it is
     /// not above the semi-aperture.
     ring_outer: Vec<f64>,
-    /// Each surface's extent along the axis (cap and ring): `z_k` and its
-    /// sag at the aperture, in order. A ray whose stretch ahead does not
-    /// reach it cannot meet the surface ([`LensSystem::next_crossing`]).
-    span: Vec<(f64, f64)>,
-    /// For each surface `k`: the least `z` of any piece of surfaces `k` and
-    /// after (caps, rings, edges), and the greatest of any of `k` and
-    /// before. A ray walking toward `+z` whose stretch ahead ends before
-    /// the first (toward `−z`: after the second) meets none of them.
-    reach: Vec<(f64, f64)>,
-    /// Whether each cap separates two media.
-    boundary: Vec<bool>,
+    /// What the nearest-crossing test reads of each surface, side by side
+    /// ([`pieces::Face`]): its extent, its reach, the ring planes.
+    faces: Vec<pieces::Face>,
     /// The largest radius of the system (apertures and rims).
     radius: f64,
     /// Square of 1.01 × the radius of a ball about `mid` holding the system.
@@ -205,9 +197,7 @@ impl LensSystem {
             c,
             rim,
             ring_outer,
-            span: Vec::new(),
-            reach: Vec::new(),
-            boundary: Vec::new(),
+            faces: Vec::new(),
             radius,
             reject_radius2: (1.01 * half).powi(2),
             mid,
@@ -215,14 +205,7 @@ impl LensSystem {
         };
         sys.check_edges()?;
         let mut sys = sys;
-        sys.boundary = (0..sys.len()).map(|k| sys.before(k) != sys.surfaces[k].n).collect();
-        sys.span = (0..sys.len())
-            .map(|k| {
-                let (z, e) = (sys.z[k], sys.ring_z(k));
-                (z.min(e), z.max(e))
-            })
-            .collect();
-        sys.reach = sys.reach_of_pieces();
+        sys.faces = sys.faces_of_pieces();
         Ok(sys)
     }
 

@@ -92,6 +92,65 @@ impl Nearest {
     }
 }
 
+/// What [`LensSystem::next_crossing`] reads of one surface, side by side
+/// (it read eight arrays, each with its bounds check, and computed each
+/// ring plane's sag, a square root, at every test).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Face {
+    /// Vertex `z_k`, curvature `c_k`, semi-aperture.
+    z: f64,
+    c: f64,
+    a: f64,
+    /// The plane of the ring: the sag at the aperture.
+    ring_z: f64,
+    /// The ring's (or diaphragm's) outer radius; no ring unless above `a`.
+    ring_outer: f64,
+    /// The rim radius of the cell after the surface (0: air, no edge),
+    /// and the planes of its two rings, this surface's then the next's.
+    rim: f64,
+    edge: (f64, f64),
+    /// The extent along the axis of the cap and ring, in order.
+    span: (f64, f64),
+    /// The least `z` of any piece of this surface and after (caps, rings,
+    /// edges), and the greatest of any of it and before: a ray walking
+    /// toward `+z` whose stretch ahead ends before the first (toward
+    /// `−z`: after the second) meets none of them.
+    reach: (f64, f64),
+    /// Whether the cap separates two media.
+    boundary: bool,
+}
+
+impl Face {
+    /// The extent along the axis of the edge after the surface.
+    #[inline(always)]
+    fn edge_span(&self) -> (f64, f64) {
+        let (z0, z1) = self.edge;
+        (z0.min(z1), z0.max(z1))
+    }
+
+    /// The extent of the surface's pieces (the edge after it included).
+    fn extent(&self) -> (f64, f64) {
+        let (mut lo, mut hi) = self.span;
+        if self.rim > 0.0 {
+            let (e0, e1) = self.edge_span();
+            (lo, hi) = (lo.min(e0), hi.max(e1));
+        }
+        (lo, hi)
+    }
+}
+
+/// Whether a ray from `p` along `u` covers, over `t` in `(t_lo, bound)`,
+/// some `z` of the extent `(lo, hi)`.
+#[inline(always)]
+fn covers(p: DVec3, u: DVec3, t_lo: f64, bound: f64, (lo, hi): (f64, f64)) -> bool {
+    if u.z == 0.0 {
+        return p.z >= lo && p.z <= hi;
+    }
+    let (a, b) = (p.z + t_lo * u.z, p.z + bound * u.z);
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    !(hi < a || lo > b)
+}
+
 impl LensSystem {
     /// The name of a piece as `lens trace` prints it.
     pub fn piece_name(&self, piece: Piece) -> &'static str {
@@ -107,7 +166,7 @@ impl LensSystem {
     /// surface in one medium is not a boundary).
     #[inline(always)]
     pub fn cap_is_boundary(&self, k: usize) -> bool {
-        self.boundary[k]
+        self.faces[k].boundary
     }
 
     /// The nearest crossing with `t` in `(t_lo, t_hi)` of the ray from the
@@ -116,64 +175,56 @@ impl LensSystem {
     /// one nearer 0 is left out; a plane has only that one).
     pub fn next_crossing(&self, p: DVec3, u: DVec3, from: Option<usize>, t_lo: f64, t_hi: f64) -> Option<Crossing> {
         let mut best = Nearest { best: None, t_lo, t_hi };
-        for k in self.order(u.z) {
+        let faces = &self.faces[..];
+        // Surfaces are walked in the ray's direction along z. Those whose
+        // every piece lies behind the start are skipped at once: each would
+        // fail the stretch test below (reach is monotone in k, so they are
+        // a run at the start of the walk). A reflected ray restarting in
+        // the middle of a double Gauss tested all eleven.
+        let start = p.z + t_lo * u.z;
+        let forward = u.z >= 0.0;
+        let skip = if forward {
+            faces.iter().take_while(|f| f.reach.1 < start).count()
+        } else {
+            faces.iter().rev().take_while(|f| f.reach.0 > start).count()
+        };
+        for i in skip..faces.len() {
+            let k = if forward { i } else { faces.len() - 1 - i };
+            let f = &faces[k];
             // The stretch of z the ray covers on (t_lo, nearest so far):
             // a surface (or edge) wholly outside it is not tested. Exact:
             // each piece lies within its span.
             let bound = match best.best {
                 Some(b) => {
                     // Every piece still to test lies beyond the nearest
-                    // crossing so far: none can be nearer (surfaces are
-                    // walked in the ray's direction along z). Not asked
+                    // crossing so far: none can be nearer. Not asked
                     // before a crossing is found: up to `t_hi` none is
                     // taken anyway, and a singlet's ray met its first
                     // surface without one (the test cost 4 % of its walk).
                     let far = p.z + b.t * u.z;
-                    if (u.z > 0.0 && self.reach[k].0 > far) || (u.z < 0.0 && self.reach[k].1 < far) {
+                    if (u.z > 0.0 && f.reach.0 > far) || (u.z < 0.0 && f.reach.1 < far) {
                         break;
                     }
                     b.t
                 }
                 None => t_hi,
             };
-            let covers = |(lo, hi): (f64, f64)| {
-                if u.z == 0.0 {
-                    return p.z >= lo && p.z <= hi;
-                }
-                let (a, b) = (p.z + t_lo * u.z, p.z + bound * u.z);
-                let (a, b) = if a <= b { (a, b) } else { (b, a) };
-                !(hi < a || lo > b)
-            };
-            if covers(self.span[k]) {
-                self.cap_and_ring(k, p, u, from, &mut best);
+            if covers(p, u, t_lo, bound, f.span) {
+                Self::cap_and_ring(k, f, p, u, from, &mut best);
             }
-            if self.rim[k] > 0.0 {
-                let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
-                if covers(self.edge_span(k)) {
-                    for t in self.edge_roots(k, p, u) {
-                        let x = p + t * u;
-                        if x.z >= z0 && x.z <= z1 {
-                            best.take(
-                                t,
-                                Piece {
-                                    surface: k,
-                                    kind: PieceKind::Edge,
-                                },
-                                x,
-                            );
-                        }
-                    }
-                }
+            if f.rim > 0.0 && covers(p, u, t_lo, bound, f.edge_span()) {
+                Self::edge(k, f, p, u, &mut best);
             }
         }
         best.best
     }
 
-    /// [`LensSystem::next_crossing`]'s test of cap `k` and its ring.
+    /// [`LensSystem::next_crossing`]'s test of cap `k` (face `f`) and its
+    /// ring.
     #[inline(always)]
-    fn cap_and_ring(&self, k: usize, p: DVec3, u: DVec3, from: Option<usize>, best: &mut Nearest) {
-        if self.cap_is_boundary(k) {
-            let mut ts = self.cap_roots(k, p, u);
+    fn cap_and_ring(k: usize, f: &Face, p: DVec3, u: DVec3, from: Option<usize>, best: &mut Nearest) {
+        if f.boundary {
+            let mut ts = Self::cap_roots(f, p, u);
             if from == Some(k) {
                 // The root at the start is the smaller in magnitude.
                 let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
@@ -181,7 +232,7 @@ impl LensSystem {
             }
             for t in ts {
                 let x = p + t * u;
-                if self.on_cap(k, x) {
+                if Self::on_cap(f, x) {
                     best.take(
                         t,
                         Piece {
@@ -193,11 +244,11 @@ impl LensSystem {
                 }
             }
         }
-        if self.ring_outer[k] > self.surfaces[k].semi_aperture {
-            let t = (self.ring_z(k) - p.z) / u.z;
+        if f.ring_outer > f.a {
+            let t = (f.ring_z - p.z) / u.z;
             let x = p + t * u;
             let r2 = x.x * x.x + x.y * x.y;
-            let (a, o) = (self.surfaces[k].semi_aperture, self.ring_outer[k]);
+            let (a, o) = (f.a, f.ring_outer);
             if r2 > a * a && r2 <= o * o {
                 best.take(
                     t,
@@ -205,60 +256,71 @@ impl LensSystem {
                         surface: k,
                         kind: PieceKind::Ring,
                     },
-                    DVec3::new(x.x, x.y, self.ring_z(k)),
+                    DVec3::new(x.x, x.y, f.ring_z),
                 );
             }
         }
     }
 
-    /// The extent along the axis of glass cell `k`'s edge: between the
-    /// rings of its two faces.
+    /// [`LensSystem::next_crossing`]'s test of the edge after surface `k`.
     #[inline(always)]
-    fn edge_span(&self, k: usize) -> (f64, f64) {
-        let (z0, z1) = (self.ring_z(k), self.ring_z(k + 1));
-        (z0.min(z1), z0.max(z1))
+    fn edge(k: usize, f: &Face, p: DVec3, u: DVec3, best: &mut Nearest) {
+        let (z0, z1) = f.edge;
+        for t in Self::edge_roots(f.rim, p, u) {
+            let x = p + t * u;
+            if x.z >= z0 && x.z <= z1 {
+                best.take(
+                    t,
+                    Piece {
+                        surface: k,
+                        kind: PieceKind::Edge,
+                    },
+                    x,
+                );
+            }
+        }
     }
 
-    /// [`LensSystem`]'s `reach`: per surface, the least `z` of the pieces
-    /// of it and after it, and the greatest of it and before it.
-    pub(super) fn reach_of_pieces(&self) -> Vec<(f64, f64)> {
+    /// Each surface's [`Face`]: what the walk reads, the reach included.
+    pub(super) fn faces_of_pieces(&self) -> Vec<Face> {
         let n = self.len();
-        let piece = |k: usize| {
-            let (mut lo, mut hi) = self.span[k];
-            if self.rim[k] > 0.0 && k + 1 < n {
-                let (e0, e1) = self.edge_span(k);
-                (lo, hi) = (lo.min(e0), hi.max(e1));
-            }
-            (lo, hi)
-        };
-        let mut reach = vec![(f64::INFINITY, f64::NEG_INFINITY); n];
+        let mut faces: Vec<Face> = (0..n)
+            .map(|k| {
+                let (z, rz) = (self.z[k], self.ring_z(k));
+                Face {
+                    z,
+                    c: self.c[k],
+                    a: self.surfaces[k].semi_aperture,
+                    ring_z: rz,
+                    ring_outer: self.ring_outer[k],
+                    rim: self.rim[k],
+                    edge: if k + 1 < n { (rz, self.ring_z(k + 1)) } else { (rz, rz) },
+                    span: (z.min(rz), z.max(rz)),
+                    reach: (f64::INFINITY, f64::NEG_INFINITY),
+                    boundary: self.before(k) != self.surfaces[k].n,
+                }
+            })
+            .collect();
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for k in (0..n).rev() {
-            lo = lo.min(piece(k).0);
-            reach[k].0 = lo;
+            lo = lo.min(faces[k].extent().0);
+            faces[k].reach.0 = lo;
         }
-        for (k, r) in reach.iter_mut().enumerate() {
-            hi = hi.max(piece(k).1);
-            r.1 = hi;
+        for f in faces.iter_mut() {
+            hi = hi.max(f.extent().1);
+            f.reach.1 = hi;
         }
-        reach
+        faces
     }
 
-    /// The surfaces in the order a ray along `u_z` meets their planes.
-    #[inline(always)]
-    fn order(&self, uz: f64) -> impl Iterator<Item = usize> {
-        let n = self.len();
-        (0..n).map(move |i| if uz >= 0.0 { i } else { n - 1 - i })
-    }
-
-    /// The roots along `p + t·u` of sphere `k` in vertex form,
+    /// The roots along `p + t·u` of the sphere of face `f` in vertex form,
     /// `c(x² + y² + (z − z_k)²) − 2(z − z_k) = 0`: `A = c·|u|²`,
     /// `B = c·(q·u) − u_z`, `C = c·|q|² − 2q_z` with `q = p − z_k·ẑ`.
     /// A plane (`c = 0`) has the one root `C/(−2B)`.
     #[inline(always)]
-    fn cap_roots(&self, k: usize, p: DVec3, u: DVec3) -> [f64; 2] {
-        let c = self.c[k];
-        let q = DVec3::new(p.x, p.y, p.z - self.z[k]);
+    fn cap_roots(f: &Face, p: DVec3, u: DVec3) -> [f64; 2] {
+        let c = f.c;
+        let q = DVec3::new(p.x, p.y, p.z - f.z);
         roots(
             c * u.length_squared(),
             c * q.dot(u) - u.z,
@@ -266,12 +328,12 @@ impl LensSystem {
         )
     }
 
-    /// Whether the local point `x` of sphere `k` lies on its cap: within
-    /// the aperture, on the vertex's branch (`c·(z − z_k) < 1`).
+    /// Whether the local point `x` of face `f`'s sphere lies on its cap:
+    /// within the aperture, on the vertex's branch (`c·(z − z_k) < 1`).
     #[inline(always)]
-    fn on_cap(&self, k: usize, x: DVec3) -> bool {
-        let a = self.surfaces[k].semi_aperture;
-        x.x * x.x + x.y * x.y <= a * a && self.c[k] * (x.z - self.z[k]) < 1.0
+    fn on_cap(f: &Face, x: DVec3) -> bool {
+        let a = f.a;
+        x.x * x.x + x.y * x.y <= a * a && f.c * (x.z - f.z) < 1.0
     }
 
     /// The plane of surface `k`'s ring: its sag at the aperture.
@@ -280,10 +342,9 @@ impl LensSystem {
         self.z[k] + sag(self.c[k], self.surfaces[k].semi_aperture)
     }
 
-    /// The roots along `p + t·u` of the cylinder `x² + y² = ρ_k²`.
+    /// The roots along `p + t·u` of the cylinder `x² + y² = ρ²`.
     #[inline(always)]
-    fn edge_roots(&self, k: usize, p: DVec3, u: DVec3) -> [f64; 2] {
-        let rho = self.rim[k];
+    fn edge_roots(rho: f64, p: DVec3, u: DVec3) -> [f64; 2] {
         let a = u.x * u.x + u.y * u.y;
         let c = (p.x - rho) * (p.x + rho) + p.y * p.y;
         roots(a, p.x * u.x + p.y * u.y, c)

@@ -350,7 +350,7 @@ impl LensSystem {
     /// lens's, followed exactly (its ghosts are few), so it plays no
     /// roulette; the ghosts between elements grow as the square.
     fn tree_pruning(&self, prune: &Pruning) -> Pruning {
-        let elements = self.boundary.iter().filter(|&&b| b).count() > 2;
+        let elements = (0..self.len()).filter(|&k| self.cap_is_boundary(k)).count() > 2;
         Pruning {
             roulette: if elements { prune.roulette } else { 0.0 },
             ..*prune
