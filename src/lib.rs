@@ -75,6 +75,7 @@ pub mod camera;
 pub mod color;
 pub mod edit;
 pub mod files;
+pub mod flight;
 pub mod geometry;
 pub mod glass;
 pub mod integrator;

@@ -45,6 +45,10 @@ pub const SCENE_FILE_CAP: u64 = 128 << 20;
 pub const TRACE_INPUT_CAP: u64 = 64 << 20;
 /// Largest number of timed runs (`bench --runs`) or frames (`--frames`).
 pub const MAX_RUNS: u32 = 1000;
+/// Longest flight, in seconds (a day).
+pub const MAX_FLIGHT_SECONDS: f64 = 86400.0;
+/// Most frames one `film` may render.
+pub const MAX_FILM_FRAMES: u64 = 1 << 22;
 
 /// Bytes a pixel of a rendered image takes: linear RGB in `f64`, plus the
 /// 8-bit sRGB copy that is encoded.

@@ -8,6 +8,7 @@
 //!   figures (`fan | spot | distortion`) in [`lens_figures`].
 //! - [`bench`]: performance tables and plots (`lensview bench`).
 //! - [`converge`]: error against run time (`lensview converge`).
+//! - [`film`]: a recorded flight as frames and a film (`lensview film`).
 //! - [`table`]: the table that `bench` and `converge` print, write and plot.
 //! - [`args`]: reading the command line, and its errors as one line.
 
@@ -15,6 +16,7 @@ mod args;
 mod bench;
 mod bench_work;
 mod converge;
+mod film;
 mod lens;
 mod lens_figures;
 mod lens_system;
@@ -65,6 +67,8 @@ pub enum Command {
     Converge(ConvergeArgs),
     /// Performance: time against image size and object count, ray throughput, feature costs.
     Bench(BenchArgs),
+    /// Render a recorded flight (viewer: F8) into numbered frames and a film.
+    Film(film::FilmArgs),
     /// Exact lens optics: real rays (`trace`), paraxial data (`info`, `system`), figures (`fan`, `spot`, `distortion`).
     #[command(subcommand)]
     Lens(LensCommand),
@@ -89,7 +93,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 && p.components().count() == 1
             {
                 anyhow::bail!(
-                    "'{}' is neither a command nor a scene file (commands: view, render, converge, bench, lens); see lensview --help",
+                    "'{}' is neither a command nor a scene file (commands: view, render, film, converge, bench, lens); see lensview --help",
                     p.display()
                 );
             }
@@ -100,6 +104,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Converge(a)) => converge::converge(&a),
         Some(Command::Bench(a)) => bench::bench(&a),
         Some(Command::Lens(c)) => lens::lens(c),
+        Some(Command::Film(a)) => film::film(a),
     }
 }
 
