@@ -46,9 +46,18 @@ fn film(dir: &Path, flight: &Path, extra: &[&str]) -> Output {
         .arg(flight)
         .arg("-o")
         .arg(dir)
-        .args([
-            "--fps", "4", "--width", "48", "--height", "32", "--spp", "2", "--encode", "none",
-        ])
+        .args(
+            [
+                ("--fps", "4"),
+                ("--width", "48"),
+                ("--height", "32"),
+                ("--spp", "2"),
+                ("--encode", "none"),
+            ]
+            .into_iter()
+            .filter(|(flag, _)| !extra.contains(flag))
+            .flat_map(|(flag, v)| [flag, v]),
+        )
         .args(extra)
         .output()
         .unwrap()
