@@ -149,7 +149,7 @@ pub fn film(a: FilmArgs) -> Result<()> {
     Ok(())
 }
 
-fn read_flight(path: &Path) -> Result<Flight> {
+pub fn read_flight(path: &Path) -> Result<Flight> {
     let bytes = lensview::scene::read_capped(path, limits::SCENE_FILE_CAP)?;
     let text = String::from_utf8(bytes).map_err(|_| anyhow::anyhow!("{}: not UTF-8 text", path.display()))?;
     Ok(Flight::parse(&path.display().to_string(), &text)?)

@@ -35,6 +35,9 @@ pub struct ViewArgs {
     /// Folder for screenshots (P: the picture on screen as PNG and linear EXR); made when needed.
     #[arg(long, value_name = "DIR", default_value = "lensview-screenshots")]
     pub screenshots: PathBuf,
+    /// Play a recorded flight (F8 records one) from the start.
+    #[arg(long, value_name = "FLIGHT")]
+    pub play: Option<PathBuf>,
 }
 
 pub fn view(a: ViewArgs) -> Result<()> {
@@ -47,6 +50,7 @@ pub fn view(a: ViewArgs) -> Result<()> {
         .collect();
     lensview::files::check_distinct(scene_input.as_slice(), &logs)?;
     let (scene_file, _) = load_scene(a.scene.as_deref())?;
+    let play = a.play.as_deref().map(super::film::read_flight).transpose()?;
     // The window's own buffers: the progressive planes and the RGBA frame.
     limits::check_image(
         "window --width × --height",
@@ -71,5 +75,6 @@ pub fn view(a: ViewArgs) -> Result<()> {
         panel: !a.no_panel,
         ui_log: a.ui_log,
         screenshots: a.screenshots,
+        play,
     })
 }

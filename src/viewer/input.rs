@@ -129,6 +129,7 @@ impl Viewer {
             Action::Reload => s.reload(),
             Action::HalfResolution => s.ask(Command::Resolution(if self.display.res_div == 1 { 2 } else { 1 })),
             Action::Screenshot | Action::ScreenshotExr => s.ask(Command::Screenshot),
+            Action::ToggleRecording => s.ask(Command::ToggleRecording),
             Action::ToggleOverlay => self.display.overlay = self.display.overlay.next(),
             Action::ToggleHelp => self.display.help = !self.display.help,
             Action::ToggleOptics => s.ui.analysis.optics ^= true,

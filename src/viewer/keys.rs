@@ -51,6 +51,7 @@ pub enum Action {
     // Pressed: display only (no restart).
     Screenshot,
     ScreenshotExr,
+    ToggleRecording,
     ToggleOverlay,
     ToggleHelp,
     ToggleOptics,
@@ -85,6 +86,7 @@ impl Action {
             self,
             Action::Screenshot
                 | Action::ScreenshotExr
+                | Action::ToggleRecording
                 | Action::ToggleOverlay
                 | Action::ToggleHelp
                 | Action::ToggleOptics
@@ -194,6 +196,12 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         "optics over the picture on/off (axis, F, F', H, H', ray fan)",
     ),
     (KeyCode::F7, "F7", Action::ToggleAnalysis, "lens analysis window on/off"),
+    (
+        KeyCode::F8,
+        "F8",
+        Action::ToggleRecording,
+        "record a flight on/off (for lensview film)",
+    ),
     (
         KeyCode::KeyC,
         "C",

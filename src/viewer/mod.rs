@@ -38,6 +38,7 @@ mod pacing;
 mod panel;
 mod pick;
 mod platform;
+mod recorder;
 mod refine;
 mod screen;
 mod session;
@@ -79,6 +80,8 @@ pub struct ViewOptions {
     pub ui_log: Option<PathBuf>,
     /// Where screenshots (P) go.
     pub screenshots: PathBuf,
+    /// A flight to play back from the start.
+    pub play: Option<lensview::flight::Flight>,
 }
 
 #[derive(Debug)]
@@ -98,6 +101,9 @@ struct Viewer {
     flight: flight::Flight,
     /// When the last flight step went (see [`flight::step_due`]).
     last_step: Option<Instant>,
+    /// A flight being recorded (F8) or played (`--play`).
+    recorder: Option<recorder::Recorder>,
+    player: Option<recorder::Player>,
     modifiers: ModifiersState,
     refine: Refine,
     stats: Stats,
@@ -155,6 +161,7 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         }),
         None => None,
     };
+    let player = opts.play.clone().map(recorder::Player::new);
     let mut app = Viewer {
         session: Session::new(doc, panel::UiState::new(opts.scene_path.as_deref())),
         display: Display {
@@ -169,6 +176,8 @@ pub fn run(opts: ViewOptions) -> Result<()> {
         screen: None,
         flight: flight::Flight::new(),
         last_step: None,
+        recorder: None,
+        player,
         modifiers: ModifiersState::empty(),
         stats: Stats::new(log),
         minimised: false,
@@ -295,6 +304,7 @@ impl Viewer {
                     self.submit();
                 }
             }
+            Command::ToggleRecording => self.toggle_recording(),
             Command::Screenshot => {
                 let proxy = self.proxy.clone();
                 let notify = move |line| {
@@ -588,7 +598,10 @@ impl ApplicationHandler<UserEvent> for Viewer {
             event_loop.exit();
             return;
         }
-        let flying = self.fly();
+        let flying = self.fly() | self.play();
+        if let Some(r) = &mut self.recorder {
+            r.sample(&self.session.doc);
+        }
         // A gesture ends when nothing is held, dragged or typed: the next
         // edit is a new undo step.
         let ui_busy = self
@@ -602,5 +615,66 @@ impl ApplicationHandler<UserEvent> for Viewer {
             Some(t) => ControlFlow::WaitUntil(t),
             None => ControlFlow::Wait,
         });
+    }
+}
+
+impl Viewer {
+    /// F8: starts recording a flight, or ends it and writes the file.
+    fn toggle_recording(&mut self) {
+        self.session.message = match self.recorder.take() {
+            None => {
+                self.recorder = Some(recorder::Recorder::start(&self.session.doc));
+                "recording the flight (F8 stops)".into()
+            }
+            Some(r) => match r.finish(&self.session.doc) {
+                Ok((path, poses, secs)) => format!(
+                    "flight saved: {} ({poses} poses, {secs:.1} s); render it with lensview film",
+                    path.display()
+                ),
+                Err(e) => format!("the flight was not saved: {e}"),
+            },
+        };
+        self.request_redraw();
+    }
+
+    /// One step of the flight played back (`--play`): false when none is.
+    fn play(&mut self) -> bool {
+        let Some(player) = &mut self.player else {
+            return false;
+        };
+        // As the keys fly: from the first picture on, one step per frame
+        // shown (a step per event cancelled every picture before it came).
+        let now = Instant::now();
+        if self.refine.frame().is_none()
+            || !flight::step_due(now, self.last_step, self.refine.answered(), self.pacer.refresh())
+        {
+            return true;
+        }
+        self.last_step = Some(now);
+        let Some((scene, pose)) = player.step() else {
+            self.player = None;
+            self.session.message = "the flight is over".into();
+            return false;
+        };
+        if let Some(sf) = scene {
+            let applied = self.session.doc.edit("the flight's edit", |s| {
+                let camera = s.camera.clone();
+                *s = sf;
+                s.camera = camera;
+            });
+            if let Ok(c) = applied {
+                self.session.changed(c);
+            }
+        }
+        match pose.fov {
+            Some(fov) if fov != self.session.doc.built().camera.fov_y_deg => {
+                if let Ok(c) = self.session.doc.set_camera(pose.position, pose.rotation_deg, fov) {
+                    self.session.changed(c);
+                }
+                self.settle();
+            }
+            _ => self.move_camera(pose.position, pose.rotation_deg),
+        }
+        true
     }
 }

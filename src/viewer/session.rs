@@ -24,6 +24,8 @@ pub enum Command {
     TogglePause,
     /// Save the picture at full resolution in this format.
     Screenshot,
+    /// Start or stop recording a flight.
+    ToggleRecording,
 }
 
 /// What the keys and clicks since the last [`Session::take_outcome`] did.

@@ -107,6 +107,9 @@ fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
     if entry(ui, "Screenshot (PNG and EXR)", Action::Screenshot) {
         cx.ask(Command::Screenshot);
     }
+    if entry(ui, "Record a flight on/off", Action::ToggleRecording) {
+        cx.ask(Command::ToggleRecording);
+    }
 }
 
 /// The document's name and state, the main buttons, the message line and
