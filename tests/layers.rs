@@ -26,7 +26,7 @@ const LAYERS: &[&[&str]] = &[
     &["scene"],
     &["trace"],
     &["integrator"],
-    &["render", "edit"],
+    &["render", "edit", "flight"],
     &["bench", "lens_tools"],
     &["cli", "viewer", "plot", "main"],
 ];
