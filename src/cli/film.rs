@@ -52,6 +52,11 @@ pub struct FilmArgs {
     /// the whole film is on disk: mp4, webm or none.
     #[arg(long, default_value = "mp4")]
     pub encode: String,
+    /// Render nothing: print, as JSON, the film's frame count and the
+    /// frames of the range still missing in the folder (what
+    /// tools/ray_film.py splits into tasks).
+    #[arg(long)]
+    pub plan: bool,
 }
 
 /// The film's frames: how many, and the range asked for.
@@ -103,10 +108,15 @@ pub fn film(a: FilmArgs) -> Result<()> {
     let (base, built) = load_scene(Some(&a.scene))?;
     let flight = read_flight(&a.flight)?;
     let (total, range) = frame_range(&a, flight.duration())?;
-    prepare_folder(&a.output)?;
-    let spp = a.spp.unwrap_or(built.spp);
     let ext = if format == ImageFormat::Png { "png" } else { "exr" };
     let path_of = |i: u64| a.output.join(format!("frame-{i:06}.{ext}"));
+    if a.plan {
+        let missing: Vec<u64> = range.filter(|&i| !path_of(i).is_file()).collect();
+        println!("{}", serde_json::json!({ "frames": total, "missing": missing }));
+        return Ok(());
+    }
+    prepare_folder(&a.output)?;
+    let spp = a.spp.unwrap_or(built.spp);
     let todo: Vec<u64> = range.clone().filter(|&i| !path_of(i).is_file()).collect();
     let start = Instant::now();
     let progress = super::progress::Progress::on_stderr("filming");
