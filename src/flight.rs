@@ -175,6 +175,56 @@ impl Flight {
         Some((i, e[i].scene.as_str()))
     }
 
+    /// The part of the flight from `from` to `to` seconds, played `speed`
+    /// times as fast (a trim and a retime): poses inside kept at their new
+    /// times, the poses at the cut points added, the edit in force at
+    /// `from` moved to its start. `None` unless `0 ≤ from < to ≤ duration`
+    /// and `speed` is positive and finite.
+    pub fn retimed(&self, from: f64, to: f64, speed: f64) -> Option<Flight> {
+        let ok = from >= 0.0 && from < to && to <= self.duration() && speed > 0.0 && speed.is_finite();
+        if !ok {
+            return None;
+        }
+        let at = |t: f64| (t - from) / speed;
+        let key = |t: f64| {
+            let p = self.pose_at(t);
+            PoseKey {
+                t: at(t),
+                position: p.position.to_array(),
+                rotation: p.rotation_deg.to_array(),
+                fov: p.fov,
+            }
+        };
+        let inner = self.file.poses.iter().filter(|k| k.t > from && k.t < to);
+        let mut poses = vec![key(from)];
+        poses.extend(inner.map(|k| PoseKey { t: at(k.t), ..*k }));
+        poses.push(key(to));
+        let mut edits: Vec<EditKey> = self.edit_at(from).map_or(vec![], |(i, _)| {
+            vec![EditKey {
+                t: 0.0,
+                scene: self.file.edits[i].scene.clone(),
+            }]
+        });
+        edits.extend(
+            self.file
+                .edits
+                .iter()
+                .filter(|e| e.t > from && e.t <= to)
+                .map(|e| EditKey {
+                    t: at(e.t),
+                    scene: e.scene.clone(),
+                }),
+        );
+        // Times that rounding made equal (keys closer than an ulp) are one.
+        poses.dedup_by(|b, a| b.t <= a.t);
+        let file = FlightFile {
+            poses,
+            edits,
+            ..self.file.clone()
+        };
+        Some(Flight { file })
+    }
+
     /// The flight as TOML text that reads back to the same flight.
     pub fn to_toml(&self) -> Result<String, String> {
         let body = toml::to_string(&self.file).map_err(|e| e.to_string())?;

@@ -196,3 +196,24 @@ fn bad_input_is_refused_in_one_line() {
     }
     assert_eq!(std::fs::read(&file).unwrap(), b"x");
 }
+
+/// `--trim A..B --speed S` films the part of the flight from A to B at S
+/// times the speed: its first and last frames are the frames of the whole
+/// film at A and B, byte for byte.
+#[test]
+fn a_trimmed_film_is_the_part_of_the_whole() {
+    let dir = tmp("trim");
+    let flight = dir.join("flight.toml");
+    std::fs::write(&flight, FLIGHT).unwrap();
+    let whole = dir.join("whole");
+    ok(&film(&whole, &flight, &[]));
+    let part = dir.join("part");
+    let out = ok(&film(&part, &flight, &["--trim", "0.5..1.5", "--speed", "0.5"]));
+    assert!(out.contains("filmed frames 0..9 of 9"), "{out}");
+    let (w, p) = (frames(&whole), frames(&part));
+    assert_eq!(p[0].1, w[2].1, "the first frame is the whole film's at 0.5 s");
+    assert_eq!(p[8].1, w[6].1, "the last frame is the whole film's at 1.5 s");
+    let o = film(&dir.join("bad"), &flight, &["--trim", "1..5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("the flight is 0..2 s"));
+}

@@ -52,6 +52,12 @@ pub struct FilmArgs {
     /// the whole film is on disk: mp4, webm or none.
     #[arg(long, default_value = "mp4")]
     pub encode: String,
+    /// Only the part of the flight from A to B seconds (`A..B`).
+    #[arg(long, value_name = "A..B")]
+    pub trim: Option<String>,
+    /// Play the flight this many times as fast (0.5: at half speed).
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
     /// Render nothing: print, as JSON, the film's frame count and the
     /// frames of the range still missing in the folder (what
     /// tools/ray_film.py splits into tasks).
@@ -106,7 +112,7 @@ pub fn film(a: FilmArgs) -> Result<()> {
         &[("-o", a.output.as_path())],
     )?;
     let (base, built) = load_scene(Some(&a.scene))?;
-    let flight = read_flight(&a.flight)?;
+    let flight = retimed(read_flight(&a.flight)?, &a)?;
     let (total, range) = frame_range(&a, flight.duration())?;
     let ext = if format == ImageFormat::Png { "png" } else { "exr" };
     let path_of = |i: u64| a.output.join(format!("frame-{i:06}.{ext}"));
@@ -157,6 +163,27 @@ pub fn film(a: FilmArgs) -> Result<()> {
         encode(&a, ext)?;
     }
     Ok(())
+}
+
+/// The flight trimmed (`--trim`) and retimed (`--speed`).
+fn retimed(flight: Flight, a: &FilmArgs) -> Result<Flight> {
+    if a.trim.is_none() && a.speed == 1.0 {
+        return Ok(flight);
+    }
+    let d = flight.duration();
+    let (from, to) = match &a.trim {
+        None => (0.0, d),
+        Some(r) => r
+            .split_once("..")
+            .and_then(|(lo, hi)| Some((lo.trim().parse::<f64>().ok()?, hi.trim().parse::<f64>().ok()?)))
+            .with_context(|| format!("--trim {r}: expected A..B, seconds of the flight"))?,
+    };
+    flight.retimed(from, to, a.speed).with_context(|| {
+        format!(
+            "--trim {from}..{to} --speed {}: the flight is 0..{d} s; A < B within it and a speed > 0",
+            a.speed
+        )
+    })
 }
 
 pub fn read_flight(path: &Path) -> Result<Flight> {

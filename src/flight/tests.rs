@@ -154,3 +154,45 @@ fn bad_flights_are_refused_at_their_line() {
     let e = Flight::parse("f.toml", "version = 1\n").unwrap_err().to_string();
     assert!(e.contains("at least one pose"), "{e}");
 }
+
+/// A trimmed, retimed flight flies the same path: at its own time `τ` it is
+/// where the original was at `from + τ·speed` (exactly at the original's
+/// keys and on a straight flight), and the edit in force at the cut is
+/// in force from its start.
+#[test]
+fn a_trim_and_a_retime_fly_the_same_path() {
+    let times = [0.0, 0.5, 1.0, 1.7, 3.0];
+    let mut f = flight(
+        times
+            .iter()
+            .map(|&t| pose(t, [t, 2.0 * t, -t], [0.0, 30.0 * t, 0.0]))
+            .collect(),
+    );
+    let (sf, _) = crate::scene::Scene::default_scene();
+    let text = crate::edit::document::to_toml(&sf).unwrap();
+    f.file.edits = vec![
+        EditKey {
+            t: 0.2,
+            scene: text.clone(),
+        },
+        EditKey { t: 2.0, scene: text },
+    ];
+    let (from, to, speed) = (0.75, 2.5, 2.0);
+    let g = f.retimed(from, to, speed).expect("a valid trim");
+    assert_eq!(g.duration(), (to - from) / speed);
+    for i in 0..=40 {
+        let tau = g.duration() * i as f64 / 40.0;
+        let (a, b) = (g.pose_at(tau), f.pose_at(from + tau * speed));
+        assert!((a.position - b.position).length() < 1e-12, "{tau}");
+        assert!((a.rotation_deg - b.rotation_deg).length() < 1e-9, "{tau}");
+    }
+    assert_eq!(g.file.poses[1].t, (1.0 - from) / speed);
+    assert_eq!(g.file.poses[1].position, f.file.poses[2].position);
+    assert_eq!(g.edit_at(0.0).map(|e| e.0), Some(0));
+    assert_eq!(g.file.edits[1].t, (2.0 - from) / speed);
+    let back = Flight::parse("g.toml", &g.to_toml().unwrap()).expect("a retimed flight is valid");
+    assert_eq!(back, g);
+    for (from, to, speed) in [(1.0, 1.0, 1.0), (-0.1, 1.0, 1.0), (0.0, 3.5, 1.0), (0.0, 1.0, 0.0)] {
+        assert!(f.retimed(from, to, speed).is_none(), "{from} {to} {speed}");
+    }
+}
