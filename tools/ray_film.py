@@ -136,7 +136,11 @@ def main(argv):
     todo = ranges(p["missing"], a.chunk)
     print(f"film: {p['frames']} frames, {len(p['missing'])} missing, {len(todo)} tasks", flush=True)
     if a.address:
-        ray.init(address=a.address, logging_level="ERROR")
+        # A driver on a loopback cluster is on its node 127.0.0.1 (Ray
+        # would otherwise look for its raylet at the host's address).
+        local = a.address.split(":")[0] in ("127.0.0.1", "localhost")
+        extra = {"_node_ip_address": "127.0.0.1"} if local else {}
+        ray.init(address=a.address, logging_level="ERROR", **extra)
     else:
         ray.init(_node_ip_address="127.0.0.1", include_dashboard=False, logging_level="ERROR")
     task = ray.remote(max_retries=a.retries, retry_exceptions=True, num_cpus=1)(render_range)

@@ -16,22 +16,10 @@ if [[ ${LENSVIEW_IN_NS:-} != 1 ]]; then
 fi
 BIN=$1; SCENE=$2; FLIGHT=$3; WORK=$4
 HERE=$(cd "$(dirname "$0")" && pwd)
-# Ray's command line from the Python that has Ray (no PATH entry needed).
-ray() { python3 -m ray.scripts.scripts "$@"; }
-python3 -c 'import ray' || { echo "FAIL: Ray is not installed for $(command -v python3) (python3 -m pip install ray)"; exit 1; }
-ip link set lo up
+source "$HERE/ray_cluster.sh"
 rm -rf "$WORK"; mkdir -p "$WORK"
-export RAY_USAGE_STATS_ENABLED=0
-# A dead node is noticed within about two seconds.
-export RAY_health_check_period_ms=500 RAY_health_check_timeout_ms=500 RAY_health_check_failure_threshold=3
 PORT=6380
-common=(--node-ip-address=127.0.0.1 --object-store-memory=80000000 --disable-usage-stats)
-trap 'ray stop --force >/dev/null 2>&1 || true' EXIT
-ray start --head --port=$PORT --num-cpus=0 --include-dashboard=false --temp-dir="$WORK/ray" "${common[@]}" > "$WORK/head.log" 2>&1
-for n in 1 2; do
-  ray start --address=127.0.0.1:$PORT --num-cpus=1 "${common[@]}" > "$WORK/node$n.log" 2>&1
-done
-echo "cluster up: $(ss -ltn | grep -c LISTEN) listening sockets, addresses: $(ss -ltnH | awk '{print $4}' | sed 's/:[0-9]*$//' | sort -u | tr '\n' ' ')"
+start_cluster $PORT "$WORK" 2
 
 # The film on the cluster, a worker node killed once its first task runs.
 flags=(--fps 6 --width 64 --height 36 --spp 2 --encode none)
