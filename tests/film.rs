@@ -217,3 +217,45 @@ fn a_trimmed_film_is_the_part_of_the_whole() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("the flight is 0..2 s"));
 }
+
+/// With ffmpeg installed (`.ci/run` installs it), a whole film is encoded
+/// into `film.mp4` with one picture a frame, odd sizes included; a partial
+/// range is not encoded.
+#[test]
+fn a_whole_film_is_encoded_with_ffmpeg() {
+    let dir = tmp("encode");
+    let flight = dir.join("flight.toml");
+    std::fs::write(&flight, FLIGHT).unwrap();
+    let out = dir.join("film");
+    ok(&film(&out, &flight, &["--frames", "0..4", "--encode", "mp4"]));
+    assert!(!out.join("film.mp4").exists(), "a part is not encoded");
+    let said = ok(&film(&out, &flight, &["--encode", "mp4"]));
+    assert!(said.contains("encoded"), "{said}");
+    // Another film's settings in the same folder are refused.
+    let o = film(&out, &flight, &["--width", "47"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("holds frames of another film") && err.contains("48x32"),
+        "{err}"
+    );
+    // An odd width is padded for 4:2:0.
+    let odd = dir.join("odd");
+    ok(&film(&odd, &flight, &["--width", "47", "--encode", "mp4"]));
+    let probe = Command::new("ffprobe")
+        .args([
+            "-v",
+            "error",
+            "-count_frames",
+            "-show_entries",
+            "stream=codec_name,nb_read_frames,width",
+        ])
+        .args(["-of", "csv=p=0"])
+        .arg(odd.join("film.mp4"))
+        .output()
+        .expect("ffprobe (ffmpeg) is installed");
+    let text = String::from_utf8_lossy(&probe.stdout);
+    assert_eq!(text.trim(), "h264,48,9", "{text}");
+    assert!(out.join("film.mp4").is_file());
+    assert!(!out.join("film.part.mp4").exists());
+}

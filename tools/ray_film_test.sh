@@ -45,7 +45,7 @@ status=0; wait $driver || status=$?
 grep -E '^film:' "$WORK/driver.log" || cat "$WORK/driver.log"
 [[ -n $killed ]] || { echo "FAIL: no worker node was killed (no task seen running)"; exit 1; }
 echo "killed the raylet $killed of a worker node mid-run"
-[[ $status == 0 ]] || { echo "FAIL: the driver exited $status"; exit 1; }
+[[ $status == 0 ]] || { echo "FAIL: the driver exited $status; its log:"; tail -n 60 "$WORK/driver.log"; exit 1; }
 
 # The same film on one machine; every frame once, byte for byte.
 "$BIN" film "$SCENE" "$FLIGHT" -o "$WORK/single" "${flags[@]}" > /dev/null 2>&1

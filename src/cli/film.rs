@@ -121,17 +121,46 @@ pub fn film(a: FilmArgs) -> Result<()> {
         println!("{}", serde_json::json!({ "frames": total, "missing": missing }));
         return Ok(());
     }
-    prepare_folder(&a.output)?;
     let spp = a.spp.unwrap_or(built.spp);
+    prepare_folder(&a.output)?;
+    check_settings(&a, spp)?;
     let todo: Vec<u64> = range.clone().filter(|&i| !path_of(i).is_file()).collect();
+    let start = Instant::now();
+    shoot(&a, (&base, &flight), &todo, spp, (format, &path_of))?;
+    let secs = start.elapsed().as_secs_f64();
+    println!(
+        "filmed frames {}..{} of {total} ({} rendered, {} already there) at {}×{}, {spp} spp in {secs:.1} s → {}",
+        range.start,
+        range.end,
+        todo.len(),
+        (range.end - range.start) as usize - todo.len(),
+        a.width,
+        a.height,
+        a.output.display()
+    );
+    if a.encode != "none" && range == (0..total) {
+        encode(&a, ext)?;
+    }
+    Ok(())
+}
+
+/// Renders and writes the frames `todo`, with a progress bar on a
+/// terminal and a line a frame otherwise.
+fn shoot(
+    a: &FilmArgs,
+    (base, flight): (&SceneFile, &Flight),
+    todo: &[u64],
+    spp: u32,
+    (format, path_of): (ImageFormat, &dyn Fn(u64) -> PathBuf),
+) -> Result<()> {
     let start = Instant::now();
     let progress = super::progress::Progress::on_stderr("filming");
     let quiet_bar = !std::io::stderr().is_terminal();
     let mut scenes = SceneCache::default();
     for (done, &i) in todo.iter().enumerate() {
         let t = i as f64 / a.fps;
-        let scene = scenes.frame_scene(&base, &flight, t)?;
-        let img = render_frame(&scene, &a, spp)?;
+        let scene = scenes.frame_scene(base, flight, t)?;
+        let img = render_frame(&scene, a, spp)?;
         img.write_as(&path_of(i), format)?;
         let f = (done + 1) as f64 / todo.len() as f64;
         if let Some(cb) = progress.callback() {
@@ -148,20 +177,6 @@ pub fn film(a: FilmArgs) -> Result<()> {
         }
     }
     progress.finish();
-    let secs = start.elapsed().as_secs_f64();
-    println!(
-        "filmed frames {}..{} of {total} ({} rendered, {} already there) at {}×{}, {spp} spp in {secs:.1} s → {}",
-        range.start,
-        range.end,
-        todo.len(),
-        (range.end - range.start) as usize - todo.len(),
-        a.width,
-        a.height,
-        a.output.display()
-    );
-    if a.encode != "none" && range == (0..total) {
-        encode(&a, ext)?;
-    }
     Ok(())
 }
 
@@ -203,6 +218,41 @@ fn prepare_folder(dir: &Path) -> Result<()> {
                 .keep();
             Ok(())
         }
+    }
+}
+
+/// The film a folder holds: its inputs (by a hash of their bytes) and
+/// settings, in `film-settings.txt`. A folder of another film's frames is
+/// refused, so a resumed film is never a mix of two.
+fn check_settings(a: &FilmArgs, spp: u32) -> Result<()> {
+    let hash = |p: &Path| -> Result<u64> {
+        let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+        Ok(bytes.iter().fold(0x9e37_79b9_7f4a_7c15, |h: u64, &b| {
+            lensview::sampling::mix64(h ^ u64::from(b))
+        }))
+    };
+    let settings = format!(
+        "lensview film: scene {:016x}, flight {:016x}, {}x{}, {spp} spp, {} fps, seed {}, {}, trim {}, speed {}\n",
+        hash(&a.scene)?,
+        hash(&a.flight)?,
+        a.width,
+        a.height,
+        a.fps,
+        a.seed,
+        a.format,
+        a.trim.as_deref().unwrap_or("all"),
+        a.speed
+    );
+    let path = a.output.join("film-settings.txt");
+    match std::fs::read_to_string(&path) {
+        Ok(old) if old == settings => Ok(()),
+        Ok(old) => bail!(
+            "-o {}: it holds frames of another film ({}), not of this one ({}); use another folder or empty it",
+            a.output.display(),
+            old.trim().trim_start_matches("lensview film: "),
+            settings.trim().trim_start_matches("lensview film: ")
+        ),
+        Err(_) => Ok(output::write_file(&path, settings.as_bytes())?),
     }
 }
 
@@ -266,7 +316,17 @@ fn encode(a: &FilmArgs, ext: &str) -> Result<()> {
     let part = a.output.join(format!("film.part.{}", a.encode));
     let codec: &[&str] = match a.encode.as_str() {
         "webm" => &["-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "30"],
-        _ => &["-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18"],
+        // 4:2:0 needs even sides: an odd one gets a black line.
+        _ => &[
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+            "-c:v",
+            "libx264",
+            "-pix_fmt",
+            "yuv420p",
+            "-crf",
+            "18",
+        ],
     };
     let input = a.output.join(format!("frame-%06d.{ext}"));
     let mut args: Vec<String> = ["-y", "-loglevel", "error", "-framerate"].map(String::from).to_vec();
