@@ -112,7 +112,7 @@ pub fn film(a: FilmArgs) -> Result<()> {
         &[("-o", a.output.as_path())],
     )?;
     let (base, built) = load_scene(Some(&a.scene))?;
-    let flight = retimed(read_flight(&a.flight)?, &a)?;
+    let flight = retimed(read_flight(&a.flight)?, a.trim.as_deref(), a.speed)?;
     let (total, range) = frame_range(&a, flight.duration())?;
     let ext = if format == ImageFormat::Png { "png" } else { "exr" };
     let path_of = |i: u64| a.output.join(format!("frame-{i:06}.{ext}"));
@@ -181,23 +181,20 @@ fn shoot(
 }
 
 /// The flight trimmed (`--trim`) and retimed (`--speed`).
-fn retimed(flight: Flight, a: &FilmArgs) -> Result<Flight> {
-    if a.trim.is_none() && a.speed == 1.0 {
+pub fn retimed(flight: Flight, trim: Option<&str>, speed: f64) -> Result<Flight> {
+    if trim.is_none() && speed == 1.0 {
         return Ok(flight);
     }
     let d = flight.duration();
-    let (from, to) = match &a.trim {
+    let (from, to) = match trim {
         None => (0.0, d),
         Some(r) => r
             .split_once("..")
             .and_then(|(lo, hi)| Some((lo.trim().parse::<f64>().ok()?, hi.trim().parse::<f64>().ok()?)))
             .with_context(|| format!("--trim {r}: expected A..B, seconds of the flight"))?,
     };
-    flight.retimed(from, to, a.speed).with_context(|| {
-        format!(
-            "--trim {from}..{to} --speed {}: the flight is 0..{d} s; A < B within it and a speed > 0",
-            a.speed
-        )
+    flight.retimed(from, to, speed).with_context(|| {
+        format!("--trim {from}..{to} --speed {speed}: the flight is 0..{d} s; A < B within it and a speed > 0")
     })
 }
 

@@ -38,6 +38,12 @@ pub struct ViewArgs {
     /// Play a recorded flight (F8 records one) from the start.
     #[arg(long, value_name = "FLIGHT")]
     pub play: Option<PathBuf>,
+    /// With --play: only seconds A to B of the flight (`A..B`).
+    #[arg(long, value_name = "A..B", requires = "play")]
+    pub play_trim: Option<String>,
+    /// With --play: this many times as fast.
+    #[arg(long, value_name = "S", default_value_t = 1.0, requires = "play")]
+    pub play_speed: f64,
 }
 
 pub fn view(a: ViewArgs) -> Result<()> {
@@ -50,7 +56,14 @@ pub fn view(a: ViewArgs) -> Result<()> {
         .collect();
     lensview::files::check_distinct(scene_input.as_slice(), &logs)?;
     let (scene_file, _) = load_scene(a.scene.as_deref())?;
-    let play = a.play.as_deref().map(super::film::read_flight).transpose()?;
+    let play = match a.play.as_deref() {
+        Some(p) => Some(super::film::retimed(
+            super::film::read_flight(p)?,
+            a.play_trim.as_deref(),
+            a.play_speed,
+        )?),
+        None => None,
+    };
     // The window's own buffers: the progressive planes and the RGBA frame.
     limits::check_image(
         "window --width × --height",
