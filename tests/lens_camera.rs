@@ -1,70 +1,262 @@
-//! The lens camera (issue #32), checked against computations of its own.
+//! The lens camera (issue #32), each check against a computation of its
+//! own: the thick lens from real rays traced near the axis (not the y–nu
+//! module the camera focuses with), the pinhole's projection, and the
+//! relative illumination integrated over a plain grid (not the camera's
+//! pupil boxes, sampling or weights).
 
+use glam::DVec3;
+use lensview::camera::LensCamera;
+use lensview::camera::pupil::INTERVALS;
+use lensview::optics::WAVELENGTH_D_UM;
+use lensview::render::{Image, RenderSettings, render, render_pixel};
 use lensview::scene::Scene;
 
-fn scene(text: &str) -> Scene {
-    Scene::parse("test", text).unwrap().1
-}
+const W: u32 = 120;
+const H: u32 = 80;
 
-#[test]
-fn debug_boxes() {
-    for f in [2.8, 64.0] {
-        let t = include_str!("../scenes/camera-dgauss.toml").replace("f_number = 2.8", &format!("f_number = {f}"));
-        let s = scene(&t);
-        let l = s.lens.as_ref().unwrap();
-        eprintln!(
-            "f/{f}: share {} fov {} sd {}",
-            l.pass_share(300, 200),
-            l.fov_y_deg(),
-            l.sensor_distance
+/// A scene of small white spheres (ambient-lit, no lights; radius 0.004
+/// of their distance, about a pixel across) on a grey `background`,
+/// seen by a double Gauss at a hundredth of its size.
+fn scene(camera: &str, spheres: &[[f64; 3]], background: f64) -> Scene {
+    let mut t = format!(
+        "[render]\nbackground = [{background}, {background}, {background}]\nshadows = false\n\
+         [camera]\nposition = [0, 0, 0]\nlens = {{ preset = \"double-gauss-50mm\", scale = 0.01 }}\n{camera}\n\
+         [ambient]\ncolor = [1, 1, 1]\nintensity = 1\n[materials.white]\ncolor = [1, 1, 1]\ndiffuse = 0\n"
+    );
+    for p in spheres {
+        t += &format!(
+            "[[objects]]\ntype = \"sphere\"\nposition = [{}, {}, {}]\nradius = {}\nmaterial = \"white\"\n",
+            p[0],
+            p[1],
+            p[2],
+            0.004 * p[2].abs()
         );
-        for (i, b) in l.pupil_boxes().iter().enumerate().step_by(8) {
-            eprintln!("{i}: {:?} area {}", b, b.area());
-        }
     }
+    Scene::parse("test", &t).unwrap().1
 }
 
+fn lens(s: &Scene) -> &LensCamera {
+    s.lens.as_deref().expect("a lens camera")
+}
+
+/// The brightness-weighted centroid (continuous pixel coordinates) of
+/// `img` within `r` pixels of `near`.
+fn centroid(img: &Image, near: (f64, f64), r: f64) -> (f64, f64) {
+    let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
+    for y in 0..img.height {
+        for x in 0..img.width {
+            let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+            if (cx - near.0).hypot(cy - near.1) <= r {
+                let v = img.get(x, y).y;
+                (sx, sy, sw) = (sx + v * cx, sy + v * cy, sw + v);
+            }
+        }
+    }
+    assert!(sw > 0.0, "nothing bright near {near:?}");
+    (sx / sw, sy / sw)
+}
+
+/// A thick lens from two real rays 10⁻³ of the aperture from the axis,
+/// one each way, at the d line: (camera-space z of H, of H′, focal length).
+fn thick_lens(l: &LensCamera) -> (f64, f64, f64) {
+    let sys = &l.system;
+    let y0 = 1e-3 * sys.surfaces[0].semi_aperture;
+    let far = 10.0 * (sys.length() + sys.radius());
+    let cross = |origin: DVec3, dir: DVec3| {
+        let r = sys.trace(origin, dir, WAVELENGTH_D_UM);
+        let (_, p, d) = r.exit.expect("transmitted");
+        // Where the ray out crosses the axis, and where it is at y0.
+        (p.z - p.y * d.z / d.y, p.z + (y0 - p.y) * d.z / d.y)
+    };
+    let (f2, h2) = cross(sys.vertex + DVec3::new(0.0, y0, -far), DVec3::Z);
+    let (f1, h1) = cross(sys.vertex + DVec3::new(0.0, y0, far), DVec3::NEG_Z);
+    let (front, rear) = (h1 - f1, f2 - h2);
+    assert!((front - rear).abs() < 1e-6 * rear, "focal lengths {front} and {rear}");
+    (h1, h2, rear)
+}
+
+/// The camera-space `z` of the sensor.
+fn sensor_z(l: &LensCamera) -> f64 {
+    l.system.vertex.z + l.system.length() + l.sensor_distance
+}
+
+/// The image of a point at distance D lands where the thick lens's image
+/// equation puts it (magnification `−s′/s`, turned upright), and the
+/// sensor stands in that plane.
 #[test]
-fn debug_flat() {
-    use lensview::render::{RenderSettings, render};
-    let t = "[render]\nbackground = [1, 1, 1]\n[camera]\nposition = [0, 0, 0]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\nf_number = 2.8\n";
-    let s = scene(t);
-    for spp in [1, 16, 64] {
-        let img = render(
-            &s,
-            &RenderSettings {
-                width: 12,
-                height: 8,
-                spp,
-                seed: 0,
-            },
-            None,
+fn point_images_land_where_the_image_equation_says() {
+    let d = 10.0;
+    let points = [[0.0, 0.0, -d], [0.6, 0.0, -d], [0.0, -0.45, -d], [-0.5, 0.35, -d]];
+    let s = scene("focus_distance = 10\nf_number = 8", &points, 0.0);
+    let l = lens(&s);
+    let (h1, h2, f) = thick_lens(l);
+    let so = h1 + d;
+    let si = f * so / (so - f);
+    assert!(
+        (sensor_z(l) - (h2 + si)).abs() < 1e-6 * si,
+        "sensor at z {} but the image at {}",
+        sensor_z(l),
+        h2 + si
+    );
+    let m = -si / so;
+    let (pw, ph) = l.picture(W, H);
+    let img = render(
+        &s,
+        &RenderSettings {
+            width: W,
+            height: H,
+            spp: 32,
+            seed: 1,
+        },
+        None,
+    );
+    for p in points {
+        let want = ((-m * p[0] / pw + 0.5) * W as f64, (0.5 + m * p[1] / ph) * H as f64);
+        let got = centroid(&img, want, 4.0);
+        // 0.3 px, and 1 % of the image height for the lens's distortion.
+        let tol = 0.3 + 0.01 * (want.0 - 0.5 * W as f64).hypot(want.1 - 0.5 * H as f64);
+        assert!(
+            (got.0 - want.0).hypot(got.1 - want.1) < tol,
+            "point {p:?}: centroid {got:?}, image equation {want:?}"
         );
-        for y in 0..8 {
-            let row: Vec<String> = (0..12).map(|x| format!("{:.3}", img.get(x, y).x)).collect();
-            eprintln!("{spp}: {}", row.join(" "));
+    }
+}
+
+/// Stopped down to a pinhole, the lens camera sees what the pinhole at
+/// its position with its equivalent field of view sees: points near and
+/// far (the perspective centre is the entrance pupil) in the same places.
+#[test]
+fn a_tiny_stop_sees_what_the_pinhole_sees() {
+    let points = [
+        [0.0, 0.0, -10.0],
+        [0.5, 0.3, -6.0],
+        [-1.2, -0.8, -20.0],
+        [0.9, -0.5, -15.0],
+    ];
+    let s = scene("focus_distance = 10\nf_number = 32", &points, 0.0);
+    let pinhole = Scene {
+        lens: None,
+        ..s.clone()
+    };
+    assert_eq!(s.camera.fov_y_deg, lens(&s).fov_y_deg());
+    let settings = RenderSettings {
+        width: W,
+        height: H,
+        spp: 32,
+        seed: 2,
+    };
+    let (a, b) = (render(&s, &settings, None), render(&pinhole, &settings, None));
+    let tan = (0.5 * s.camera.fov_y_deg.to_radians()).tan();
+    for p in points {
+        // The pinhole's projection, written out.
+        let at = (
+            (p[0] / -p[2] / (tan * 1.5) + 1.0) * 0.5 * W as f64,
+            (1.0 - p[1] / -p[2] / tan) * 0.5 * H as f64,
+        );
+        let (pin, through) = (centroid(&b, at, 4.0), centroid(&a, at, 4.0));
+        assert!((pin.0 - at.0).hypot(pin.1 - at.1) < 0.3, "pinhole {pin:?} vs {at:?}");
+        let tol = 0.3 + 0.01 * (at.0 - 0.5 * W as f64).hypot(at.1 - 0.5 * H as f64);
+        assert!(
+            (through.0 - pin.0).hypot(through.1 - pin.1) < tol,
+            "point {p:?}: lens {through:?}, pinhole {pin:?}"
+        );
+    }
+}
+
+/// Every ray from the sensor that passes the lens aims inside its
+/// interval's exit-pupil box (a dense grid over a square twice the rear
+/// aperture, for several sensor radii), and the boxes waste few samples:
+/// more than 40 % of camera rays pass, wide open and stopped down (where
+/// pbrt's one search of 1.5 × the rear aperture would find almost none).
+#[test]
+fn pupil_boxes_hold_every_passing_ray_and_most_rays_pass() {
+    for f in [2.8, 16.0] {
+        let s = scene(&format!("f_number = {f}"), &[], 1.0);
+        let l = lens(&s);
+        let share = l.pass_share(W, H);
+        assert!(share > 0.4 && share < 0.95, "f/{f}: {share} of rays pass");
+        let sys = &l.system;
+        let rear_z = sys.vertex.z + sys.length();
+        let half = 2.0 * sys.surfaces[sys.len() - 1].semi_aperture;
+        let half_diagonal = 0.5 * l.sensor[0].hypot(l.sensor[1]);
+        let media = sys.media(WAVELENGTH_D_UM);
+        for i in [0, 13, 31, 50, INTERVALS - 1] {
+            let r = (i as f64 + 0.5) / INTERVALS as f64 * half_diagonal;
+            let b = l.pupil_boxes()[i];
+            let film = DVec3::new(r, 0.0, sensor_z(l));
+            let n = 160;
+            let mut passed = 0;
+            for j in 0..n * n {
+                let p = DVec3::new(
+                    ((j % n) as f64 + 0.5) / n as f64 * 2.0 * half - half,
+                    ((j / n) as f64 + 0.5) / n as f64 * 2.0 * half - half,
+                    rear_z,
+                );
+                if sys.pass(film, p - film, &media).is_some() {
+                    passed += 1;
+                    assert!(
+                        p.x >= b.lo[0] && p.x <= b.hi[0] && p.y >= b.lo[1] && p.y <= b.hi[1],
+                        "f/{f}, interval {i}: ray through {p} passes outside {b:?}"
+                    );
+                }
+            }
+            assert!(i > 0 || passed > 0, "f/{f}: nothing passes at the centre");
         }
     }
 }
 
+/// Relative illumination: on a uniform white background the picture
+/// falls toward the corners as the exit pupil's area seen from each
+/// sensor point, cos⁴θ-weighted (vignetting and cos⁴ together), within
+/// 5 %; integrated here over a plain grid of rays.
 #[test]
-fn debug_map() {
-    let t = "[render]\nbackground = [1, 1, 1]\n[camera]\nposition = [0, 0, 0]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\nf_number = 2.8\n";
-    let s = scene(t);
-    let l = s.lens.as_ref().unwrap();
-    for at in [(6.0, 4.0), (1.0, 1.0)] {
-        for j in 0..24 {
-            let row: String = (0..48)
-                .map(|i| {
-                    let u = ((i as f64 + 0.5) / 48.0, (j as f64 + 0.5) / 24.0);
-                    if l.local_ray(at, (12, 8), u, 1).is_some() {
-                        '#'
-                    } else {
-                        '.'
-                    }
-                })
-                .collect();
-            eprintln!("{row}");
+fn relative_illumination_follows_the_pupil_area() {
+    let s = scene("f_number = 2.8", &[], 1.0);
+    let l = lens(&s);
+    let sys = &l.system;
+    let (rear_z, film_z) = (sys.vertex.z + sys.length(), sensor_z(l));
+    let z = film_z - rear_z;
+    let half = 2.0 * sys.surfaces[sys.len() - 1].semi_aperture;
+    let media = sys.media(WAVELENGTH_D_UM);
+    let irradiance = |r: f64| {
+        let n = 200;
+        let film = DVec3::new(r, 0.0, film_z);
+        let mut sum = 0.0;
+        for j in 0..n * n {
+            let p = DVec3::new(
+                ((j % n) as f64 + 0.5) / n as f64 * 2.0 * half - half,
+                ((j / n) as f64 + 0.5) / n as f64 * 2.0 * half - half,
+                rear_z,
+            );
+            let d = p - film;
+            if sys.pass(film, d, &media).is_some() {
+                sum += (z / d.length()).powi(4);
+            }
         }
+        sum
+    };
+    let (w, h) = (36, 24);
+    let (pw, ph) = l.picture(w, h);
+    let centre = irradiance(0.0);
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: 2048,
+        seed: 3,
+    };
+    let mut last = f64::INFINITY;
+    for k in [0u32, 3, 6, 9, 12, 15, 17] {
+        let (px, py) = (18 + k, 12 + (k * 2) / 3);
+        let at = ((px as f64 + 0.5) / w as f64 - 0.5, (py as f64 + 0.5) / h as f64 - 0.5);
+        let r = (at.0 * pw).hypot(at.1 * ph);
+        let want = irradiance(r) / centre;
+        let got = render_pixel(&s, px, py, &settings).y;
+        assert!(
+            (got - want).abs() < 0.05 * want.max(0.05),
+            "pixel ({px}, {py}), radius {r}: {got} vs {want}"
+        );
+        assert!(want < last + 0.01, "relative illumination rises at {r}");
+        last = want;
     }
+    assert!(last < 0.8, "the corner is as bright as the centre: {last}");
 }
