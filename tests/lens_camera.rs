@@ -260,3 +260,71 @@ fn relative_illumination_follows_the_pupil_area() {
     }
     assert!(last < 0.8, "the corner is as bright as the centre: {last}");
 }
+
+/// Each impossible `[camera]` lens is refused in one line naming the
+/// file, the line and the key.
+#[test]
+fn bad_lens_cameras_are_refused_with_file_line_and_key() {
+    let base = "[camera]\nposition = [0, 0, 0]\n";
+    let lens = "lens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n";
+    let cases: &[(String, &str, &str)] = &[
+        (
+            format!("{base}lens = \"nope\"\n"),
+            "t.toml:3:",
+            "camera.lens.preset: no preset `nope`",
+        ),
+        (
+            format!("{base}{lens}f_number = 1\n"),
+            "t.toml:4:",
+            "camera.f_number: f/1 is faster",
+        ),
+        (
+            format!("{base}{lens}focus_distance = 0.1\n"),
+            "t.toml:4:",
+            "camera.focus_distance: focus distance 0.1 is nearer",
+        ),
+        (
+            format!("{base}{lens}sensor = [0, 24]\n"),
+            "t.toml:4:",
+            "camera.sensor: sensor 0 × 0.24",
+        ),
+        (
+            format!("{base}f_number = 4\n"),
+            "t.toml:3:",
+            "camera.f_number: `f_number` needs a `lens`",
+        ),
+        (
+            format!("{base}{lens}focus_distance = 5\nsensor_distance = 0.4\n"),
+            "t.toml:5:",
+            "camera.sensor_distance: give either",
+        ),
+        (
+            format!("{base}lens = {{ preset = \"double-gauss-50mm\", surfaces = [] }}\n"),
+            "t.toml:3:",
+            "camera.lens: give exactly one of",
+        ),
+        (
+            format!("{base}lens = {{ surfaces = [{{ radius = 1, semi_aperture = 2 }}] }}\n"),
+            "t.toml:3:",
+            "camera.lens.surfaces[0].radius: radius 1 is smaller",
+        ),
+        (
+            format!("{base}{lens}sensor_distance = -0.01\n"),
+            "t.toml:4:",
+            "camera.sensor_distance: puts the sensor",
+        ),
+        (
+            format!("{base}lens = {{ preset = \"double-gauss-50mm\", focus = 3 }}\n"),
+            "t.toml:3:",
+            "focus",
+        ),
+    ];
+    for (text, at, what) in cases {
+        let e = Scene::parse("t.toml", text).map(|_| ()).expect_err(text).to_string();
+        assert!(!e.contains('\n'), "{e}");
+        assert!(
+            e.starts_with(at) && e.contains(what),
+            "{text}\n→ {e}\nwant {at} … {what}"
+        );
+    }
+}

@@ -31,6 +31,7 @@ use crate::optics::{RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::sampling::radical_inverse;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// What sets the focus.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,11 +91,10 @@ pub struct LensCamera {
     /// Camera-space `z` of the sensor and of the rear vertex.
     sensor_z: f64,
     rear_z: f64,
-    /// The exit pupil's box for each interval of sensor radius.
-    pupil: Vec<PupilBox>,
     half_diagonal: f64,
-    /// One over the weight's mean at the sensor's centre.
-    exposure: f64,
+    /// The exit pupil's boxes and the exposure, found at the first ray
+    /// (half a million rays: a scene is built, and checked, without them).
+    sampling: OnceLock<Sampling>,
     /// The media at the C, d and F lines ([`RGB_WAVELENGTHS_UM`]).
     media: Vec<Vec<f64>>,
 }
@@ -144,24 +144,10 @@ impl LensCamera {
         let media: Vec<Vec<f64>> = RGB_WAVELENGTHS_UM.iter().map(|&l| system.media(l).to_vec()).collect();
         let (sensor_z, rear_z) = (rear + sensor_distance - e, rear - e);
         let half_diagonal = 0.5 * sw.hypot(sh);
-        let planes = Planes {
-            system: &system,
-            media: &media[1],
-            sensor_z,
-            rear_z,
-            exit_pupil: (rear_z + paraxial.exit_pupil.position, paraxial.exit_pupil.semi_diameter),
-        };
-        let half = 1.5 * system.surfaces[system.len() - 1].semi_aperture;
-        let pupil: Vec<PupilBox> = (0..INTERVALS)
-            .into_par_iter()
-            .map(|i| {
-                let r = |i: usize| i as f64 / INTERVALS as f64 * half_diagonal;
-                planes.bound(half, (r(i), r(i + 1)))
-            })
-            .collect();
-        let centre = centre_weight(&planes, &pupil[0]);
-        if !(centre > 0.0) {
-            return fail("lens", "no ray from the sensor's centre passes the lens".into());
+        // The axial ray must pass: else nothing does near the centre.
+        let axial = system.pass(DVec3::new(0.0, 0.0, sensor_z), DVec3::NEG_Z, &media[1]);
+        if axial.is_none() {
+            return fail("lens", "the ray along the axis does not pass the lens".into());
         }
         let f_number = paraxial.f_number;
         let magnification = magnification(&paraxial, sensor_distance);
@@ -175,9 +161,8 @@ impl LensCamera {
             magnification,
             sensor_z,
             rear_z,
-            pupil,
             half_diagonal,
-            exposure: 1.0 / centre,
+            sampling: OnceLock::new(),
             media,
         })
     }
@@ -296,6 +281,14 @@ fn cos4(r: f64, z: f64) -> f64 {
     c2 * c2
 }
 
+/// What the camera samples by: the exit pupil's box for each interval of
+/// sensor radius, and one over the weight's mean at the sensor's centre.
+#[derive(Clone, Debug, PartialEq)]
+struct Sampling {
+    pupil: Vec<PupilBox>,
+    exposure: f64,
+}
+
 /// A camera ray in camera space: origin, direction and weight.
 pub struct LocalRay {
     pub origin: DVec3,
@@ -304,6 +297,36 @@ pub struct LocalRay {
 }
 
 impl LensCamera {
+    /// The pupil boxes and the exposure, found once ([`super::pupil`]).
+    fn sampling(&self) -> &Sampling {
+        self.sampling.get_or_init(|| {
+            let planes = Planes {
+                system: &self.system,
+                media: &self.media[1],
+                sensor_z: self.sensor_z,
+                rear_z: self.rear_z,
+                exit_pupil: (
+                    self.rear_z + self.paraxial.exit_pupil.position,
+                    self.paraxial.exit_pupil.semi_diameter,
+                ),
+            };
+            let half = 1.5 * self.system.surfaces[self.system.len() - 1].semi_aperture;
+            let pupil: Vec<PupilBox> = (0..INTERVALS)
+                .into_par_iter()
+                .map(|i| {
+                    let r = |i: usize| i as f64 / INTERVALS as f64 * self.half_diagonal;
+                    planes.bound(half, (r(i), r(i + 1)))
+                })
+                .collect();
+            // Not zero: the axial ray passes ([`LensCamera::new`]).
+            let centre = centre_weight(&planes, &pupil[0]);
+            Sampling {
+                exposure: if centre > 0.0 { 1.0 / centre } else { 0.0 },
+                pupil,
+            }
+        })
+    }
+
     /// The picture's width and height on the sensor for a `width × height`
     /// image: the largest centred rectangle of its aspect.
     pub fn picture(&self, width: u32, height: u32) -> (f64, f64) {
@@ -325,7 +348,7 @@ impl LensCamera {
     /// The exit pupil's box of each interval of sensor radius, from the
     /// centre to the sensor's half diagonal ([`super::pupil::INTERVALS`]).
     pub fn pupil_boxes(&self) -> &[PupilBox] {
-        &self.pupil
+        &self.sampling().pupil
     }
 
     /// Whether the lens's glass is dispersive (three wavelengths a sample).
@@ -355,7 +378,8 @@ impl LensCamera {
         // The sensor point opposite the upright one: the lens inverts.
         let film = DVec3::new(-sx, -sy, self.sensor_z);
         let r = sx.hypot(sy);
-        let b = &self.pupil[self.interval(r)];
+        let sampling = self.sampling();
+        let b = &sampling.pupil[self.interval(r)];
         if b.is_empty() {
             return None;
         }
@@ -368,7 +392,7 @@ impl LensCamera {
             return None;
         }
         let z = self.sensor_z - self.rear_z;
-        let weight = cos4(d.x.hypot(d.y), z) * b.area() / (z * z) * self.exposure;
+        let weight = cos4(d.x.hypot(d.y), z) * b.area() / (z * z) * sampling.exposure;
         Some(LocalRay { origin, dir, weight })
     }
 

@@ -92,7 +92,7 @@ pub fn pixel_sample(scene: &Lit, (px, py): (u32, u32), (i, pattern): (u32, Patte
 
 /// Camera samples at the continuous pixel positions `(xs[l], ys[l])` for
 /// `l < n` (1 ..= [`LANES`]), traced as one packet: lane `l` is exactly
-/// [`sample`] at its position. `scratch` is working memory, kept from
+/// [`sample`] at its position (through a lens camera, one by one). `scratch` is working memory, kept from
 /// call to call.
 #[inline]
 pub fn sample_packet(
@@ -104,6 +104,16 @@ pub fn sample_packet(
     height: u32,
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
+    if let Some(lens) = &scene.lens {
+        // A lens camera's rays one by one: each position's pixel's first
+        // pupil point (a block preview's or an adaptive sample's).
+        let mut out = [Rgb::ZERO; LANES];
+        for (l, o) in out.iter_mut().enumerate().take(n) {
+            let pixel = ys[l] as u64 * width as u64 + xs[l] as u64;
+            *o = lens_sample(scene, lens, (xs[l], ys[l]), (width, height), lens_point(0, pixel, 0));
+        }
+        return out;
+    }
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
     let mut out = [Rgb::ZERO; LANES];
     shade_camera_packet(scene, &p, &hits, n, scratch, &mut out);
