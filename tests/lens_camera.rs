@@ -328,3 +328,47 @@ fn bad_lens_cameras_are_refused_with_file_line_and_key() {
         );
     }
 }
+
+/// `render` reports the lens camera and the share of rays passing;
+/// `lens system --system SCENE --camera` reads the camera's lens.
+#[test]
+fn the_command_line_reports_and_reads_the_camera_lens() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/camera-dgauss.toml");
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_lensview"))
+            .args(args)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr);
+        (o.status.code(), text)
+    };
+    let out = std::env::temp_dir().join(format!("lens-camera-{}.png", std::process::id()));
+    let (code, text) = run(&[
+        "render",
+        scene,
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--spp",
+        "1",
+    ]);
+    let _ = std::fs::remove_file(&out);
+    assert_eq!(code, Some(0), "{text}");
+    let share: f64 = text
+        .split(" % of camera rays pass")
+        .next()
+        .and_then(|t| t.rsplit(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no share in {text}"));
+    assert!(share > 40.0 && share < 95.0, "{text}");
+    let (code, text) = run(&["lens", "system", "--system", scene, "--camera"]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("f-number                     2.800000000"), "{text}");
+    let cubes = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cubes.toml");
+    let (code, text) = run(&["lens", "system", "--system", cubes, "--camera"]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("has no lens"), "{text}");
+}

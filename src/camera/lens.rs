@@ -106,7 +106,15 @@ impl LensCamera {
             return fail("sensor", format!("sensor {sw} × {sh} must be positive and finite"));
         }
         let surfaces = stopped_down(&spec.surfaces, spec.f_number)?;
-        let probe = system_at(0.0, surfaces.clone())?;
+        let probe = system_at(0.0, surfaces.clone()).map_err(|e| match spec.f_number {
+            // The lens as given was built: the stop's new aperture failed.
+            Some(n) => LensCameraError {
+                field: "f_number",
+                system: None,
+                message: format!("f/{n} makes an impossible stop: {}", e.message),
+            },
+            None => e,
+        })?;
         let paraxial = probe.paraxial(WAVELENGTH_D_UM);
         if !paraxial.efl.is_finite() || paraxial.efl <= 0.0 {
             return fail(
