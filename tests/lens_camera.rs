@@ -372,3 +372,68 @@ fn the_command_line_reports_and_reads_the_camera_lens() {
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("has no lens"), "{text}");
 }
+
+/// The rendered image of an on-axis point out of focus spreads as the
+/// spot diagram (`lens spot`: the d line, a hexapolar fill of the
+/// entrance pupil, traced forward from the point) says on the sensor's
+/// plane: RMS radius within 5 %, after taking out the sphere's own image
+/// (a disc, variance ρ²/2) and the pixel (1/6 px²).
+#[test]
+fn a_defocused_point_spreads_as_the_spot_diagram_says() {
+    use lensview::lens_tools::system_bench::SystemBench;
+    use lensview::lens_tools::system_spot::system_spot;
+    let (d, r) = (4.0, 0.02);
+    let s = {
+        // A sphere of radius `r`, not the helper's.
+        let t = format!(
+            "[render]\nbackground = [0, 0, 0]\nshadows = false\n[camera]\nposition = [0, 0, 0]\n\
+             lens = {{ preset = \"double-gauss-50mm\", scale = 0.01 }}\nfocus_distance = 11.4\n\
+             [ambient]\ncolor = [1, 1, 1]\nintensity = 1\n[materials.white]\ncolor = [1, 1, 1]\ndiffuse = 0\n\
+             [[objects]]\ntype = \"sphere\"\nposition = [0, 0, {}]\nradius = {r}\nmaterial = \"white\"\n",
+            -d
+        );
+        Scene::parse("psf", &t).unwrap().1
+    };
+    let l = lens(&s);
+    let (w, h) = (240u32, 160u32);
+    let (_, ph) = l.picture(w, h);
+    let unit = ph / h as f64;
+    // The spot diagram at the sensor's plane.
+    let bench = SystemBench::new(l.system.clone(), Some(d + l.system.vertex.z), 0.0).unwrap();
+    let spot = system_spot(&bench, Some(l.sensor_distance), 64).unwrap();
+    let want = spot.spots.iter().find(|p| p.line == "d").unwrap().rms_radius.unwrap();
+    // The rendered PSF over a window about the centre.
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: 256,
+        seed: 4,
+    };
+    let half = 16;
+    let (mut m0, mut mx, mut my, mut mxx) = (0.0, 0.0, 0.0, 0.0);
+    for py in h / 2 - half..h / 2 + half {
+        for px in w / 2 - half..w / 2 + half {
+            let v = render_pixel(&s, px, py, &settings).y;
+            let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+            (m0, mx, my, mxx) = (m0 + v, mx + v * x, my + v * y, mxx + v * (x * x + y * y));
+        }
+    }
+    let (cx, cy) = (mx / m0, my / m0);
+    let var = mxx / m0 - cx * cx - cy * cy;
+    // The sphere's image: radius |m|·r on the sensor (m at distance d).
+    let (h1, _, f) = thick_lens(l);
+    let m = f / (h1 + d - f);
+    let rho = m * r / unit;
+    let got = (var - rho * rho / 2.0 - 1.0 / 6.0).sqrt() * unit;
+    assert!(
+        want / unit > 3.0,
+        "the spot is {} px: too small to measure",
+        want / unit
+    );
+
+    assert!(
+        (got - want).abs() < 0.05 * want,
+        "rendered RMS {got}, spot diagram {want} ({} px)",
+        want / unit
+    );
+}
