@@ -2,6 +2,11 @@
 //! `Ry·Rx·Rz`, see [`crate::math::rotation_from_degrees`]) and a vertical
 //! field of view. With no rotation it looks along −z with +y up.
 
+mod lens;
+pub mod pupil;
+
+pub use lens::{Focus, LensCamera, LensCameraError, LensCameraSpec, LocalRay};
+
 use crate::math::{Ray, rotation_from_degrees};
 use glam::{DMat3, DVec3};
 
@@ -33,6 +38,11 @@ impl Camera {
     }
     pub fn up(&self) -> DVec3 {
         self.basis * DVec3::Y
+    }
+    /// The world vector of a camera-space one (rotation only).
+    #[inline]
+    pub fn to_world(&self, v: DVec3) -> DVec3 {
+        self.basis * v
     }
 
     /// The primary ray through the continuous pixel position `(x, y)` of a

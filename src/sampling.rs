@@ -86,6 +86,29 @@ pub fn pixel_offset(pattern: Pattern, seed: u64, pixel: u64, i: u32) -> (f64, f6
     }
 }
 
+/// The radical inverse of `i` in base `b` (Halton's sequence).
+pub fn radical_inverse(mut i: u32, b: u32) -> f64 {
+    let (mut f, mut out) = (1.0, 0.0);
+    while i > 0 {
+        f /= b as f64;
+        out += f * (i % b) as f64;
+        i /= b;
+    }
+    out
+}
+
+/// The lens camera's point of sample `i` of `pixel` on the exit pupil's
+/// box, in [0, 1)²: the Halton (2, 3) point `i`, shifted (mod 1) by a
+/// hash of the seed and the pixel. Stratified, so that the share of a
+/// pixel's samples that pass the lens varies little; not the pixel
+/// offset's R2 pattern, which it would follow in lockstep.
+#[inline]
+pub fn lens_point(seed: u64, pixel: u64, i: u32) -> (f64, f64) {
+    let (rx, ry) = Sampler::new(seed ^ 0x6c65_6e73_6361_6d31, pixel, 0).next_2d();
+    let frac = |v: f64| v - v.floor();
+    (frac(rx + radical_inverse(i, 2)), frac(ry + radical_inverse(i, 3)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

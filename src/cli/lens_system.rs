@@ -19,6 +19,9 @@ pub struct LensSystemArgs {
     /// Which of a scene's [[systems]] --system reads (from 0).
     #[arg(long, default_value_t = 0)]
     pub system_index: usize,
+    /// With a scene file at --system: its camera's lens ([camera] lens) instead of a [[systems]] entry.
+    #[arg(long, requires = "system")]
+    pub camera: bool,
     /// A prescription file (pbrt-v4 lens format: radius, thickness, index after, aperture diameter).
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub prescription: Option<PathBuf>,
@@ -40,7 +43,7 @@ pub struct LensSystemArgs {
 /// The system the arguments name.
 fn load(a: &LensSystemArgs) -> Result<LensSystem> {
     load_system(
-        a.system.as_deref().map(|p| (p, a.system_index)),
+        a.system.as_deref().map(|p| (p, (!a.camera).then_some(a.system_index))),
         a.prescription.as_deref(),
         a.preset.as_deref(),
         a.scale,
@@ -48,10 +51,10 @@ fn load(a: &LensSystemArgs) -> Result<LensSystem> {
 }
 
 /// The system of exactly one of a JSON file (or a scene file's lens
-/// system of that index), a prescription file or a preset; `scale`
-/// multiplies the lengths of a prescription or preset.
+/// system of that index; `None`: its camera's lens), a prescription file
+/// or a preset; `scale` multiplies the lengths of a prescription or preset.
 pub(super) fn load_system(
-    system: Option<(&Path, usize)>,
+    system: Option<(&Path, Option<usize>)>,
     prescription: Option<&Path>,
     preset: Option<&str>,
     scale: f64,
@@ -67,7 +70,14 @@ pub(super) fn load_system(
         })
     };
     match (system, prescription, preset) {
-        (Some((path, index)), None, None) if path.extension().is_some_and(|e| e == "toml") => {
+        (Some((path, None)), None, None) if path.extension().is_some_and(|e| e == "toml") => {
+            let (_, scene) = lensview::scene::Scene::load(path)?;
+            match &scene.lens {
+                Some(lens) => Ok(lens.system.clone()),
+                None => bail!("{}: --camera: the scene's [camera] has no lens", path.display()),
+            }
+        }
+        (Some((path, Some(index))), None, None) if path.extension().is_some_and(|e| e == "toml") => {
             let (_, scene) = lensview::scene::Scene::load(path)?;
             let count = scene.objects.iter().filter(|o| o.system().is_some()).count();
             match scene.objects.iter().filter_map(|o| o.system()).nth(index) {

@@ -38,6 +38,9 @@ pub struct FigureLens {
     /// Which of a scene's [[systems]] --system reads (from 0).
     #[arg(long, default_value_t = 0)]
     pub system_index: usize,
+    /// With a scene file at --system: its camera's lens ([camera] lens) instead of a [[systems]] entry.
+    #[arg(long, requires = "system")]
+    pub camera: bool,
     /// A prescription file (pbrt-v4 lens format) instead of the biconvex lens.
     #[arg(long, value_name = "FILE")]
     pub prescription: Option<PathBuf>,
@@ -107,7 +110,9 @@ impl FigureLens {
         }
         let scale = self.scale.unwrap_or(1.0);
         let sys = super::lens_system::load_system(
-            self.system.as_deref().map(|p| (p, self.system_index)),
+            self.system
+                .as_deref()
+                .map(|p| (p, (!self.camera).then_some(self.system_index))),
             self.prescription.as_deref(),
             self.preset.as_deref(),
             scale,

@@ -43,6 +43,9 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     output::check_target(&a.output)?;
     let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
+    if let Some(lens) = &scene.lens {
+        println!("{}", lens_summary(lens, a.width, a.height));
+    }
     let spp = a.spp.unwrap_or(scene.spp);
     let photon_settings = CausticSettings {
         seed: a.seed,
@@ -94,4 +97,22 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
+}
+
+/// One line on a lens camera: its f-number, focus, field of view, and the
+/// share of camera rays that pass it for this picture.
+fn lens_summary(lens: &lensview::camera::LensCamera, width: u32, height: u32) -> String {
+    let focus = if lens.focus_distance.is_finite() {
+        format!("{:.6}", lens.focus_distance)
+    } else {
+        "infinity".into()
+    };
+    format!(
+        "lens camera: f/{:.3}, efl {:.6}, in focus at {focus} (sensor {:.6} behind the rear vertex), {:.2}° high; {:.1} % of camera rays pass the lens",
+        lens.f_number,
+        lens.paraxial.efl,
+        lens.sensor_distance,
+        lens.fov_y_deg(),
+        100.0 * lens.pass_share(width, height)
+    )
 }

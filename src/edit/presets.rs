@@ -58,6 +58,12 @@ pub const PRESETS: &[Preset] = &[
         about: "a cemented achromat (AC254-100-A) beside an N-BK7 singlet of the same focal length: the singlet's colour fringes",
         text: include_str!("../../scenes/achromat.toml"),
     },
+    Preset {
+        name: "lens camera",
+        file: "camera-dgauss.toml",
+        about: "the cubes photographed through a double Gauss at f/2.8 and a 36 × 24 sensor: depth of field and vignetting (a lens camera)",
+        text: include_str!("../../scenes/camera-dgauss.toml"),
+    },
 ];
 
 /// The preset called `name` (menu name or file name).

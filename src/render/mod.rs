@@ -18,11 +18,12 @@ pub use adaptive::Adaptive;
 pub use image::{Image, ImageFormat};
 pub use sparse::{FirstHit, Seen};
 
+use crate::camera::LensCamera;
 use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, radiance_packet_into};
 use crate::optics::WAVELENGTH_D_UM;
-use crate::sampling::{Pattern, pixel_offset};
+use crate::sampling::{Pattern, lens_point, pixel_offset};
 use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
@@ -56,9 +57,42 @@ pub fn sample<'a>(scene: impl Into<Lit<'a>>, x: f64, y: f64, width: u32, height:
     }
 }
 
+/// Radiance of the lens camera's sample at continuous pixel position
+/// `(x, y)` through the exit pupil's point `u` ([`LensCamera::ray`]), its
+/// weight applied; a ray the lens stops gives black. Three wavelengths
+/// when the scene or the lens disperses (each its own ray through the lens).
+pub fn lens_sample(scene: &Lit, lens: &LensCamera, at: (f64, f64), size: (u32, u32), u: (f64, f64)) -> Rgb {
+    let trace = |channel: usize, lambda: f64| {
+        lens.ray(&scene.camera, at, size, u, channel)
+            .map_or(Rgb::ZERO, |(ray, weight)| radiance(scene, &ray, 0, lambda) * weight)
+    };
+    if scene.features.dispersion || lens.is_dispersive() {
+        let mut c = Rgb::ZERO;
+        for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
+            c[ch] = trace(ch, lambda)[ch];
+        }
+        c
+    } else {
+        trace(1, WAVELENGTH_D_UM)
+    }
+}
+
+/// Sample `i` of pixel `(px, py)` at [`pixel_offset`] of `pattern`: the
+/// pinhole's [`sample`], or through the scene's lens camera at its pupil
+/// point [`lens_point`] (both keyed by the seed, the pixel and `i` alone).
+pub fn pixel_sample(scene: &Lit, (px, py): (u32, u32), (i, pattern): (u32, Pattern), s: &RenderSettings) -> Rgb {
+    let pixel = py as u64 * s.width as u64 + px as u64;
+    let (jx, jy) = pixel_offset(pattern, s.seed, pixel, i);
+    let at = (px as f64 + jx, py as f64 + jy);
+    match &scene.lens {
+        Some(lens) => lens_sample(scene, lens, at, (s.width, s.height), lens_point(s.seed, pixel, i)),
+        None => sample(scene, at.0, at.1, s.width, s.height),
+    }
+}
+
 /// Camera samples at the continuous pixel positions `(xs[l], ys[l])` for
 /// `l < n` (1 ..= [`LANES`]), traced as one packet: lane `l` is exactly
-/// [`sample`] at its position. `scratch` is working memory, kept from
+/// [`sample`] at its position (through a lens camera, one by one). `scratch` is working memory, kept from
 /// call to call.
 #[inline]
 pub fn sample_packet(
@@ -70,6 +104,16 @@ pub fn sample_packet(
     height: u32,
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
+    if let Some(lens) = &scene.lens {
+        // A lens camera's rays one by one: each position's pixel's first
+        // pupil point (a block preview's or an adaptive sample's).
+        let mut out = [Rgb::ZERO; LANES];
+        for (l, o) in out.iter_mut().enumerate().take(n) {
+            let pixel = ys[l] as u64 * width as u64 + xs[l] as u64;
+            *o = lens_sample(scene, lens, (xs[l], ys[l]), (width, height), lens_point(0, pixel, 0));
+        }
+        return out;
+    }
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
     let mut out = [Rgb::ZERO; LANES];
     shade_camera_packet(scene, &p, &hits, n, scratch, &mut out);
@@ -121,6 +165,14 @@ pub fn add_band_samples(
     let Some((w, count)) = band_shape(rows.len(), s) else {
         return;
     };
+    if scene.lens.is_some() {
+        // A lens camera's rays start apart: traced one by one.
+        for (k, px) in rows.iter_mut().enumerate() {
+            let v = pixel_sample(scene, ((k % w) as u32, y0 + (k / w) as u32), (i, pattern), s);
+            *px = if i == 0 { v } else { *px + v };
+        }
+        return;
+    }
     for x0 in (0..w).step_by(LANES) {
         let n = cast_band_tile(scene, (x0, y0, count), (i, pattern), s, tile);
         for r in 0..count {
@@ -219,11 +271,9 @@ pub struct BandMemory {
 pub fn render_pixel<'a>(scene: impl Into<Lit<'a>>, px: u32, py: u32, s: &RenderSettings) -> Rgb {
     let lit = scene.into();
     let scene = &lit;
-    let pixel = py as u64 * s.width as u64 + px as u64;
     let mut sum = Rgb::ZERO;
     for i in 0..s.spp.max(1) {
-        let (jx, jy) = pixel_offset(Pattern::R2, s.seed, pixel, i);
-        sum += sample(scene, px as f64 + jx, py as f64 + jy, s.width, s.height);
+        sum += pixel_sample(scene, (px, py), (i, Pattern::R2), s);
     }
     if s.spp <= 1 {
         return sum;

@@ -72,9 +72,63 @@ pub struct CameraFile {
     /// A point to look at (no roll). Exclusive with `rotation`.
     #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "opt_exact3")]
     pub look_at: Option<V3>,
-    /// Vertical field of view in degrees.
+    /// Vertical field of view in degrees (with a `lens`, replaced by the
+    /// lens's equivalent).
     #[serde(default = "default_fov")]
     pub fov: f64,
+    /// A lens system in front of a sensor: a preset's name or a table
+    /// (`preset`, `prescription` or `surfaces`, and `scale`).
+    #[serde(default, skip_serializing_if = "Option::is_none", deserialize_with = "camera_lens")]
+    pub lens: Option<CameraLensFile>,
+    /// Sensor width and height, in the lens's units (times its `scale`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<[f64; 2]>,
+    /// Distance from the camera to the plane in focus (default: infinity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus_distance: Option<f64>,
+    /// Or the sensor's distance behind the rear vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensor_distance: Option<f64>,
+    /// The aperture stop's f-number (default: wide open).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub f_number: Option<f64>,
+}
+
+/// `[camera] lens`: `"PRESET"` or `{ preset | prescription | surfaces, scale }`.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraLensFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
+    /// A table in pbrt-v4's realistic-camera form, as text.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prescription: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surfaces: Option<Vec<SurfaceFile>>,
+    /// Presets and prescriptions: lengths (and the sensor) are multiplied by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+}
+
+/// The `[camera] lens` key: a string names a preset.
+fn camera_lens<'de, D: Deserializer<'de>>(d: D) -> Result<Option<CameraLensFile>, D::Error> {
+    struct V;
+    impl<'de> Visitor<'de> for V {
+        type Value = CameraLensFile;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("a preset's name or a table { preset | prescription | surfaces, scale }")
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<CameraLensFile, E> {
+            Ok(CameraLensFile {
+                preset: Some(v.to_string()),
+                ..CameraLensFile::default()
+            })
+        }
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<CameraLensFile, A::Error> {
+            CameraLensFile::deserialize(de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    d.deserialize_any(V).map(Some)
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]

@@ -6,6 +6,7 @@
 //! file loaded from disk, the embedded default and (later) an edit made in
 //! the window all pass through it.
 
+mod camera_lens;
 mod change;
 pub mod error;
 pub mod file;
@@ -20,7 +21,7 @@ pub use file::SceneFile;
 pub use input::{SCENE_FILE_CAP, check_scene_bytes, read_capped};
 pub use systems::KINDS as SYSTEM_KINDS;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, LensCamera};
 use crate::color::Rgb;
 use crate::geometry::{Aabb, Lens, LensSystem, Shape};
 use crate::light::Light;
@@ -226,7 +227,12 @@ pub const BVH_MIN_OBJECTS: usize = 8;
 /// The validated render model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The pose, and the pinhole's field of view (with a lens camera, the
+    /// lens's equivalent: [`LensCamera::fov_y_deg`]).
     pub camera: Camera,
+    /// A lens system and sensor the camera rays come through (`[camera]
+    /// lens`); `None`: the pinhole.
+    pub lens: Option<std::sync::Arc<LensCamera>>,
     /// Ambient light: colour × intensity.
     pub ambient: Rgb,
     pub lights: Vec<Light>,
@@ -380,6 +386,11 @@ impl Scene {
         let (background, max_depth, shadows, spp) = v.render_settings(sf);
         let caustics = sf.render.caustics;
         let camera = v.camera(sf);
+        let lens = v.lens_camera(sf).map(std::sync::Arc::new);
+        let camera = match &lens {
+            Some(l) => Camera::new(camera.position, camera.rotation_deg, l.fov_y_deg()),
+            None => camera,
+        };
         let ambient = v.ambient(sf);
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);
@@ -394,6 +405,7 @@ impl Scene {
         }
         let mut scene = Scene {
             camera,
+            lens,
             ambient,
             lights,
             objects,

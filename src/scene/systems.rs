@@ -115,7 +115,7 @@ impl Validator {
     /// The surfaces an entry describes, and how a [`SystemError`] names its
     /// key; `None` (with the problem noted) when the entry is malformed.
     #[allow(clippy::type_complexity)]
-    fn system_surfaces(
+    pub(super) fn system_surfaces(
         &mut self,
         p: &FieldPath,
         s: &SystemFile,

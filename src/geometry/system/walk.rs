@@ -140,54 +140,98 @@ impl LensSystem {
     /// The real ray from the world `origin` along `dir` (any length) at
     /// `lambda_um`: refraction at each cap, reflection under TIR.
     pub fn trace(&self, origin: DVec3, dir: DVec3, lambda_um: f64) -> RealRay {
+        let mut events = Vec::new();
+        let mut reflections = 0;
+        let (status, x, u) = self.walk_real(origin, dir, &self.media(lambda_um), &mut |piece, kind, x, u| {
+            reflections += u32::from(kind == EventKind::Reflect);
+            events.push(Event {
+                piece,
+                kind,
+                point: self.world_point(x),
+                dir: self.world_dir(u),
+            });
+        });
+        let exit = (status == RayStatus::Transmitted)
+            .then(|| events.last().map(|e| (e.piece, e.point, e.dir)))
+            .flatten();
+        RealRay {
+            status,
+            events,
+            reflections,
+            exit,
+            local: (x, u),
+        }
+    }
+
+    /// Where the real ray from the world `origin` along `dir` leaves the
+    /// system (world point and unit direction), in `media`
+    /// ([`LensSystem::media`]), if it crosses the system *in order*: one
+    /// refraction at each cap that separates two media, surface after
+    /// surface (either way), and nothing else; `None` for any other ray
+    /// (stopped, reflected, or out through a gap between elements, where a
+    /// camera's barrel would stop it). The walk of [`LensSystem::trace`],
+    /// keeping no events (a camera ray a sample).
+    pub fn pass(&self, origin: DVec3, dir: DVec3, media: &[f64]) -> Option<(DVec3, DVec3)> {
+        let (mut last, mut step, mut count, mut in_order) = (None::<usize>, 0i64, 0, true);
+        let (status, x, u) = self.walk_real(origin, dir, media, &mut |piece, kind, _, _| {
+            let k = piece.surface;
+            let s = last.map_or(0, |l| k as i64 - l as i64);
+            in_order &= kind == EventKind::Refract && self.boundary[k] && (step == 0 || s.signum() == step.signum());
+            if last.is_some() {
+                step = s;
+            }
+            in_order &= s != 0 || last.is_none();
+            last = Some(k);
+            count += 1;
+        });
+        let whole = count == self.boundary.iter().filter(|&&b| b).count();
+        (status == RayStatus::Transmitted && in_order && whole).then(|| (self.world_point(x), self.world_dir(u)))
+    }
+
+    /// The walk of a real ray: each event (the piece, what happened, the
+    /// local point and direction after it) handed to `event`; returns how
+    /// it ended and the local point and direction after its last event.
+    fn walk_real(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        media: &[f64],
+        event: &mut impl FnMut(Piece, EventKind, DVec3, DVec3),
+    ) -> (RayStatus, DVec3, DVec3) {
         let (mut x, mut u, t0) = self.localize(origin, dir);
-        let media = self.media(lambda_um);
         let mut lo = -t0;
         let mut from = None;
-        let mut out = RealRay {
-            status: RayStatus::Miss,
-            events: Vec::new(),
-            reflections: 0,
-            exit: None,
-            local: (x, u),
-        };
+        let (mut reflections, mut events) = (0, 0);
         // Refractions are bounded by the pieces a ray can meet going one
         // way; reflections by MAX_REFLECTIONS.
         let most = MAX_REFLECTIONS as usize + 8 * self.len() + 8;
         while let Some(c) = self.next_crossing(x, u, from, lo, f64::INFINITY) {
-            let (kind, next) = self.real_step(&c, u, &media);
+            let (kind, next) = self.real_step(&c, u, media);
             // As the lens's tracer counts: MAX_REFLECTIONS are followed,
             // one more makes the ray trapped (not listed).
-            if kind == EventKind::Reflect && out.reflections == MAX_REFLECTIONS {
-                out.status = RayStatus::Trapped;
-                return out;
+            if kind == EventKind::Reflect && reflections == MAX_REFLECTIONS {
+                return (RayStatus::Trapped, x, u);
             }
             x = c.x;
             u = next;
             lo = 0.0;
             from = Some(c.piece.surface);
-            out.reflections += u32::from(kind == EventKind::Reflect);
-            out.events.push(Event {
-                piece: c.piece,
-                kind,
-                point: self.world_point(x),
-                dir: self.world_dir(u),
-            });
-            out.local = (x, u);
+            reflections += u32::from(kind == EventKind::Reflect);
+            events += 1;
+            event(c.piece, kind, x, u);
             if kind == EventKind::Absorb {
-                out.status = RayStatus::Absorbed;
-                return out;
+                return (RayStatus::Absorbed, x, u);
             }
-            if out.events.len() > most {
-                out.status = RayStatus::Trapped;
-                return out;
+            if events > most {
+                return (RayStatus::Trapped, x, u);
             }
         }
-        if let Some(last) = out.events.last() {
-            out.status = RayStatus::Transmitted;
-            out.exit = Some((last.piece, last.point, last.dir));
-        }
-        out
+        let status = if events > 0 {
+            RayStatus::Transmitted
+        } else {
+            RayStatus::Miss
+        };
+        (status, x, u)
     }
 
     /// What a real ray along `u` does at crossing `c`, and its direction
