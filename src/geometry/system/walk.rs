@@ -176,7 +176,7 @@ impl LensSystem {
         let (status, x, u) = self.walk_real(origin, dir, media, &mut |piece, kind, _, _| {
             let k = piece.surface;
             let s = last.map_or(0, |l| k as i64 - l as i64);
-            in_order &= kind == EventKind::Refract && self.boundary[k] && (step == 0 || s.signum() == step.signum());
+            in_order &= kind == EventKind::Refract && self.cap_is_boundary(k) && (step == 0 || s.signum() == step.signum());
             if last.is_some() {
                 step = s;
             }
@@ -184,7 +184,7 @@ impl LensSystem {
             last = Some(k);
             count += 1;
         });
-        let whole = count == self.boundary.iter().filter(|&&b| b).count();
+        let whole = count == (0..self.len()).filter(|&k| self.cap_is_boundary(k)).count();
         (status == RayStatus::Transmitted && in_order && whole).then(|| (self.world_point(x), self.world_dir(u)))
     }
 
