@@ -133,16 +133,15 @@ fn free_area(ctx: &egui::Context, panel: f32) -> egui::Rect {
     egui::Rect::from_min_max(egui::pos2(screen.min.x + panel, screen.min.y), screen.max)
 }
 
-/// The figures' sizes in a window `width` points wide: the sketch's height
-/// and each plot's size, as many plots a row as fit at 220 points (3, 2 or
-/// 1), every figure growing with the window (the lens's and a system's).
-pub(super) fn figure_sizes(width: f32) -> (f32, Vec2) {
-    let per_row = (width / 220.0).floor().clamp(1.0, 3.0);
+/// The figures' sizes in a window `width` points wide with `plots` plots:
+/// the sketch's height and each plot's size, as many plots a row as fit at
+/// 220 points (all of them, or fewer), every figure growing with the window
+/// (the lens's and a system's).
+pub(super) fn figure_sizes(width: f32, plots: usize) -> (f32, Vec2) {
+    let per_row = (width / 220.0).floor().clamp(1.0, plots.max(1) as f32);
     let w = (width / per_row - 8.0).max(140.0);
-    (
-        (width * 0.3).clamp(180.0, 420.0),
-        Vec2::new(w, (w * 0.8).clamp(180.0, 420.0)),
-    )
+    let h = (w * 0.8).clamp(180.0, 360.0);
+    ((width * 0.25).clamp(180.0, 360.0), Vec2::new(w, h))
 }
 
 fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
@@ -174,7 +173,7 @@ fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
 /// The lens's figures; returns where they are (for `--ui-log`).
 fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_analysis::Placed {
     let width = ui.available_width().max(150.0);
-    let (sketch_h, size) = figure_sizes(width);
+    let (sketch_h, size) = figure_sizes(width, 3);
     let mut placed = Vec::new();
     match fan(s, 7, None) {
         Ok(f) => {
