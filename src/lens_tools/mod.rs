@@ -476,6 +476,34 @@ pub struct LensInfo {
     /// its Sellmeier formula at 587.56, 486.13 and 656.27 nm).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub glass: Option<GlassInfo>,
+    /// With an object distance ([`LensInfo::with_object`]): the paraxial
+    /// image, real or virtual.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub image: Option<ImageInfo>,
+}
+
+/// [`LensInfo::image`]: the object's distance before V1 and its paraxial
+/// image (`null` when the object is at F: the image is at infinity).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ImageInfo {
+    pub object_distance: f64,
+    pub paraxial: Option<setup::ParaxialImage>,
+}
+
+impl LensInfo {
+    /// The info with the paraxial image of an object `dist` before V1
+    /// (`null` image for a lens without power or an object at F).
+    pub fn with_object(mut self, dist: f64) -> LensInfo {
+        let paraxial = match (self.efl, self.principal_front_from_v1, self.principal_rear_from_v2) {
+            (Some(efl), Some(h1), Some(h2)) => setup::paraxial_image(dist, efl, [h1, h2]),
+            _ => None,
+        };
+        self.image = Some(ImageInfo {
+            object_distance: dist,
+            paraxial,
+        });
+        self
+    }
 }
 
 /// [`LensInfo::glass`].
@@ -544,6 +572,7 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
             }),
             _ => None,
         },
+        image: None,
     })
 }
 
@@ -612,7 +641,35 @@ impl std::fmt::Display for LensInfo {
         if let Some(c) = self.axial_colour {
             writeln!(f, "  axial colour BFD(F) − BFD(C) {}   (486.1 nm − 656.3 nm)", g(c))?;
         }
+        if let Some(im) = &self.image {
+            write_image(f, im)?;
+        }
         Ok(())
+    }
+}
+
+/// The image lines of `lens info --object-distance`.
+fn write_image(f: &mut std::fmt::Formatter, im: &ImageInfo) -> std::fmt::Result {
+    let g = |x: f64| format!("{x:<24}");
+    writeln!(
+        f,
+        "  object distance            {}   (before V1)",
+        g(im.object_distance)
+    )?;
+    let Some(p) = im.paraxial else {
+        return writeln!(f, "  image                      at infinity (the object is at F)");
+    };
+    if p.is_virtual {
+        writeln!(
+            f,
+            "  virtual image              {}   (from V2: {} before it, on the object's side)",
+            g(p.from_last_vertex),
+            -p.from_last_vertex
+        )?;
+        writeln!(f, "  magnification              {}   (upright)", g(p.magnification))
+    } else {
+        writeln!(f, "  real image                 {}   (from V2)", g(p.from_last_vertex))?;
+        writeln!(f, "  magnification              {}   (inverted)", g(p.magnification))
     }
 }
 
