@@ -241,6 +241,26 @@ impl Setup {
         bench::real_image(&NAMES, self.paraxial_image(n))
     }
 
+    /// The image distortion is measured in, from V2 along the light, its
+    /// magnification, and whether it is virtual: the real paraxial image,
+    /// or for an object inside F (a magnifier) the virtual one, before V2
+    /// on the object's side, where the chief rays' backward extensions are
+    /// taken. Refused as [`Self::real_image`] otherwise.
+    pub fn distortion_image(&self, n: f64) -> Result<(f64, Option<f64>, bool), SetupError> {
+        let real = match self.real_image(n) {
+            Ok((from_v2, m)) => return Ok((from_v2, m, false)),
+            Err(e) => e,
+        };
+        let px = self.paraxial(n);
+        let image = (self.object_distance)
+            .filter(|_| px.has_power())
+            .and_then(|dist| paraxial_image(dist, px.efl, [px.h1, px.h2]));
+        match image {
+            Some(p) if p.is_virtual => Ok((p.from_last_vertex, Some(p.magnification), true)),
+            _ => Err(real),
+        }
+    }
+
     /// World z of the plane `from_v2` beyond V2 along the light.
     pub fn plane_z(&self, from_v2: f64) -> f64 {
         -self.sag2() - from_v2
