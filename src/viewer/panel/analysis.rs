@@ -223,7 +223,7 @@ fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) -> Option<e
         for (sp, colour) in sd.spots.iter().zip(LINES) {
             let c = sp
                 .centroid
-                .map_or("—".into(), |c| format!("({:.2e}, {:.2e})", c[0], c[1]));
+                .map_or("—".into(), |c| lensview::lens_tools::spot::centroid_text(c, 2));
             let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
             ui.colored_label(colour, format!("{}: RMS {r}  centroid {c}", sp.line));
         }
