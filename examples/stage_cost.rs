@@ -65,7 +65,7 @@ fn main() {
             prog.run(&scene, Stage::Samples(1), &|| false);
             if mode == "send" {
                 let mut rgba = Vec::new();
-                prog.write_rgba8(&mut rgba);
+                prog.write_rgba8(&mut rgba, Default::default());
                 std::hint::black_box(rgba);
             }
         }
@@ -124,7 +124,7 @@ fn hash_schedule(scene: &Scene, w: u32, h: u32) {
         }
         prog.counts().hash(&mut hs);
         let mut rgba = Vec::new();
-        prog.write_rgba8(&mut rgba);
+        prog.write_rgba8(&mut rgba, Default::default());
         rgba.hash(&mut hs);
         let mut hf = DefaultHasher::new();
         if prog.spp > 0 {

@@ -71,6 +71,105 @@ impl Srgb8 {
     }
 }
 
+/// How the picture's linear radiance becomes what is shown and written as
+/// PNG: scaled by `2^exposure` (stops), then through `curve`, then sRGB
+/// encoded (which clamps to [0, 1]). EXR output stays linear: no tone.
+/// The default (0 stops, [`ToneCurve::Clamp`]) leaves every value as it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tone {
+    pub exposure: f64,
+    pub curve: ToneCurve,
+}
+
+/// The tone curve of [`Tone`], applied per channel after the exposure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToneCurve {
+    /// Values over 1 clip to white (the picture as it always was).
+    #[default]
+    Clamp,
+    /// `x / (1 + x)`: never clips, compresses the highlights (and darkens
+    /// mid-tones a little: 0.18 becomes 0.153).
+    Reinhard,
+    /// Narkowicz's fit of the ACES filmic curve: a toe and a shoulder,
+    /// reaching white at about 7.2 (the fit, which overshoots 1, is cut there).
+    Aces,
+}
+
+impl ToneCurve {
+    pub const ALL: [ToneCurve; 3] = [ToneCurve::Clamp, ToneCurve::Reinhard, ToneCurve::Aces];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneCurve::Clamp => "clamp",
+            ToneCurve::Reinhard => "reinhard",
+            ToneCurve::Aces => "aces",
+        }
+    }
+
+    /// The curve named `s` (as [`Self::name`] writes it).
+    pub fn parse(s: &str) -> Option<ToneCurve> {
+        ToneCurve::ALL.into_iter().find(|c| c.name() == s)
+    }
+
+    /// The next curve (the viewer's key cycles through them).
+    pub fn next(self) -> ToneCurve {
+        let i = ToneCurve::ALL.iter().position(|&c| c == self).unwrap_or(0);
+        ToneCurve::ALL[(i + 1) % ToneCurve::ALL.len()]
+    }
+
+    /// One channel through the curve (NaN and negatives left to the sRGB
+    /// encoding, which makes them 0).
+    #[inline]
+    pub fn map(self, x: f64) -> f64 {
+        match self {
+            ToneCurve::Clamp => x,
+            ToneCurve::Reinhard => x.max(0.0) / (1.0 + x.max(0.0)),
+            ToneCurve::Aces => {
+                let x = x.max(0.0);
+                ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).min(1.0)
+            }
+        }
+    }
+}
+
+impl Tone {
+    /// The widest exposure accepted, in stops either way.
+    pub const MAX_STOPS: f64 = 20.0;
+
+    /// Whether `stops` is an exposure accepted (finite, within ±[`Self::MAX_STOPS`]).
+    pub fn accepts(stops: f64) -> bool {
+        stops.is_finite() && stops.abs() <= Self::MAX_STOPS
+    }
+
+    /// Whether the tone leaves every value as it is (today's pictures).
+    pub fn is_identity(self) -> bool {
+        self.exposure == 0.0 && self.curve == ToneCurve::Clamp
+    }
+
+    /// A linear colour as the display gets it (before sRGB encoding).
+    #[inline]
+    pub fn apply(self, c: Rgb) -> Rgb {
+        let c = c * self.exposure.exp2();
+        DVec3::new(self.curve.map(c.x), self.curve.map(c.y), self.curve.map(c.z))
+    }
+
+    /// One line saying the tone: "exposure +1.5 stops, reinhard".
+    pub fn describe(self) -> String {
+        format!("exposure {:+.1} stops, {}", self.exposure, self.curve.name())
+    }
+}
+
+/// [`to_srgb8`] after `tone`: exactly [`to_srgb8`] for the identity.
+pub fn to_srgb8_toned(c: Rgb, tone: Tone) -> [u8; 3] {
+    if tone.is_identity() {
+        to_srgb8(c)
+    } else {
+        to_srgb8(tone.apply(c))
+    }
+}
+
 /// Approximate linear RGB of a black body at `kelvin` (1000–40000 K),
 /// normalised so the brightest channel is 1. Tanner Helland's fit of the CIE
 /// data, converted from sRGB to linear.
@@ -124,6 +223,49 @@ mod tests {
         }
         assert_eq!(to_srgb8_fast(f64::NAN), 0);
         assert_eq!(to_srgb8_fast(7.0), 255);
+    }
+
+    #[test]
+    fn tone_identity_exposure_and_curves() {
+        let c = DVec3::new(0.18, 2.0, 40.0);
+        // The default changes nothing (pictures stay byte-identical).
+        assert_eq!(to_srgb8_toned(c, Tone::default()), to_srgb8(c));
+        // One stop doubles; two stops down quarters.
+        let up = Tone {
+            exposure: 1.0,
+            curve: ToneCurve::Clamp,
+        };
+        assert_eq!(up.apply(c), c * 2.0);
+        let down = Tone {
+            exposure: -2.0,
+            curve: ToneCurve::Clamp,
+        };
+        assert_eq!(to_srgb8_toned(DVec3::splat(2.0), down), to_srgb8(DVec3::splat(0.5)));
+        // Reinhard and ACES never clip what clamp clips, and stay monotone.
+        for curve in [ToneCurve::Reinhard, ToneCurve::Aces] {
+            let t = Tone { exposure: 0.0, curve };
+            let [a, b, _] = to_srgb8_toned(c, t);
+            assert!(a < b && b < 255, "{curve:?}: {a} {b}");
+            let mut last = -1.0;
+            for i in 0..1000 {
+                let y = curve.map(i as f64 * 0.05);
+                assert!(y >= last && y <= 1.0 + 1e-12, "{curve:?} at {i}");
+                last = y;
+            }
+            assert_eq!(ToneCurve::parse(curve.name()), Some(curve));
+        }
+        assert!((ToneCurve::Reinhard.map(0.18) - 0.18 / 1.18).abs() < 1e-15);
+        assert_eq!(ToneCurve::Aces.next().next().next(), ToneCurve::Aces);
+        assert_eq!(
+            to_srgb8_toned(
+                DVec3::splat(f64::NAN),
+                Tone {
+                    exposure: 1.0,
+                    curve: ToneCurve::Aces
+                }
+            ),
+            [0, 0, 0]
+        );
     }
 
     #[test]

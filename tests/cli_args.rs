@@ -110,7 +110,18 @@ fn value_options(path: &[String]) -> Vec<(String, bool)> {
                 .map_or(l, |(_, long)| long);
             let (flag, rest) = l.split_once(' ')?;
             let value = rest.strip_prefix('<')?.split('>').next()?;
-            let path = ["OUTPUT", "OUT_DIR", "CSV", "PLOT", "FRAME_LOG", "UI_LOG", "FILE", "DIR", "FLIGHT"].contains(&value);
+            let path = [
+                "OUTPUT",
+                "OUT_DIR",
+                "CSV",
+                "PLOT",
+                "FRAME_LOG",
+                "UI_LOG",
+                "FILE",
+                "DIR",
+                "FLIGHT",
+            ]
+            .contains(&value);
             flag.starts_with("--").then(|| (flag.to_string(), path))
         })
         .collect()

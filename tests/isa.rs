@@ -22,7 +22,7 @@ fn picture(scene: &Scene) -> (Vec<u64>, Vec<u8>) {
     let mut prog = Progressive::new(s.width, s.height, 3);
     assert!(prog.run(scene, Stage::Samples(2), &|| false));
     let mut rgba = Vec::new();
-    prog.write_rgba8(&mut rgba);
+    prog.write_rgba8(&mut rgba, Default::default());
     (bits, rgba)
 }
 

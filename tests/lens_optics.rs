@@ -291,3 +291,75 @@ fn directions_of_any_magnitude_name_the_same_ray() {
         assert!((p.exit.unwrap().2 - w).length() < 1e-14, "{dir:?}: {p:?}");
     }
 }
+
+/// Issue 33.4: `lens info --object-distance` gives the paraxial image of a
+/// magnifier (the default scene's lens with the object inside F): virtual,
+/// on the object's side, upright and enlarged; outside F, real and
+/// inverted. Checked against Newton's form (x·x′ = f², each from its focal
+/// point) and the lens's own F, F′.
+#[test]
+fn lens_info_gives_a_magnifiers_virtual_image_and_a_real_one() {
+    let info = lens_info(2.0, 5.0, 5.0, Index::Constant(1.5), 0.5875618).unwrap();
+    let (f, ffd, bfd) = (info.efl.unwrap(), info.ffd.unwrap(), info.bfd.unwrap());
+    for (dist, virtual_image) in [(3.5, true), (20.0, false), (1.0, true)] {
+        let im = info.clone().with_object(dist).image.unwrap().paraxial.unwrap();
+        assert_eq!(im.is_virtual, virtual_image, "at {dist}");
+        // Newton: the object `x` before F, the image `x′` after F′.
+        let (x, x_image) = (dist - ffd, im.from_last_vertex - bfd);
+        assert!(
+            (x * x_image - f * f).abs() < 1e-9 * f * f,
+            "at {dist}: {x}·{x_image} ≠ {f}²"
+        );
+        // m = −f/x: upright and enlarged inside F, inverted outside.
+        assert!((im.magnification + f / x).abs() < 1e-12, "{im:?}");
+        if virtual_image {
+            assert!(im.magnification > 1.0 && im.from_last_vertex < 0.0, "{im:?}");
+        } else {
+            assert!(im.magnification < 0.0 && im.from_last_vertex > 0.0, "{im:?}");
+        }
+    }
+    // At F the image is at infinity.
+    let at_f = info.clone().with_object(ffd).image.unwrap();
+    assert!(
+        at_f.paraxial.is_none_or(|p| p.from_last_vertex.abs() > 1e12),
+        "{at_f:?}"
+    );
+    let text = info.with_object(3.5).to_string();
+    assert!(text.contains("virtual image") && text.contains("(upright)"), "{text}");
+}
+
+/// Issue 33.4: the distortion of a magnifier (the default scene's lens, the
+/// object 3.5 before V1, inside F) is measured in its virtual image plane,
+/// where `lens info` puts it, with the chief rays extended backwards:
+/// upright heights, a distortion that vanishes toward the axis, and the
+/// same numbers from the command line (which refused it before).
+#[test]
+fn a_magnifiers_distortion_is_taken_in_its_virtual_image() {
+    use lensview::lens_tools::{Setup, distortion};
+    let s = Setup::new(2.0, 5.0, 5.0, Index::Constant(1.5), Some(3.5), 0.0).unwrap();
+    let d = distortion(&s, 20.0, 40).unwrap();
+    let info = lens_info(2.0, 5.0, 5.0, Index::Constant(1.5), 0.5875618).unwrap();
+    let im = info.with_object(3.5).image.unwrap().paraxial.unwrap();
+    assert!(d.virtual_image && im.is_virtual);
+    assert_eq!(
+        (d.image_plane_from_v2, d.magnification),
+        (im.from_last_vertex, Some(im.magnification))
+    );
+    let first = &d.points[0];
+    assert!(first.distortion_percent.unwrap().abs() < 1e-3, "{first:?}");
+    for p in &d.points {
+        let real = p.real_height.unwrap();
+        assert!(real > 0.0 && p.paraxial_height > 0.0, "not upright: {p:?}");
+    }
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .args(["lens", "distortion", "--d", "2", "--r1", "5", "--r2", "5", "--n", "1.5"])
+        .args(["--object-distance", "3.5", "--max-field-deg", "20", "--steps", "40"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("virtual image") && text.contains("extended backwards"),
+        "{text}"
+    );
+}

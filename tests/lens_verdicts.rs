@@ -2,8 +2,9 @@
 //! a real image to measure on (no image plane given): on seeded random
 //! lenses and objects, n = 1 and objects inside the front focal point
 //! among them, all three measure or all three refuse, naming the same
-//! field; a refusal never names `object-distance` when no object distance
-//! was given.
+//! field — but for an object inside F, whose virtual image `distortion`
+//! measures (a magnifier's) where fan and spot refuse; a refusal never
+//! names `object-distance` when no object distance was given.
 
 use lensview::lens_tools::{Setup, distortion, fan, spot_diagram};
 use lensview::optics::Index;
@@ -39,10 +40,19 @@ fn fan_spot_and_distortion_give_one_verdict() {
         let Ok(setup) = Setup::new(d, r1, r2, Index::Constant(n), object, 5.0) else {
             continue;
         };
+        let dist = distortion(&setup, 10.0, 3);
+        let magnifier = dist.as_ref().is_ok_and(|d| d.virtual_image);
         let verdicts = [
             fan(&setup, 5, None).map(|_| ()),
             spot_diagram(&setup, None, 2).map(|_| ()),
-            distortion(&setup, 10.0, 3).map(|_| ()),
+            // A magnifier's distortion stands for the refusal the others give.
+            match dist {
+                Ok(_) if magnifier => Err(lensview::lens_tools::SetupError {
+                    field: "object-distance",
+                    message: "virtual image".into(),
+                }),
+                d => d.map(|_| ()),
+            },
         ];
         let fields: Vec<Option<&str>> = verdicts.iter().map(|v| v.as_ref().err().map(|e| e.field)).collect();
         let what = format!("case {case}: d {d} r1 {r1} r2 {r2} n {n} object {object:?}: {verdicts:?}");
@@ -53,6 +63,7 @@ fn fan_spot_and_distortion_give_one_verdict() {
         if n == 1.0 {
             assert_eq!(fields[0], Some("n"), "{what}");
         }
+        assert!(!magnifier || object.is_some(), "{what}");
         match fields[0] {
             None => measured += 1,
             Some(_) => refused += 1,

@@ -596,3 +596,78 @@ fn a_click_selects_the_object_under_the_cursor() {
         "a click on the background kept the selection"
     );
 }
+
+/// Issue 33.6: G takes the exposure down half a stop (two presses, one
+/// stop): the picture on screen darkens at once without a restart (the new
+/// generation's frames are of the samples already taken), P saves the PNG
+/// as shown, and Ctrl+Z takes each step back.
+#[test]
+fn g_darkens_the_picture_without_restarting_and_p_saves_it_as_shown() {
+    let (w, h) = (320u32, 240u32);
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (dir, _) = test_dir("exposure");
+    let shots = dir.join("shots");
+    let _ = std::fs::remove_dir_all(&shots);
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/focal-spot.toml");
+    let (ws, hs, folder) = (w.to_string(), h.to_string(), shots.display().to_string());
+    let args = [
+        "--width",
+        &ws,
+        "--height",
+        &hs,
+        "--max-spp",
+        "4",
+        "--exit-after",
+        "600",
+        "--no-panel",
+        "--screenshots",
+        &folder,
+    ];
+    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    s.overlay_to("full");
+    s.overlay_to("off");
+    let g = s.wait_frame_where(0, 4, "refined", |f| f["width"] == w && f["x0"] == 0);
+    let before = s.screenshot("before.png");
+    let mean =
+        |img: &lensview::render::Image| img.to_srgb8().iter().map(|&v| v as f64).sum::<f64>() / (w * h * 3) as f64;
+    s.key("g");
+    s.key("g");
+    let after = s.wait_screenshot("after.png", "the darker picture", |img| {
+        mean(img) < mean(&before) - 10.0
+    });
+    let later: Vec<u64> = s
+        .frames()
+        .iter()
+        .filter(|f| f["generation"].as_u64().unwrap_or(0) > g)
+        .map(|f| f["spp"].as_u64().unwrap_or(0))
+        .collect();
+    assert!(
+        !later.is_empty() && later.iter().all(|&spp| spp == 4),
+        "refinement restarted: {later:?}"
+    );
+    s.key("p");
+    let png = || {
+        let files = std::fs::read_dir(&shots).into_iter().flatten().flatten();
+        files
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "png"))
+    };
+    assert!(
+        wait_until(Duration::from_secs(60), || png().is_some()),
+        "P wrote no PNG"
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    let saved = lensview::render::Image::read_png(&png().unwrap()).expect("a PNG");
+    let d = diff(&saved, &after, 0, h);
+    assert!(d < 1.0, "the saved PNG differs from the screen by {d:.2} levels");
+    // Each press is an undo step; undone, the picture is as before and
+    // nothing is left unsaved (two Escapes quit).
+    s.chord("ctrl+z");
+    s.chord("ctrl+z");
+    s.wait_screenshot("undone.png", "the picture as before", |img| {
+        diff(img, &before, 0, h) < 1.0
+    });
+    let (status, err) = s.escape_out(2);
+    assert!(status.success(), "{err}");
+}

@@ -203,3 +203,66 @@ fn the_analysis_window_draws_every_figure_of_a_lens_system() {
     let (status, err) = s.escape_out(3);
     assert!(status.success(), "exit status {status:?}; stderr: {err}");
 }
+
+/// The rectangle `name` in the ui log (window pixels), waited for.
+fn rect_of(s: &Session, ui_log: &std::path::Path, name: &str) -> [f64; 4] {
+    let mut r = None;
+    let found = wait_until(Duration::from_secs(60), || {
+        r = s.rects(ui_log).get(name).and_then(|v| {
+            let v: Vec<f64> = v.as_array()?.iter().filter_map(|x| x.as_f64()).collect();
+            Some([v[0], v[1], v[2], v[3]])
+        });
+        r.is_some()
+    });
+    assert!(found, "no `{name}` on screen: {:?}", s.rects(ui_log));
+    r.unwrap()
+}
+
+/// Issue 33.8: the analysis window (the magnifier of the default scene)
+/// fits a 640×480 window, every figure as wide as it and the distortion
+/// beside or below the others, not cut off; in a large window it fills the
+/// room right of the panel. The *Lens* section, opened at 1280×720, fits
+/// the panel: the last section's header stays on screen.
+#[test]
+fn the_analysis_window_and_the_lens_section_fit_small_and_fill_large_windows() {
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    for (w, h, panel) in [(640u32, 480u32, false), (1600, 980, true), (1280, 720, true)] {
+        let (dir, ui_log) = test_dir(&format!("analysis-{w}"));
+        let _ = std::fs::remove_file(&ui_log);
+        let mut args = ui_args(w, h, 600, &ui_log);
+        if !panel {
+            args.push("--no-panel".into());
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+        s.wait_frame(0, 1, "start");
+        if h == 720 {
+            s.click(&ui_log, "section Lens");
+            // Opened, and the others closed at the next frame.
+            std::thread::sleep(Duration::from_millis(1500));
+            let render = rect_of(&s, &ui_log, "section Render");
+            assert!(
+                render[3] <= h as f64,
+                "the Lens section pushes Render off screen: {render:?}"
+            );
+        } else {
+            s.key("F7");
+            let win = rect_of(&s, &ui_log, "Lens analysis");
+            let dist = rect_of(&s, &ui_log, "analysis distortion");
+            let spot = rect_of(&s, &ui_log, "analysis spot");
+            assert!(win[0] >= 0.0 && win[2] <= w as f64 && win[3] <= h as f64, "{win:?}");
+            for r in [dist, spot] {
+                assert!(r[0] >= win[0] && r[2] <= win[2], "a plot is cut off: {r:?} in {win:?}");
+            }
+            if w > 1000 {
+                let room = w as f64 - 340.0;
+                assert!(win[2] - win[0] > 0.9 * room, "the window does not fill: {win:?}");
+                assert!(dist[2] - dist[0] > 400.0, "the plots do not grow: {dist:?}");
+            }
+        }
+        let (status, err) = s.escape_out(3);
+        assert!(status.success(), "{err}");
+    }
+}

@@ -161,7 +161,7 @@ fn shoot(
         let t = i as f64 / a.fps;
         let scene = scenes.frame_scene(base, flight, t)?;
         let img = render_frame(&scene, a, spp)?;
-        img.write_as(&path_of(i), format)?;
+        img.write_as(&path_of(i), format, scene.tone)?;
         let f = (done + 1) as f64 / todo.len() as f64;
         if let Some(cb) = progress.callback() {
             cb(f);

@@ -36,6 +36,10 @@ pub struct LensInfoArgs {
     /// Wavelength in µm (default: the helium d line, 0.5875618).
     #[arg(long, default_value_t = lensview::optics::WAVELENGTH_D_UM)]
     pub wavelength_um: f64,
+    /// An object this far before V1: its paraxial image, real or virtual (a magnifier's), and
+    /// the magnification.
+    #[arg(long)]
+    pub object_distance: Option<f64>,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -114,8 +118,14 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
             bail!("impossible lens: {flag} must be a finite number, got {v}");
         }
     }
-    let info = lensview::lens_tools::lens_info(sh.d, sh.r1, sh.r2, sh.n, a.wavelength_um)
+    if let Some(dist) = a.object_distance {
+        lensview::lens_tools::setup::check_object(Some(dist), 0.0, "V1")?;
+    }
+    let mut info = lensview::lens_tools::lens_info(sh.d, sh.r1, sh.r2, sh.n, a.wavelength_um)
         .map_err(|e| anyhow::anyhow!("impossible lens: --{}: {e}", e.field()))?;
+    if let Some(dist) = a.object_distance {
+        info = info.with_object(dist);
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&info)?);
     } else {

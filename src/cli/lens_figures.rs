@@ -162,7 +162,7 @@ pub(super) fn spot_row(
     rays: (usize, usize),
     (centroid, rms): (Option<[f64; 2]>, Option<f64>),
 ) -> String {
-    let c = centroid.map_or("—".into(), |c| format!("({:.6e}, {:.6e})", c[0], c[1]));
+    let c = centroid.map_or("—".into(), |c| lensview::lens_tools::spot::centroid_text(c, 6));
     let r = rms.map_or("—".into(), |r| format!("{r:.9e}"));
     let n = n.map_or(String::new(), |n| format!("n {n}  "));
     format!(

@@ -3,6 +3,7 @@
 use super::load_scene;
 use anyhow::Result;
 use clap::Args;
+use lensview::color::{Tone, ToneCurve};
 use lensview::integrator::Lit;
 use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
 use lensview::render::{ImageFormat, RenderSettings, render};
@@ -29,6 +30,32 @@ pub struct RenderArgs {
     /// Seed of the sample pattern.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Exposure of the PNG in stops (default: the scene's `[display] exposure`, 0).
+    #[arg(long, allow_negative_numbers = true, value_name = "STOPS")]
+    pub exposure: Option<f64>,
+    /// Tone curve of the PNG: clamp, reinhard or aces (default: the scene's `[display] tone`, clamp).
+    #[arg(long, value_name = "CURVE", value_parser = tone_curve)]
+    pub tone: Option<ToneCurve>,
+}
+
+fn tone_curve(s: &str) -> Result<ToneCurve, String> {
+    ToneCurve::parse(s).ok_or_else(|| format!("unknown tone curve '{s}' (use clamp, reinhard or aces)"))
+}
+
+/// The PNG's tone: the scene's, with the flags given over it; a refusal for
+/// an EXR (linear radiance, never toned) or an exposure out of range.
+fn tone_of(a: &RenderArgs, format: ImageFormat, scene: Tone) -> Result<Tone> {
+    if format == ImageFormat::Exr && (a.exposure.is_some() || a.tone.is_some()) {
+        anyhow::bail!("--exposure and --tone apply to PNG output; an EXR is linear radiance, never toned");
+    }
+    let exposure = a.exposure.unwrap_or(scene.exposure);
+    if !Tone::accepts(exposure) {
+        anyhow::bail!("--exposure {exposure}: not in -{m}..={m} stops", m = Tone::MAX_STOPS);
+    }
+    Ok(Tone {
+        exposure,
+        curve: a.tone.unwrap_or(scene.curve),
+    })
 }
 
 pub fn render_cmd(a: RenderArgs) -> Result<()> {
@@ -43,6 +70,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     output::check_target(&a.output)?;
     let format = ImageFormat::of(&a.output).map_err(anyhow::Error::msg)?;
     let (_, scene) = load_scene(a.scene.as_deref())?;
+    let tone = tone_of(&a, format, scene.tone)?;
     if let Some(lens) = &scene.lens {
         println!("{}", lens_summary(lens, a.width, a.height));
     }
@@ -76,7 +104,7 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     );
     let secs = start.elapsed().as_secs_f64();
     progress.finish();
-    img.write_as(&a.output, format)?;
+    img.write_as(&a.output, format, tone)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
     let photons = match &map {
         Some(m) => format!(

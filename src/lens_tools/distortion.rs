@@ -1,6 +1,8 @@
 //! Distortion against field angle: the real chief ray (aimed at the centre
 //! of the stop, the lens's centre C) against the thick-lens paraxial image
-//! height, in the paraxial image plane at the d line.
+//! height, in the paraxial image plane at the d line; for a magnifier (the
+//! object inside F) in its virtual image plane, before V2, with the chief
+//! rays extended backwards (as Ray Optics Simulation draws them).
 
 use super::bench::{distortion_percent, field_sweep};
 use super::setup::{ListedRay, Setup, SetupError, bad};
@@ -34,6 +36,11 @@ pub struct Distortion {
     pub image_plane_from_v2: f64,
     /// Lateral magnification (`null` for an object at infinity).
     pub magnification: Option<f64>,
+    /// The image is virtual (a magnifier: the object inside F): the plane
+    /// lies before V2 (`image_plane_from_v2` < 0) and the chief rays'
+    /// heights are those of their backward extensions. Absent when real.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_image: bool,
     pub points: Vec<DistortionPoint>,
 }
 
@@ -42,7 +49,7 @@ pub struct Distortion {
 pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Distortion, SetupError> {
     check_fields(max_field_deg, steps)?;
     let n = setup.index.nominal();
-    let (from_v2, m) = setup.real_image(n)?;
+    let (from_v2, m, virtual_image) = setup.distortion_image(n)?;
     let efl = setup.paraxial(n).efl;
     let plane_z = setup.plane_z(from_v2);
     let sweep = field_sweep(
@@ -74,6 +81,7 @@ pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Disto
         efl,
         image_plane_from_v2: from_v2,
         magnification: m,
+        virtual_image,
         points,
     })
 }
@@ -88,11 +96,21 @@ impl std::fmt::Display for Distortion {
             "distortion: lens d = {}, R1 = {}, R2 = {}, n = {}; object at {obj}",
             self.d, self.r1, self.r2, self.n
         )?;
-        writeln!(
-            f,
-            "  chief ray aimed at the lens centre; paraxial image plane {} after V2; EFL {}",
-            self.image_plane_from_v2, self.efl
-        )?;
+        if self.virtual_image {
+            writeln!(
+                f,
+                "  chief ray aimed at the lens centre; virtual image {} before V2 (heights of the chief rays extended backwards), magnification {}; EFL {}",
+                -self.image_plane_from_v2,
+                self.magnification.unwrap_or(f64::NAN),
+                self.efl
+            )?;
+        } else {
+            writeln!(
+                f,
+                "  chief ray aimed at the lens centre; paraxial image plane {} after V2; EFL {}",
+                self.image_plane_from_v2, self.efl
+            )?;
+        }
         writeln!(
             f,
             "  {:>10}  {:>24}  {:>24}  {:>14}",

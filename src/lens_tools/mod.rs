@@ -8,6 +8,7 @@
 pub mod bench;
 pub mod distortion;
 pub mod fan;
+pub mod image;
 pub mod setup;
 pub mod sketch;
 pub mod spot;
@@ -20,6 +21,7 @@ pub mod system_trace;
 
 pub use distortion::{Distortion, distortion};
 pub use fan::{Fan, fan};
+pub use image::ImageInfo;
 pub use setup::{Setup, SetupError};
 pub use spot::{SpotDiagram, spot_diagram};
 
@@ -476,6 +478,10 @@ pub struct LensInfo {
     /// its Sellmeier formula at 587.56, 486.13 and 656.27 nm).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub glass: Option<GlassInfo>,
+    /// With an object distance ([`LensInfo::with_object`]): the paraxial
+    /// image, real or virtual.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub image: Option<ImageInfo>,
 }
 
 /// [`LensInfo::glass`].
@@ -544,6 +550,7 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
             }),
             _ => None,
         },
+        image: None,
     })
 }
 
@@ -611,6 +618,9 @@ impl std::fmt::Display for LensInfo {
         }
         if let Some(c) = self.axial_colour {
             writeln!(f, "  axial colour BFD(F) − BFD(C) {}   (486.1 nm − 656.3 nm)", g(c))?;
+        }
+        if let Some(im) = &self.image {
+            image::write_image(f, im)?;
         }
         Ok(())
     }

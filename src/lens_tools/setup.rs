@@ -69,21 +69,52 @@ pub(super) fn image_of(object_distance: Option<f64>, efl: f64, bfd: f64, h: [f64
     match object_distance {
         None => Some((bfd, None)),
         Some(dist) => {
-            // From H to the object.
-            let so = dist + h[0];
-            if !(so > efl) {
+            if !(dist + h[0] > efl) {
                 return None;
             }
-            let si = so * efl / (so - efl);
-            Some((h[1] + si, Some(-si / so)))
+            let p = paraxial_image(dist, efl, h)?;
+            Some((p.from_last_vertex, Some(p.magnification)))
         }
     }
+}
+
+/// The paraxial image of an object `dist` before the first vertex (real
+/// or virtual), through focal length `efl` and principal planes `h` (H
+/// from the first vertex, H′ from the last, along the light).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ParaxialImage {
+    /// From the last vertex along the light: negative before it, against
+    /// the light (a virtual image lies on the object's side).
+    pub from_last_vertex: f64,
+    /// Lateral magnification: negative for a real, inverted image; above
+    /// 1 for a magnifier's virtual, upright one.
+    pub magnification: f64,
+    /// Whether the rays leave diverging, as from a point before H′: the
+    /// object inside F (a magnifier).
+    #[serde(rename = "virtual")]
+    pub is_virtual: bool,
+}
+
+/// [`ParaxialImage`] of an object `dist` before the first vertex; `None`
+/// for an object at F (the image at infinity) or a lens without power.
+pub fn paraxial_image(dist: f64, efl: f64, h: [f64; 2]) -> Option<ParaxialImage> {
+    // From H to the object.
+    let so = dist + h[0];
+    if so == efl || !efl.is_finite() {
+        return None;
+    }
+    let si = so * efl / (so - efl);
+    Some(ParaxialImage {
+        from_last_vertex: h[1] + si,
+        magnification: -si / so,
+        is_virtual: si < 0.0,
+    })
 }
 
 /// The object of a bench (the lens's and a system's): at infinity or a
 /// positive distance (at most 1e9) before `first`, at a field angle
 /// strictly inside (−90, 90)°.
-pub(super) fn check_object(object_distance: Option<f64>, field_deg: f64, first: &str) -> Result<(), SetupError> {
+pub fn check_object(object_distance: Option<f64>, field_deg: f64, first: &str) -> Result<(), SetupError> {
     if let Some(dist) = object_distance
         && !(dist > 0.0 && dist <= crate::math::domain::MAX_LENGTH)
     {
@@ -208,6 +239,26 @@ impl Setup {
             ));
         }
         bench::real_image(&NAMES, self.paraxial_image(n))
+    }
+
+    /// The image distortion is measured in, from V2 along the light, its
+    /// magnification, and whether it is virtual: the real paraxial image,
+    /// or for an object inside F (a magnifier) the virtual one, before V2
+    /// on the object's side, where the chief rays' backward extensions are
+    /// taken. Refused as [`Self::real_image`] otherwise.
+    pub fn distortion_image(&self, n: f64) -> Result<(f64, Option<f64>, bool), SetupError> {
+        let real = match self.real_image(n) {
+            Ok((from_v2, m)) => return Ok((from_v2, m, false)),
+            Err(e) => e,
+        };
+        let px = self.paraxial(n);
+        let image = (self.object_distance)
+            .filter(|_| px.has_power())
+            .and_then(|dist| paraxial_image(dist, px.efl, [px.h1, px.h2]));
+        match image {
+            Some(p) if p.is_virtual => Ok((p.from_last_vertex, Some(p.magnification), true)),
+            _ => Err(real),
+        }
     }
 
     /// World z of the plane `from_v2` beyond V2 along the light.

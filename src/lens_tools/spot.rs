@@ -72,8 +72,29 @@ pub fn rms_and_centroid(points: &[[f64; 2]]) -> Option<([f64; 2], f64)> {
         .iter()
         .map(|p| (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2))
         .sum();
-    Some((c, (s / k).sqrt()))
+    // The centroid printed: a coordinate below 1e-12 of the spot's reach
+    // from the axis is rounding noise (an axial spot's 4e-18), shown as 0.
+    let reach = points.iter().fold(0.0_f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let clean = |x: f64| if x.abs() < CENTROID_NOISE * reach { 0.0 } else { x };
+    Some(([clean(c[0]), clean(c[1])], (s / k).sqrt()))
 }
+
+/// A centroid as printed: `(x, y)` in `digits`-digit scientific notation,
+/// an exact 0 as `0` (the text of `lens spot` and the analysis window).
+pub fn centroid_text(c: [f64; 2], digits: usize) -> String {
+    let f = |x: f64| {
+        if x == 0.0 {
+            "0".to_string()
+        } else {
+            format!("{x:.digits$e}")
+        }
+    };
+    format!("({}, {})", f(c[0]), f(c[1]))
+}
+
+/// Below this share of a spot's reach from the axis, a centroid coordinate
+/// is rounding noise and is given as 0 ([`rms_and_centroid`]).
+pub const CENTROID_NOISE: f64 = 1e-12;
 
 /// A spot's rays that reach the image plane (those with an image point):
 /// their count, and the centroid and RMS radius of their points.
@@ -119,4 +140,22 @@ pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Resu
         paraxial_image_from_v2: setup.paraxial_image(setup.index.nominal()).map(|p| p.0),
         spots,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_centroid_of_rounding_noise_is_zero() {
+        // Symmetric about the axis but for 4e-18 of rounding: 0, not 4e-18.
+        let pts = [[0.03 + 4e-18, 1e-18], [-0.03, -0.02], [0.0, 0.02]];
+        let (c, rms) = rms_and_centroid(&pts).unwrap();
+        assert_eq!(c, [0.0, 0.0]);
+        assert!(rms > 0.02);
+        // A real offset is kept.
+        let (c, _) = rms_and_centroid(&[[1.0, 1e-9], [1.0, 0.0]]).unwrap();
+        assert_eq!(c, [1.0, 5e-10]);
+        assert_eq!(centroid_text([0.0, -4.5e-1], 2), "(0, -4.50e-1)");
+    }
 }

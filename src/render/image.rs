@@ -1,7 +1,7 @@
 //! A linear-light image, its 8-bit sRGB PNG encoding and its linear
 //! OpenEXR one (`exr.rs`).
 
-use crate::color::{Rgb, to_srgb8};
+use crate::color::{Rgb, Tone, to_srgb8_toned};
 use crate::output::{WriteError, write_with};
 use std::path::Path;
 
@@ -28,20 +28,31 @@ impl Image {
 
     /// Interleaved 8-bit sRGB, 3 bytes a pixel.
     pub fn to_srgb8(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|&c| to_srgb8(c)).collect()
+        self.to_srgb8_toned(Tone::default())
+    }
+
+    /// [`Self::to_srgb8`] after `tone` (exposure and tone curve).
+    pub fn to_srgb8_toned(&self, tone: Tone) -> Vec<u8> {
+        self.pixels.iter().flat_map(|&c| to_srgb8_toned(c, tone)).collect()
     }
 
     /// Writes an 8-bit sRGB PNG atomically ([`crate::output`]): a failed
     /// write never leaves half a picture, a temporary file, or anything but
     /// a regular file replaced. The error names the path.
     pub fn write_png(&self, path: &Path) -> Result<(), WriteError> {
+        self.write_png_toned(path, Tone::default())
+    }
+
+    /// [`Self::write_png`] after `tone`.
+    pub fn write_png_toned(&self, path: &Path, tone: Tone) -> Result<(), WriteError> {
         write_with(path, |out| {
             let mut enc = png::Encoder::new(out, self.width, self.height);
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
             enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
             let mut w = enc.write_header().map_err(std::io::Error::other)?;
-            w.write_image_data(&self.to_srgb8()).map_err(std::io::Error::other)?;
+            w.write_image_data(&self.to_srgb8_toned(tone))
+                .map_err(std::io::Error::other)?;
             w.finish().map_err(std::io::Error::other)
         })
     }
@@ -52,10 +63,11 @@ impl Image {
         crate::output::write_file(path, &super::exr::encode(self.width, self.height, &self.pixels))
     }
 
-    /// Writes the image in `format`.
-    pub fn write_as(&self, path: &Path, format: ImageFormat) -> Result<(), WriteError> {
+    /// Writes the image in `format`: a PNG after `tone`, an EXR linear
+    /// (the radiance itself, whatever the tone).
+    pub fn write_as(&self, path: &Path, format: ImageFormat, tone: Tone) -> Result<(), WriteError> {
         match format {
-            ImageFormat::Png => self.write_png(path),
+            ImageFormat::Png => self.write_png_toned(path, tone),
             ImageFormat::Exr => self.write_exr(path),
         }
     }
@@ -90,7 +102,7 @@ impl Image {
 /// The formats an image is written in, told by the file's extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
-    /// 8-bit sRGB, clamped to [0, 1] ([`Image::write_png`]).
+    /// 8-bit sRGB after the tone, clamped to [0, 1] ([`Image::write_png`]).
     Png,
     /// Linear 32-bit float, unclamped ([`Image::write_exr`]).
     Exr,

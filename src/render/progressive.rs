@@ -11,7 +11,7 @@
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits, sample_packet};
-use crate::color::{Rgb, Srgb8};
+use crate::color::{Rgb, Srgb8, Tone};
 use crate::integrator::Lit;
 use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
@@ -490,18 +490,18 @@ impl Progressive {
         }
     }
 
-    /// The current picture as 8-bit sRGB RGBA (for a framebuffer), written
-    /// into `out` (resized as needed).
-    pub fn write_rgba8(&self, out: &mut Vec<u8>) {
+    /// The current picture as 8-bit sRGB RGBA (for a framebuffer) after
+    /// `tone`, written into `out` (resized as needed).
+    pub fn write_rgba8(&self, out: &mut Vec<u8>, tone: Tone) {
         let n = self.width as usize * self.height as usize;
         out.resize(n * 4, 255);
+        let srgb = Toned::new(tone);
         if self.spp == 0 && self.block > 1 {
-            return self.write_blocks_rgba8(out);
+            return self.write_blocks_rgba8(out, srgb);
         }
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
-        let srgb = Srgb8::table();
         if self.spp == 0 {
             return out
                 .par_chunks_mut(4 * CHUNK)
@@ -523,6 +523,31 @@ impl Progressive {
     }
 }
 
+/// The sRGB table after a tone: the table alone for the identity (the
+/// frames of today's default, bit for bit).
+#[derive(Clone, Copy)]
+struct Toned {
+    srgb: Srgb8,
+    tone: Option<Tone>,
+}
+
+impl Toned {
+    fn new(tone: Tone) -> Toned {
+        Toned {
+            srgb: Srgb8::table(),
+            tone: (!tone.is_identity()).then_some(tone),
+        }
+    }
+
+    #[inline]
+    fn rgba(self, c: Rgb) -> [u8; 4] {
+        match self.tone {
+            None => self.srgb.rgba(c),
+            Some(t) => self.srgb.rgba(t.apply(c)),
+        }
+    }
+}
+
 /// The mean of `n` samples summing to `sum` (the product with `1/n`, as
 /// every frame has always been computed).
 #[inline]
@@ -534,9 +559,8 @@ impl Progressive {
     /// [`Progressive::write_rgba8`] for a block preview: one conversion per
     /// block, then whole rows copied (the first frame after an input should
     /// not spend its budget converting 64 equal pixels 64 times).
-    fn write_blocks_rgba8(&self, out: &mut [u8]) {
+    fn write_blocks_rgba8(&self, out: &mut [u8], srgb: Toned) {
         let (w, n) = (self.width as usize, self.block);
-        let srgb = Srgb8::table();
         out.par_chunks_mut(4 * w * n)
             .zip(self.preview.par_chunks(w * n))
             .for_each(|(o, src)| {

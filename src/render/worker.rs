@@ -246,11 +246,29 @@ impl Drop for Worker {
     }
 }
 
-/// How a job starts: with the reprojected picture (after this many
-/// seconds), or afresh at this stage of the schedule.
+/// How a job starts: with a picture to send at once (the reprojected one,
+/// or the samples held shown in a new tone), going on at stage `first`;
+/// or afresh at this stage of the schedule.
 enum Start {
-    Moved(f64),
+    Shown {
+        stage: Stage,
+        dt: f64,
+        cast: u64,
+        first: usize,
+    },
     At(usize),
+}
+
+/// Only the display changed ([`Change::Display`]) and `prog` holds samples
+/// of this size: the stage to go on at (past the samples it has).
+fn kept(prog: &Progressive, shown: &Held, job: &Job, stages: &[Stage]) -> Option<usize> {
+    let same = shown.scene.is_some() && (prog.width, prog.height) == (job.width, job.height);
+    (same && shown.since == Change::Display && prog.spp > 0).then(|| {
+        stages
+            .iter()
+            .position(|s| matches!(*s, Stage::Samples(n) if n > prog.spp))
+            .unwrap_or(stages.len())
+    })
 }
 
 /// A camera move with a picture to move: the previous picture reprojected
@@ -267,6 +285,16 @@ fn start(
     stages: &[Stage],
     costs: &mut Costs,
 ) -> Start {
+    if let Some(first) = kept(prog, shown, job, stages) {
+        shown.set(&job.scene);
+        let stage = Stage::Samples(prog.spp);
+        return Start::Shown {
+            stage,
+            dt: 0.0,
+            cast: 0,
+            first,
+        };
+    }
     let t0 = Instant::now();
     let size = (job.width, job.height);
     let moved = shown
@@ -297,7 +325,14 @@ fn start(
         costs.reprojected(&prog.reprojection, size.0 as usize * size.1 as usize);
         prog.seed = job.seed;
         shown.set(&job.scene);
-        return Start::Moved(t0.elapsed().as_secs_f64());
+        let first = stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0);
+        let (dt, cast) = (t0.elapsed().as_secs_f64(), prog.samples_cast);
+        return Start::Shown {
+            stage: Stage::Reprojected,
+            dt,
+            cast,
+            first,
+        };
     }
     prog.reset(job.width, job.height, job.seed);
     Start::At(match chosen {
@@ -325,7 +360,7 @@ impl Frame {
         last: bool,
         caustics: CausticStats,
     ) -> Frame {
-        prog.write_rgba8(&mut rgba);
+        prog.write_rgba8(&mut rgba, job.scene.tone);
         Frame {
             generation: job.generation,
             stage,
@@ -426,12 +461,11 @@ fn run(
         };
         let traced = Lit::new(&job.scene, caustics.map());
         let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
-            Start::Moved(dt) => {
-                let cast = prog.samples_cast;
-                if !send(&prog, Stage::Reprojected, dt, cast, false, caustics.stats()) {
+            Start::Shown { stage, dt, cast, first } => {
+                if !send(&prog, stage, dt, cast, first == stages.len(), caustics.stats()) {
                     return;
                 }
-                stages.iter().position(|s| matches!(s, Stage::Samples(_))).unwrap_or(0)
+                first
             }
             Start::At(first) => {
                 // The picture was started afresh: none to hand out until a stage is sent.

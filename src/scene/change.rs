@@ -15,6 +15,9 @@ pub enum Change {
     /// The file changed but not the picture (a name, `render.spp`, an unused
     /// material): no need to restart refinement.
     File,
+    /// Only how the picture is shown (`[display]`: exposure, tone curve):
+    /// the samples are kept and shown again with the new tone.
+    Display,
     /// Only the camera: the picture may be reprojected into the new view,
     /// and the caustic photons (world-space) kept.
     Camera,
@@ -39,6 +42,12 @@ impl Change {
         self <= Change::Camera
     }
 
+    /// Whether the render thread needs a new job: a restart, or the kept
+    /// samples shown with a new tone ([`Change::Display`]).
+    pub fn resubmits(self) -> bool {
+        self >= Change::Display
+    }
+
     /// Whether the caustic photons of the scene before serve the scene after.
     pub fn keeps_photons(self) -> bool {
         self <= Change::Shading
@@ -58,6 +67,7 @@ impl Change {
         match (shading_a != shading_b, a.camera != b.camera) {
             (true, _) => Change::Shading,
             (false, true) => Change::Camera,
+            (false, false) if a.display != b.display => Change::Display,
             (false, false) => Change::File,
         }
     }
@@ -77,6 +87,7 @@ fn parts(sf: &SceneFile) -> ((u32, bool, Option<bool>, &[LightFile]), (&V3, &Amb
         objects: _,
         lenses: _,
         systems: _,
+        display: _,
     } = sf;
     let RenderFile {
         background,
@@ -136,6 +147,14 @@ mod tests {
         };
         assert_eq!(edit(&|_| {}), Change::None);
         assert_eq!(edit(&|b| b.render.spp += 1), Change::File);
+        assert_eq!(edit(&|b| b.display.exposure = 1.5), Change::Display);
+        assert_eq!(
+            edit(&|b| {
+                b.display.tone = crate::color::ToneCurve::Aces;
+                b.camera.fov += 1.0;
+            }),
+            Change::Camera
+        );
         assert_eq!(edit(&|b| b.objects[0].name = Some("renamed".into())), Change::File);
         assert_eq!(
             edit(&|b| {

@@ -29,6 +29,27 @@ pub struct SceneFile {
     /// Lens systems: every lens that is not the biconvex `[[lenses]]`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub systems: Vec<SystemFile>,
+    /// How the picture is shown and written as PNG (exposure, tone curve);
+    /// left out of a saved file while it is the default.
+    #[serde(default, skip_serializing_if = "DisplayFile::is_default")]
+    pub display: DisplayFile,
+}
+
+/// `[display]`: the exposure in stops and the tone curve of the window and
+/// of `render`'s PNG (never of its EXR, which stays linear radiance).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DisplayFile {
+    #[serde(default)]
+    pub exposure: f64,
+    #[serde(default)]
+    pub tone: crate::color::ToneCurve,
+}
+
+impl DisplayFile {
+    pub fn is_default(&self) -> bool {
+        *self == DisplayFile::default()
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]

@@ -244,6 +244,8 @@ pub struct Scene {
     /// `[render] caustics` as written (`None`: the default, see
     /// [`Features::caustics`]).
     pub caustics: Option<bool>,
+    /// `[display]`: how the picture is shown and written as PNG.
+    pub tone: crate::color::Tone,
     /// What the scene uses ([`Scene::compile`]).
     pub features: Features,
     /// A BVH over `objects` when there are at least [`BVH_MIN_OBJECTS`].
@@ -385,6 +387,7 @@ impl Scene {
         let mut v = Validator::default();
         let (background, max_depth, shadows, spp) = v.render_settings(sf);
         let caustics = sf.render.caustics;
+        let tone = v.display(sf);
         let camera = v.camera(sf);
         let lens = v.lens_camera(sf).map(std::sync::Arc::new);
         let camera = match &lens {
@@ -414,6 +417,7 @@ impl Scene {
             shadows,
             spp,
             caustics,
+            tone,
             features: Features::ALL,
             bvh: None,
             others_bounds: Vec::new(),

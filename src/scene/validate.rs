@@ -6,7 +6,7 @@ use super::Object;
 use super::error::{FieldPath, Problem};
 use super::file::{IndexFile, LightKind, MaterialFile, ObjectFile, SceneFile, ShapeKind, V3};
 use crate::camera::Camera;
-use crate::color::Rgb;
+use crate::color::{Rgb, Tone};
 use crate::geometry::{Cuboid, Lens, Prism, Pyramid, Shape, Sphere};
 use crate::light::Light;
 use crate::material::Material;
@@ -37,6 +37,22 @@ impl Validator {
             );
         }
         (background, r.max_depth, r.shadows, r.spp)
+    }
+
+    /// `[display]`: the exposure (finite, within ±[`Tone::MAX_STOPS`]) and
+    /// the tone curve.
+    pub(super) fn display(&mut self, sf: &SceneFile) -> Tone {
+        let d = &sf.display;
+        if !Tone::accepts(d.exposure) {
+            self.problem(
+                FieldPath::root("display").key("exposure"),
+                format!("{} stops is not in -{m}..={m}", d.exposure, m = Tone::MAX_STOPS),
+            );
+        }
+        Tone {
+            exposure: d.exposure,
+            curve: d.tone,
+        }
     }
 
     /// `[ambient]`: its colour times its intensity.

@@ -39,8 +39,9 @@ impl Viewer {
             return;
         }
         // Auto-repeat steps scene edits and undo/redo, never toggles.
-        let repeats = keys::action_for(code, ctrl, shift)
-            .is_some_and(|a| !a.is_held() && (a.restarts() || matches!(a, Action::Undo | Action::Redo)));
+        let repeats = keys::action_for(code, ctrl, shift).is_some_and(|a| {
+            !a.is_held() && (a.restarts() || matches!(a, Action::Undo | Action::Redo | Action::Exposure(_)))
+        });
         if event.repeat && !repeats {
             return;
         }
@@ -144,6 +145,18 @@ impl Viewer {
             Action::TogglePanel => s.ask(Command::ShowPanel(!self.display.panel)),
             Action::Pause => s.ask(Command::TogglePause),
             Action::ToggleCaustics => s.toggle_caustics(),
+            Action::Exposure(d) => {
+                let stops = s.doc.scene().display.exposure + d;
+                let r = s.doc.set_exposure(stops);
+                s.doc.seal();
+                let what = format!("exposure {:+.1} stops", s.doc.scene().display.exposure);
+                s.apply_result(&what, r);
+            }
+            Action::ToneNext => {
+                let curve = s.doc.scene().display.tone.next();
+                let r = s.doc.set_tone(curve);
+                s.apply_result(&format!("tone curve {}", curve.name()), r);
+            }
             Action::DeleteSelected => s.delete_selected(),
             Action::DuplicateSelected => s.duplicate_selected(),
             // An open menu closes first (egui does it), then the help

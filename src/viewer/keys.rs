@@ -49,6 +49,8 @@ pub enum Action {
     DeleteSelected,
     DuplicateSelected,
     // Pressed: display only (no restart).
+    Exposure(f64),
+    ToneNext,
     Screenshot,
     ScreenshotExr,
     ToggleRecording,
@@ -85,6 +87,8 @@ impl Action {
         !matches!(
             self,
             Action::Screenshot
+                | Action::Exposure(_)
+                | Action::ToneNext
                 | Action::ScreenshotExr
                 | Action::ToggleRecording
                 | Action::ToggleOverlay
@@ -173,6 +177,19 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
         "F5",
         Action::Reload,
         "reload the scene file (keeps the camera)",
+    ),
+    (
+        KeyCode::KeyG,
+        "G/H",
+        Action::Exposure(-0.5),
+        "exposure -/+ half a stop (display and PNG; the samples are kept)",
+    ),
+    (KeyCode::KeyH, "", Action::Exposure(0.5), ""),
+    (
+        KeyCode::KeyY,
+        "Y",
+        Action::ToneNext,
+        "tone curve: clamp / reinhard / aces",
     ),
     (
         KeyCode::KeyP,

@@ -251,7 +251,7 @@ impl Viewer {
         if let Some(c) = change {
             self.refine.changed(c);
         }
-        if change.is_some_and(|c| c.restarts()) {
+        if change.is_some_and(|c| c.resubmits()) {
             self.submit();
         }
         for c in commands {
@@ -310,7 +310,8 @@ impl Viewer {
                 let notify = move |line| {
                     let _ = proxy.send_event(UserEvent::Notice(line));
                 };
-                self.session.message = self.refine.screenshot(self.opts.screenshots.clone(), notify);
+                let tone = self.session.doc.built().tone;
+                self.session.message = self.refine.screenshot(self.opts.screenshots.clone(), tone, notify);
             }
         }
     }

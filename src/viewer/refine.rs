@@ -5,6 +5,7 @@
 //! sample per pixel. A screenshot takes the render thread's picture and
 //! writes it on a thread of its own.
 
+use lensview::color::Tone;
 use lensview::render::ImageFormat;
 use lensview::render::worker::{Frame, Job, Snapshot, Worker};
 use lensview::scene::Change;
@@ -188,7 +189,7 @@ impl Refine {
     /// own writes it, so the window stays live; `notify` gets the line
     /// that says where the files went (or why not). Returns the line for
     /// the message bar meanwhile.
-    pub fn screenshot(&mut self, dir: PathBuf, notify: impl Fn(String) + Send + 'static) -> String {
+    pub fn screenshot(&mut self, dir: PathBuf, tone: Tone, notify: impl Fn(String) + Send + 'static) -> String {
         self.screenshots += 1;
         let stem = format!(
             "lensview-{}-{}",
@@ -201,7 +202,7 @@ impl Refine {
         let saving = format!("saving the picture on screen into {}…", dir.display());
         std::thread::spawn(move || {
             let line = match picture.recv_timeout(SNAPSHOT_WAIT) {
-                Ok(Some(snap)) => match save_snapshot(&snap, &dir, &stem) {
+                Ok(Some(snap)) => match save_snapshot(&snap, &dir, &stem, tone) {
                     Ok(png) => format!(
                         "saved {} and .exr ({}×{}, {} spp)",
                         png.display(),
@@ -226,16 +227,19 @@ impl Refine {
 /// window can take seconds).
 const SNAPSHOT_WAIT: Duration = Duration::from_secs(120);
 
-/// Writes `snap` as `dir/stem.png` and `dir/stem.exr`; the PNG's path.
-fn save_snapshot(snap: &Snapshot, dir: &Path, stem: &str) -> Result<PathBuf, String> {
+/// Writes `snap` as `dir/stem.png` (after `tone`, as shown) and
+/// `dir/stem.exr` (linear); the PNG's path.
+fn save_snapshot(snap: &Snapshot, dir: &Path, stem: &str, tone: Tone) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let png = dir.join(format!("{stem}.png"));
     let full = std::path::absolute(&png).unwrap_or(png);
     snap.image
-        .write_as(&full, ImageFormat::Png)
+        .write_as(&full, ImageFormat::Png, tone)
         .map_err(|e| e.to_string())?;
     let exr = full.with_extension("exr");
-    snap.image.write_as(&exr, ImageFormat::Exr).map_err(|e| e.to_string())?;
+    snap.image
+        .write_as(&exr, ImageFormat::Exr, tone)
+        .map_err(|e| e.to_string())?;
     Ok(full)
 }
 

@@ -209,6 +209,19 @@ impl Document {
     pub fn set_background(&mut self, colour: V3) -> Result<Change, Rejected> {
         self.edit_merged("render.background", "background", |sf| sf.render.background = colour)
     }
+
+    /// `[display] exposure` in stops, clamped to ±[`Tone::MAX_STOPS`] (one
+    /// undo step per gesture: merged until [`Self::seal`]).
+    pub fn set_exposure(&mut self, stops: f64) -> Result<Change, Rejected> {
+        let m = crate::color::Tone::MAX_STOPS;
+        let stops = if stops.is_nan() { 0.0 } else { stops.clamp(-m, m) };
+        self.edit_merged("display.exposure", "exposure", |sf| sf.display.exposure = stops)
+    }
+
+    /// `[display] tone`: the tone curve.
+    pub fn set_tone(&mut self, curve: crate::color::ToneCurve) -> Result<Change, Rejected> {
+        self.edit("tone curve", |sf| sf.display.tone = curve)
+    }
 }
 
 /// Sets the camera's pose as `position` and `rotation` (dropping `look_at`).

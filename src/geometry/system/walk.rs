@@ -176,7 +176,8 @@ impl LensSystem {
         let (status, x, u) = self.walk_real(origin, dir, media, &mut |piece, kind, _, _| {
             let k = piece.surface;
             let s = last.map_or(0, |l| k as i64 - l as i64);
-            in_order &= kind == EventKind::Refract && self.cap_is_boundary(k) && (step == 0 || s.signum() == step.signum());
+            in_order &=
+                kind == EventKind::Refract && self.cap_is_boundary(k) && (step == 0 || s.signum() == step.signum());
             if last.is_some() {
                 step = s;
             }

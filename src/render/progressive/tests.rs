@@ -204,7 +204,7 @@ fn the_schedule_gives_the_same_bits_on_one_two_and_three_threads() {
                 for st in schedule(6) {
                     assert!(p.run(&s, st, &|| false));
                     let mut rgba = Vec::new();
-                    p.write_rgba8(&mut rgba);
+                    p.write_rgba8(&mut rgba, Default::default());
                     frames.push((p.image(), rgba));
                 }
                 frames
@@ -239,7 +239,7 @@ fn block_preview_fills_every_pixel() {
     assert_eq!(img.get(0, 0), img.get(7, 7));
     assert_ne!(img.get(36, 22), Rgb::ZERO);
     let mut rgba = Vec::new();
-    p.write_rgba8(&mut rgba);
+    p.write_rgba8(&mut rgba, Default::default());
     assert_eq!(rgba.len(), 37 * 23 * 4);
     // The per-block conversion gives the same bytes as per pixel.
     let per_pixel: Vec<u8> = img

@@ -166,6 +166,37 @@ fn a_camera_move_shows_the_reprojected_picture_first() {
     assert_eq!(hole_level(100_000, Some(1e-6)), 8);
 }
 
+/// A new tone keeps the samples: the first frame of the job is the held
+/// picture (same samples) in the new tone, and refinement goes on from
+/// there to the new cap; the default tone shows what it always did.
+#[test]
+fn a_new_tone_shows_the_samples_held_again() {
+    let w = Worker::spawn(|| {});
+    let a = job(1, 48, 32, 2);
+    w.submit(a.clone());
+    let before = frames_until_last_of(&w, 1).pop().unwrap();
+    let mut toned = (*a.scene).clone();
+    toned.tone = crate::color::Tone {
+        exposure: 1.0,
+        curve: crate::color::ToneCurve::Clamp,
+    };
+    w.submit(Job {
+        generation: 2,
+        change: Change::Display,
+        scene: Arc::new(toned),
+        max_spp: 4,
+        ..a
+    });
+    let frames = frames_until_last_of(&w, 2);
+    let stages: Vec<Stage> = frames.iter().map(|f| f.stage).collect();
+    assert_eq!(stages, [Stage::Samples(2), Stage::Samples(4)]);
+    // One stop up: each channel at least as bright, most brighter.
+    let (old, new) = (&before.rgba, &frames[0].rgba);
+    assert!(old.iter().zip(new).all(|(a, b)| b >= a));
+    let brighter = old.iter().zip(new).filter(|(a, b)| b > a).count();
+    assert!(brighter > old.len() / 2, "{brighter} of {}", old.len());
+}
+
 /// The pixels a reprojection traces afresh see the photon map: turned
 /// from the floor behind it to the focal spot, which fills the view,
 /// the camera's first (reprojected) frame is as bright as the frames

@@ -82,28 +82,36 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         _ => None,
     };
     let mut placed = Vec::new();
+    let area = free_area(ctx, cx.display.panel_width(ctx.content_rect().width()));
     let shown = egui::Window::new("Lens analysis")
         .open(&mut open)
-        .default_size([760.0, 640.0])
-        .default_pos([360.0, 40.0])
+        .default_rect(area.shrink(MARGIN))
+        .max_size(area.size())
+        .constrain_to(area)
         .show(ctx, |ui| {
-            if let Some(sys) = &system {
-                controls(ui, &mut cx.ui.analysis);
-                placed = super::system_analysis::figures(ui, sys, &cx.ui.analysis);
-                return;
-            }
-            let Some(lens) = lens else {
-                ui.label("No lens in this scene.");
-                return;
-            };
-            controls(ui, &mut cx.ui.analysis);
-            let a = &cx.ui.analysis;
-            match Setup::new(lens.d, lens.r1, lens.r2, lens.index, a.object(), a.field_deg) {
-                Ok(s) => figures(ui, &s, a),
-                Err(e) => {
-                    ui.colored_label(super::ERROR, e.to_string());
+            // Whatever the window's height, every figure and line can be
+            // scrolled to (at 640×480 the spot's RMS lines and the
+            // distortion are below the fold).
+            let scroll = egui::ScrollArea::vertical().auto_shrink([false, false]);
+            scroll.show(ui, |ui| {
+                if let Some(sys) = &system {
+                    controls(ui, &mut cx.ui.analysis);
+                    placed = super::system_analysis::figures(ui, sys, &cx.ui.analysis);
+                    return;
                 }
-            }
+                let Some(lens) = lens else {
+                    ui.label("No lens in this scene.");
+                    return;
+                };
+                controls(ui, &mut cx.ui.analysis);
+                let a = &cx.ui.analysis;
+                match Setup::new(lens.d, lens.r1, lens.r2, lens.index, a.object(), a.field_deg) {
+                    Ok(s) => placed = figures(ui, &s, a),
+                    Err(e) => {
+                        ui.colored_label(super::ERROR, e.to_string());
+                    }
+                }
+            });
         });
     let ppp = ctx.pixels_per_point();
     if let Some(r) = shown {
@@ -113,6 +121,27 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
         cx.ui.rects.insert(name, r, ppp);
     }
     cx.ui.analysis.window &= open;
+}
+
+/// Space between the analysis window and the edges of the free area.
+const MARGIN: f32 = 8.0;
+
+/// The screen right of the panel (`panel` points wide): where the analysis
+/// window opens, filling it, and stays.
+fn free_area(ctx: &egui::Context, panel: f32) -> egui::Rect {
+    let screen = ctx.content_rect();
+    egui::Rect::from_min_max(egui::pos2(screen.min.x + panel, screen.min.y), screen.max)
+}
+
+/// The figures' sizes in a window `width` points wide with `plots` plots:
+/// the sketch's height and each plot's size, as many plots a row as fit at
+/// 220 points (all of them, or fewer), every figure growing with the window
+/// (the lens's and a system's).
+pub(super) fn figure_sizes(width: f32, plots: usize) -> (f32, Vec2) {
+    let per_row = (width / 220.0).floor().clamp(1.0, plots.max(1) as f32);
+    let w = (width / per_row - 8.0).max(140.0);
+    let h = (w * 0.8).clamp(180.0, 360.0);
+    ((width * 0.25).clamp(180.0, 360.0), Vec2::new(w, h))
 }
 
 fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
@@ -141,8 +170,11 @@ fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
     });
 }
 
-fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) {
-    let width = ui.available_width().max(300.0);
+/// The lens's figures; returns where they are (for `--ui-log`).
+fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_analysis::Placed {
+    let width = ui.available_width().max(150.0);
+    let (sketch_h, size) = figure_sizes(width, 3);
+    let mut placed = Vec::new();
     match fan(s, 7, None) {
         Ok(f) => {
             let c = &f.cardinal.info;
@@ -154,56 +186,60 @@ fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) {
                 opt(c.ffd),
                 opt(f.cardinal.object_marginal_focus_from_v2)
             ));
-            sketch(ui, &f.sketch(s), width, 240.0);
-            ui.horizontal(|ui| {
-                let size = Vec2::new((width / 3.0 - 8.0).max(160.0), 230.0);
+            placed.push(("analysis sketch", sketch(ui, &f.sketch(s), width, sketch_h)));
+            ui.horizontal_wrapped(|ui| {
                 let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
                 let series = [Series {
                     colour: LINES[1],
                     points: lsa,
                     dots: false,
                 }];
-                plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
-                spot(ui, s, a, size);
-                distortion_plot(ui, s, size);
+                let r = plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
+                placed.push(("analysis LSA", r));
+                placed.extend(spot(ui, s, a, size).map(|r| ("analysis spot", r)));
+                placed.extend(distortion_plot(ui, s, size).map(|r| ("analysis distortion", r)));
             });
         }
         Err(e) => {
             ui.colored_label(super::ERROR, e.to_string());
         }
     }
+    placed
 }
 
-fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) {
+fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) -> Option<egui::Rect> {
     let paraxial = s.image_plane(None).ok();
     let plane = paraxial.map(|p| p + a.defocus).filter(|p| *p > 0.0);
     let Some(Ok(sd)) = plane.map(|p| spot_diagram(s, Some(p), a.rings)) else {
         ui.allocate_ui(size, |ui| {
             ui.label("Spot: no real image plane after V2 here.");
         });
-        return;
+        return None;
     };
     ui.vertical(|ui| {
         let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
         let title = format!("Spot at {:.4} after V2", sd.image_plane_from_v2);
-        plot(ui, size, &title, ("x", "y"), &series, true);
+        let rect = plot(ui, size, &title, ("x", "y"), &series, true);
         for (sp, colour) in sd.spots.iter().zip(LINES) {
             let c = sp
                 .centroid
-                .map_or("—".into(), |c| format!("({:.2e}, {:.2e})", c[0], c[1]));
+                .map_or("—".into(), |c| lensview::lens_tools::spot::centroid_text(c, 2));
             let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
             ui.colored_label(colour, format!("{}: RMS {r}  centroid {c}", sp.line));
         }
-    });
+        rect
+    })
+    .inner
+    .into()
 }
 
-fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) {
+fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) -> Option<egui::Rect> {
     let points = distortion(s, 30.0, 30).ok().map(|d| {
         (d.points.iter())
             .filter_map(|p| Some([p.field_deg, p.distortion_percent?]))
             .collect()
     });
-    distortion_curve(ui, size, points);
+    distortion_curve(ui, size, points)
 }
 
 /// The spot plot's series (the lens's and a system's): where each line's

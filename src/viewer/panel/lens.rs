@@ -75,15 +75,15 @@ fn lens_rows(ui: &mut egui::Ui, l: &mut LensFile) {
     vec3(ui, &mut l.center, 0.01, Field::Coordinate);
     ui.end_row();
     axis_rows(ui, &mut l.axis, None);
-    for (label, x, hover) in [
-        ("d", &mut l.d, "diameter"),
-        ("r1", &mut l.r1, "radius of S1 (faces +axis), at least d/2"),
-        ("r2", &mut l.r2, "radius of S2 (faces −axis), at least d/2"),
-    ] {
-        ui.label(label).on_hover_text(hover);
-        number(ui, x, 0.01, Field::Length);
-        ui.end_row();
-    }
+    // One row for the three lengths: the section fits a 720-pixel window.
+    ui.label("d, r1, r2")
+        .on_hover_text("diameter; radius of S1 (faces +axis) and of S2 (faces −axis), each at least d/2");
+    ui.horizontal(|ui| {
+        for x in [&mut l.d, &mut l.r1, &mut l.r2] {
+            number(ui, x, 0.01, Field::Length);
+        }
+    });
+    ui.end_row();
     ui.label("index");
     ui.vertical(|ui| index(ui, &mut l.n));
     ui.end_row();
@@ -102,7 +102,7 @@ fn readout(ui: &mut egui::Ui, l: &LensFile, i: usize) {
                 ("BFD", p.bfd),
                 ("FFD", p.ffd),
             ];
-            readout_grid(ui, ("lens-readout", i), &rows, 6);
+            readout_grid(ui, ("lens-readout", i), &rows, 6, 2);
             ui.weak(format!("paraxial, at n = {:.5} (d line)", p.n));
         }
         Err(why) => {

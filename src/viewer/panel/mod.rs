@@ -126,6 +126,9 @@ pub struct UiState {
     open_system: bool,
     /// Whether to open the *Light* section (a light was picked).
     open_light: bool,
+    /// The section opened last (by its header or a pick): the others are
+    /// closed ([`section`]).
+    opened: Option<&'static str>,
     /// The light the *Light* section shows.
     light: usize,
     /// The last black-body colour chosen (slider, or the , and . keys).
@@ -160,6 +163,7 @@ impl UiState {
             open_lens: false,
             open_light: false,
             open_system: false,
+            opened: None,
             light: 0,
             temperature: 6500.0,
             preset: 0,
@@ -183,17 +187,20 @@ impl UiState {
     /// Opens the *System* section at the next frame.
     pub fn open_system(&mut self) {
         self.open_system = true;
+        self.opened = Some("System");
     }
 
     /// Shows light `i` in the *Light* section, opened at the next frame.
     pub fn show_light(&mut self, i: usize) {
         self.light = i;
         self.open_light = true;
+        self.opened = Some("Light");
     }
 
     /// Opens the *Lens* section at the next frame.
     pub fn open_lens(&mut self) {
         self.open_lens = true;
+        self.opened = Some("Lens");
     }
 
     pub fn open_file_dialog(&mut self, mode: DialogMode, source: &Source) {
@@ -287,15 +294,30 @@ fn strip(ui: &mut egui::Ui, cx: &mut Ctx) {
 }
 
 /// A collapsing section whose header is recorded as `section NAME`.
+/// The sections close one another (an accordion), so the one opened
+/// fits the panel without scrolling in a window 720 pixels tall: opening
+/// one, by its header or by a pick, closes the others at the next frame,
+/// but for *Objects*, the list that selects what they show.
 fn section(
     ui: &mut egui::Ui,
     cx: &mut Ctx,
     header: egui::CollapsingHeader,
-    name: &str,
+    name: &'static str,
     body: impl FnOnce(&mut egui::Ui, &mut Ctx),
 ) {
+    let header = match cx.ui.opened {
+        Some(o) if o != name && name != "Objects" => header.open(Some(false)),
+        _ => header,
+    };
     let r = header.show(ui, |ui| body(ui, cx));
     cx.ui.rect(ui, &format!("section {name}"), &r.header_response);
+    if r.header_response.clicked() {
+        let state = egui::collapsing_header::CollapsingState::load(ui.ctx(), r.header_response.id);
+        if state.is_some_and(|s| s.is_open()) {
+            cx.ui.opened = Some(name);
+            ui.ctx().request_repaint();
+        }
+    }
 }
 
 /// Shows `current` (or the pending draft) through `widgets`; a change is

@@ -74,9 +74,9 @@ fn list(ui: &mut egui::Ui, cx: &mut Ctx, items: &[(Item, String)]) {
             match item {
                 Item::Lens(i) => {
                     cx.ui.lens = *i;
-                    cx.ui.open_lens = true;
+                    cx.ui.open_lens();
                 }
-                Item::System(_) => cx.ui.open_system = true,
+                Item::System(_) => cx.ui.open_system(),
                 Item::Object(_) => {}
             }
         }

@@ -5,6 +5,7 @@
 use super::{Ctx, drafted, widgets::colour};
 use crate::viewer::session::Command;
 use crate::viewer::stats::{caustics_text, stage_text};
+use lensview::color::ToneCurve;
 
 pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
     let header = egui::CollapsingHeader::new("Render");
@@ -13,6 +14,7 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
             .num_columns(2)
             .show(ui, |ui| resolution_and_cap(ui, cx));
         scene_settings(ui, cx);
+        display_settings(ui, cx);
         let mut caustics = cx.doc.built().features.caustics;
         if ui
             .checkbox(&mut caustics, "caustics")
@@ -108,4 +110,42 @@ fn scene_settings(ui: &mut egui::Ui, cx: &mut Ctx) {
         },
         |doc, c| doc.set_background(c),
     );
+}
+
+/// `[display]`: the exposure (stops) and the tone curve of the picture
+/// shown and of its PNG (the EXR stays linear). Changing them keeps the
+/// samples: the render thread shows them again.
+fn display_settings(ui: &mut egui::Ui, cx: &mut Ctx) {
+    let d = cx.doc.scene().display;
+    let mut stops = d.exposure;
+    ui.horizontal(|ui| {
+        ui.label("exposure");
+        let r = ui
+            .add(egui::Slider::new(&mut stops, -8.0..=8.0).step_by(0.1).suffix(" EV"))
+            .on_hover_text("stops: each one doubles the light shown (G/H); the EXR stays linear");
+        if r.changed() {
+            let res = cx.doc.set_exposure(stops);
+            cx.apply_result(&format!("exposure {stops:+.1} stops"), res);
+        }
+        if r.drag_stopped() || r.lost_focus() {
+            cx.doc.seal();
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("tone curve");
+        let mut curve = d.tone;
+        egui::ComboBox::from_id_salt("tone-curve")
+            .selected_text(curve.name())
+            .show_ui(ui, |ui| {
+                for c in ToneCurve::ALL {
+                    ui.selectable_value(&mut curve, c, c.name());
+                }
+            })
+            .response
+            .on_hover_text("clamp clips to white; reinhard and aces roll the highlights off (Y)");
+        if curve != d.tone {
+            let res = cx.doc.set_tone(curve);
+            cx.apply_result(&format!("tone curve {}", curve.name()), res);
+        }
+    });
 }

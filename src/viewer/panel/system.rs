@@ -306,6 +306,6 @@ fn readout(ui: &mut egui::Ui, cx: &Ctx, i: usize) {
         ("BFD", p.bfd),
         ("f-number", p.f_number),
     ];
-    readout_grid(ui, ("system-readout", i), &rows, 5);
+    readout_grid(ui, ("system-readout", i), &rows, 5, 2);
     ui.weak("paraxial, d line; lens keys move and reshape the selected system");
 }

@@ -32,7 +32,9 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) -> Placed
             return placed;
         }
     };
-    let width = ui.available_width().max(300.0);
+    let width = ui.available_width().max(150.0);
+    let plots = if sys.is_dispersive() { 5 } else { 3 };
+    let (sketch_h, size) = super::analysis::figure_sizes(width, plots);
     let f = match system_fan(&bench, 7, None) {
         Ok(f) => f,
         Err(e) => {
@@ -51,12 +53,11 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) -> Placed
         opt(c.f_number),
         c.stop
     ));
-    placed.push(("analysis sketch", sketch(ui, &f.sketch(&bench), width, 240.0)));
-    // Three plots a row; for dispersive glass a second row with the axial
-    // and lateral colour.
-    let size = Vec2::new((width / 3.0 - 8.0).max(140.0), 230.0);
+    placed.push(("analysis sketch", sketch(ui, &f.sketch(&bench), width, sketch_h)));
+    // Three plots, for dispersive glass five with the axial and lateral
+    // colour: all in a row if they fit, wrapped (and scrolled) if not.
     let dist = system_distortion(&bench, 30.0, 30).ok();
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
         let series = [Series {
             colour: LINES[1],
@@ -67,13 +68,11 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) -> Placed
         placed.push(("analysis LSA", r));
         placed.extend(spot(ui, &bench, a, f.image_plane_from_last_vertex, size).map(|r| ("analysis spot", r)));
         placed.extend(distortion_plot(ui, dist.as_ref(), size).map(|r| ("analysis distortion", r)));
-    });
-    if sys.is_dispersive() {
-        ui.horizontal(|ui| {
+        if sys.is_dispersive() {
             placed.push(("analysis axial colour", focal_shift(ui, sys, size)));
             placed.extend(lateral_colour(ui, dist.as_ref(), size).map(|r| ("analysis lateral colour", r)));
-        });
-    }
+        }
+    });
     placed
 }
 

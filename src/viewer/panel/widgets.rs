@@ -152,17 +152,20 @@ pub fn axis_rows(ui: &mut egui::Ui, axis: &mut [f64; 3], hover: Option<&str>) {
 }
 
 /// A grid of read-only numbers (first-order data), each with `decimals`
-/// digits after the point.
+/// digits after the point, `per_row` name–value pairs a row.
 pub fn readout_grid(
     ui: &mut egui::Ui,
     id: impl std::hash::Hash + std::fmt::Debug,
     rows: &[(&str, f64)],
     decimals: usize,
+    per_row: usize,
 ) {
-    egui::Grid::new(id).num_columns(2).show(ui, |ui| {
-        for (k, v) in rows {
-            ui.label(*k);
-            ui.monospace(format!("{v:.decimals$}"));
+    egui::Grid::new(id).num_columns(2 * per_row).show(ui, |ui| {
+        for row in rows.chunks(per_row.max(1)) {
+            for (k, v) in row {
+                ui.label(*k);
+                ui.monospace(format!("{v:.decimals$}"));
+            }
             ui.end_row();
         }
     });
