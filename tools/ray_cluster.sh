@@ -10,8 +10,9 @@ start_cluster() {
   python3 -c 'import ray' || { echo "FAIL: Ray is not installed for $(command -v python3) (python3 -m pip install ray)"; exit 1; }
   ip link set lo up
   export RAY_USAGE_STATS_ENABLED=0
-  # A dead node is noticed within about two seconds.
-  export RAY_health_check_period_ms=500 RAY_health_check_timeout_ms=500 RAY_health_check_failure_threshold=3
+  # A dead node is noticed within about five seconds, and a live one on a
+  # busy machine (a missed beat or two) is not taken for dead.
+  export RAY_health_check_period_ms=1000 RAY_health_check_timeout_ms=1000 RAY_health_check_failure_threshold=5
   local common=(--node-ip-address=127.0.0.1 --object-store-memory=200000000 --disable-usage-stats)
   trap 'ray stop --force >/dev/null 2>&1 || true' EXIT
   ray start --head --port="$port" --num-cpus=0 --include-dashboard=false --temp-dir="$work/ray" "${common[@]}" > "$work/head.log" 2>&1
