@@ -109,17 +109,21 @@ impl Flight {
             let span = e.span().unwrap_or(0..0);
             at(span.start, "flight".into(), e.message().replace('\n', " "))
         })?;
+        let problem = match check(&flight) {
+            Ok(()) => return Ok(Flight { file: flight }),
+            Err(p) => p,
+        };
+        // Only a refusal reads the text again, keeping the keys' places.
         let placed: Placed =
             toml::from_str(text).map_err(|e| at(0, "flight".into(), e.message().replace('\n', " ")))?;
-        match check(&flight) {
-            Ok(()) => Ok(Flight { file: flight }),
-            Err(Problem::File(field, message)) => Err(at(0, field.into(), message)),
-            Err(Problem::Pose(i, field, message)) => Err(at(
+        match problem {
+            Problem::File(field, message) => Err(at(0, field.into(), message)),
+            Problem::Pose(i, field, message) => Err(at(
                 place(&placed.poses, i, field),
                 format!("poses[{i}].{field}"),
                 message,
             )),
-            Err(Problem::Edit(i, field, message)) => Err(at(
+            Problem::Edit(i, field, message) => Err(at(
                 place(&placed.edits, i, field),
                 format!("edits[{i}].{field}"),
                 message,

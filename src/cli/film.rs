@@ -6,12 +6,11 @@
 //! machines (tools/ray_film.py), into one folder.
 
 use super::load_scene;
+use super::render::Still;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use lensview::flight::Flight;
-use lensview::integrator::Lit;
-use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
-use lensview::render::{ImageFormat, RenderSettings, render};
+use lensview::render::ImageFormat;
 use lensview::scene::{Scene, SceneFile};
 use lensview::{files, limits, output};
 use std::io::IsTerminal;
@@ -65,6 +64,12 @@ pub struct FilmArgs {
     pub plan: bool,
 }
 
+/// `A..B` as two numbers.
+fn span<T: std::str::FromStr>(text: &str) -> Option<(T, T)> {
+    let (lo, hi) = text.split_once("..")?;
+    Some((lo.trim().parse().ok()?, hi.trim().parse().ok()?))
+}
+
 /// The film's frames: how many, and the range asked for.
 fn frame_range(a: &FilmArgs, duration: f64) -> Result<(u64, std::ops::Range<u64>)> {
     if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= 1000.0) {
@@ -81,10 +86,8 @@ fn frame_range(a: &FilmArgs, duration: f64) -> Result<(u64, std::ops::Range<u64>
     let range = match &a.frames {
         None => 0..total,
         Some(r) => {
-            let (lo, hi) = r
-                .split_once("..")
-                .and_then(|(lo, hi)| Some((lo.trim().parse::<u64>().ok()?, hi.trim().parse::<u64>().ok()?)))
-                .with_context(|| format!("--frames {r}: expected A..B, frame numbers from 0"))?;
+            let (lo, hi) =
+                span::<u64>(r).with_context(|| format!("--frames {r}: expected A..B, frame numbers from 0"))?;
             if lo >= hi || hi > total {
                 bail!("--frames {r}: the film has frames 0..{total}; A..B must lie within, A < B");
             }
@@ -160,7 +163,7 @@ fn shoot(
     for (done, &i) in todo.iter().enumerate() {
         let t = i as f64 / a.fps;
         let scene = scenes.frame_scene(base, flight, t)?;
-        let img = render_frame(&scene, a, spp)?;
+        let img = Still::plan(&scene, (a.width, a.height), spp, a.seed, "a frame")?.render(&scene);
         img.write_as(&path_of(i), format, scene.tone)?;
         let f = (done + 1) as f64 / todo.len() as f64;
         if let Some(cb) = progress.callback() {
@@ -188,10 +191,7 @@ pub fn retimed(flight: Flight, trim: Option<&str>, speed: f64) -> Result<Flight>
     let d = flight.duration();
     let (from, to) = match trim {
         None => (0.0, d),
-        Some(r) => r
-            .split_once("..")
-            .and_then(|(lo, hi)| Some((lo.trim().parse::<f64>().ok()?, hi.trim().parse::<f64>().ok()?)))
-            .with_context(|| format!("--trim {r}: expected A..B, seconds of the flight"))?,
+        Some(r) => span::<f64>(r).with_context(|| format!("--trim {r}: expected A..B, seconds of the flight"))?,
     };
     flight.retimed(from, to, speed).with_context(|| {
         format!("--trim {from}..{to} --speed {speed}: the flight is 0..{d} s; A < B within it and a speed > 0")
@@ -282,28 +282,6 @@ impl SceneCache {
         }
         Scene::build(&sf).map_err(|p| anyhow::anyhow!("the scene at t = {t:.3} s: {}: {}", p[0].path, p[0].message))
     }
-}
-
-/// One frame, as `render` makes a still: the caustics and the camera
-/// samples in one work budget, the same seed.
-fn render_frame(scene: &Scene, a: &FilmArgs, spp: u32) -> Result<lensview::render::Image> {
-    let photons = CausticSettings {
-        seed: a.seed,
-        ..CausticSettings::default()
-    };
-    let (passes, n) = render_photons(scene, (a.width, a.height), spp, photons);
-    let work = limits::Work::samples(a.width, a.height, spp as u64, 1)
-        .with_lights(scene.lights.len())
-        .with_photons(n);
-    limits::check_total("a frame", work)?;
-    let settings = RenderSettings {
-        width: a.width,
-        height: a.height,
-        spp,
-        seed: a.seed,
-    };
-    let map = caustic_map(scene, passes, photons);
-    Ok(render(Lit::new(scene, map.as_ref()), &settings, None))
 }
 
 /// Encodes the frames with ffmpeg into `film.mp4` / `film.webm` (written

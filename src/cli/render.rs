@@ -5,8 +5,10 @@ use anyhow::Result;
 use clap::Args;
 use lensview::color::{Tone, ToneCurve};
 use lensview::integrator::Lit;
+use lensview::photon::PhotonMap;
 use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
-use lensview::render::{ImageFormat, RenderSettings, render};
+use lensview::render::{Image, ImageFormat, RenderSettings, render};
+use lensview::scene::Scene;
 use lensview::{files, limits, output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -75,31 +77,15 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
         println!("{}", lens_summary(lens, a.width, a.height));
     }
     let spp = a.spp.unwrap_or(scene.spp);
-    let photon_settings = CausticSettings {
-        seed: a.seed,
-        ..CausticSettings::default()
-    };
-    // Camera samples, the lights they shade and the photons of the
-    // caustics: all in the one work budget.
-    let (passes, photons) = render_photons(&scene, (a.width, a.height), spp, photon_settings);
-    let work = limits::Work::samples(a.width, a.height, spp as u64, 1)
-        .with_lights(scene.lights.len())
-        .with_photons(photons);
-    limits::check_total("the render", work)?;
-    let settings = RenderSettings {
-        width: a.width,
-        height: a.height,
-        spp,
-        seed: a.seed,
-    };
+    let still = Still::plan(&scene, (a.width, a.height), spp, a.seed, "the render")?;
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
-    let map = caustic_map(&scene, passes, photon_settings);
+    let map = still.caustics(&scene);
     let photon_secs = start.elapsed().as_secs_f64();
     let img = render(
         Lit::new(&scene, map.as_ref()),
-        &settings,
+        &still.settings,
         callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)),
     );
     let secs = start.elapsed().as_secs_f64();
@@ -125,6 +111,53 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
         a.output.display()
     );
     Ok(())
+}
+
+/// A still as `render` makes it (and `film` makes each frame): the camera
+/// samples, the lights they shade and the caustics' photons in one work
+/// budget, all from one seed.
+pub struct Still {
+    pub settings: RenderSettings,
+    photons: CausticSettings,
+    passes: u32,
+}
+
+impl Still {
+    /// The still of `scene` at `size` and `spp` from `seed`, its work
+    /// checked against the limit (`what` names it in the refusal).
+    pub fn plan(scene: &Scene, (width, height): (u32, u32), spp: u32, seed: u64, what: &str) -> Result<Still> {
+        let photons = CausticSettings {
+            seed,
+            ..CausticSettings::default()
+        };
+        let (passes, n) = render_photons(scene, (width, height), spp, photons);
+        let work = limits::Work::samples(width, height, spp as u64, 1)
+            .with_lights(scene.lights.len())
+            .with_photons(n);
+        limits::check_total(what, work)?;
+        let settings = RenderSettings {
+            width,
+            height,
+            spp,
+            seed,
+        };
+        Ok(Still {
+            settings,
+            photons,
+            passes,
+        })
+    }
+
+    /// The caustics' photon map (`None`: the scene has none).
+    pub fn caustics(&self, scene: &Scene) -> Option<PhotonMap> {
+        caustic_map(scene, self.passes, self.photons)
+    }
+
+    /// The image, with no progress report.
+    pub fn render(&self, scene: &Scene) -> Image {
+        let map = self.caustics(scene);
+        render(Lit::new(scene, map.as_ref()), &self.settings, None)
+    }
 }
 
 /// One line on a lens camera: its f-number, focus, field of view, and the
