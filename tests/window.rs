@@ -435,15 +435,10 @@ fn holding_a_key_shows_the_flight_and_converges_after_it() {
     assert!(dist(pos(&end)) >= *ds.last().unwrap(), "{end}");
 }
 
-/// Issue 33.2: P saves the picture on screen, refined as shown (caustics
-/// and all), as a PNG and a linear EXR in the `--screenshots` folder, and
-/// says where (stderr and the message bar).
-#[test]
-fn p_saves_the_picture_on_screen_with_its_exr() {
-    let (w, h) = (320u32, 240u32);
-    let _one = one_at_a_time();
-    let x = Xvfb::start();
-    let (dir, _) = test_dir("screenshot");
+/// The focal-spot scene at `w × h` (4 spp, no panel, the overlay off) with
+/// screenshots going to a fresh folder: that folder and the session.
+fn focal_spot_with_shots<'a>(x: &'a Xvfb, name: &str, (w, h): (u32, u32)) -> (PathBuf, Session<'a>) {
+    let (dir, _) = test_dir(name);
     let shots = dir.join("shots");
     let _ = std::fs::remove_dir_all(&shots);
     let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/focal-spot.toml");
@@ -461,9 +456,21 @@ fn p_saves_the_picture_on_screen_with_its_exr() {
         "--screenshots",
         &folder,
     ];
-    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
+    let s = Session::launch(x, &dir, &scene, &args, dir.join("frames.jsonl"));
     s.overlay_to("full");
     s.overlay_to("off");
+    (shots, s)
+}
+
+/// Issue 33.2: P saves the picture on screen, refined as shown (caustics
+/// and all), as a PNG and a linear EXR in the `--screenshots` folder, and
+/// says where (stderr and the message bar).
+#[test]
+fn p_saves_the_picture_on_screen_with_its_exr() {
+    let (w, h) = (320u32, 240u32);
+    let _one = one_at_a_time();
+    let x = Xvfb::start();
+    let (shots, mut s) = focal_spot_with_shots(&x, "screenshot", (w, h));
     let g = s.wait_frame_where(0, 4, "refined", |f| f["width"] == w && f["x0"] == 0);
     let on_screen = s.screenshot("on-screen.png");
     s.key("p");
@@ -492,7 +499,10 @@ fn p_saves_the_picture_on_screen_with_its_exr() {
     s.key("Escape");
     let (status, err) = s.wait_exit("two Escapes");
     assert!(status.success(), "{err}");
-    assert!(err.contains("saved ") && err.contains(&folder), "{err}");
+    assert!(
+        err.contains("saved ") && err.contains(&shots.display().to_string()),
+        "{err}"
+    );
 }
 
 /// Issue 33.1: a click on the picture selects what is under the cursor
@@ -606,27 +616,7 @@ fn g_darkens_the_picture_without_restarting_and_p_saves_it_as_shown() {
     let (w, h) = (320u32, 240u32);
     let _one = one_at_a_time();
     let x = Xvfb::start();
-    let (dir, _) = test_dir("exposure");
-    let shots = dir.join("shots");
-    let _ = std::fs::remove_dir_all(&shots);
-    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/focal-spot.toml");
-    let (ws, hs, folder) = (w.to_string(), h.to_string(), shots.display().to_string());
-    let args = [
-        "--width",
-        &ws,
-        "--height",
-        &hs,
-        "--max-spp",
-        "4",
-        "--exit-after",
-        "600",
-        "--no-panel",
-        "--screenshots",
-        &folder,
-    ];
-    let mut s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
-    s.overlay_to("full");
-    s.overlay_to("off");
+    let (shots, mut s) = focal_spot_with_shots(&x, "exposure", (w, h));
     let g = s.wait_frame_where(0, 4, "refined", |f| f["width"] == w && f["x0"] == 0);
     let before = s.screenshot("before.png");
     let mean =
