@@ -15,6 +15,8 @@ if [[ ${LENSVIEW_IN_NS:-} != 1 ]]; then
   exec env LENSVIEW_IN_NS=1 unshare --net --pid --fork --mount-proc bash "$0" "$@"
 fi
 BIN=$1; SCENE=$2; FLIGHT=$3; WORK=$4
+# A step that fails says which, rather than ending the test without a word.
+trap 'rc=$?; echo "FAIL: line $LINENO: \`$BASH_COMMAND\` exited $rc"' ERR
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/ray_cluster.sh"
 rm -rf "$WORK"; mkdir -p "$WORK"
@@ -22,13 +24,20 @@ PORT=6380
 start_cluster $PORT "$WORK" 2
 
 # The film on the cluster, a worker node killed once its first task runs.
+# The workers run lensview through a wrapper that waits a second before a
+# range (the driver's --plan does not wait): the frames are tiny, so without
+# it a task could end between two looks and no node would be killed.
 flags=(--fps 6 --width 64 --height 36 --spp 2 --encode none)
+slow="$WORK/lensview-slow"
+printf '#!/bin/sh\ncase " $* " in *" --frames "*) sleep 1 ;; esac\nexec "%s" "$@"\n' "$BIN" > "$slow"
+chmod +x "$slow"
 python3 "$HERE/ray_film.py" "$SCENE" "$FLIGHT" -o "$WORK/cluster" --address 127.0.0.1:$PORT \
-  --lensview "$BIN" --chunk 2 --retries 4 "${flags[@]}" > "$WORK/driver.log" 2>&1 &
+  --lensview "$slow" --chunk 2 --retries 4 "${flags[@]}" > "$WORK/driver.log" 2>&1 &
 driver=$!
 killed=""
-for _ in $(seq 1 600); do
-  # A lensview film started by a worker: its raylet is its grandparent.
+for _ in $(seq 1 1200); do
+  # A lensview film started by a worker (the wrapper, in its first second):
+  # its raylet is its grandparent.
   pid=$(pgrep -f "lensview-film-.*--frames" | head -1 || true)
   if [[ -n $pid ]]; then
     worker=$(ps -o ppid= -p "$pid" | tr -d ' ')
@@ -39,7 +48,7 @@ for _ in $(seq 1 600); do
       break
     fi
   fi
-  sleep 0.1
+  sleep 0.05
 done
 status=0; wait $driver || status=$?
 grep -E '^film:' "$WORK/driver.log" || cat "$WORK/driver.log"
