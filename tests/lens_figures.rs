@@ -352,7 +352,14 @@ fn bad_values_get_one_line_errors_naming_the_flag() {
         (&["--n", "1.5", "--rings", "100000"], "--rings"),
         (&["--n", "1.5", "--object-distance", "-4"], "--object-distance"),
         (&["--n", "1"], "--image-plane"),
-        (&["--n", "1.5", "--object-distance", "1"], "--image-plane"),
+        // An object inside F is a magnifier, measured in its virtual image.
+        (
+            &["--n", "1.5", "--object-distance", "1", "--image-plane", "-3"],
+            "--image-plane",
+        ),
+        (&["--n", "1.5", "--fields", "0,95"], "--fields"),
+        (&["--n", "1.5", "--fields", "0,x"], "--fields"),
+        (&["--n", "1.5", "-o", "spot.gif"], ".png or .svg"),
     ] {
         let mut args: Vec<String> = base.iter().map(|s| s.to_string()).collect();
         args.extend(extra.iter().map(|s| s.to_string()));
@@ -468,4 +475,106 @@ fn marginal_focus_and_lsa_keep_their_precision_as_n_goes_to_1() {
     assert!(worst[0] <= 1e-14, "focus {:e}", worst[0]);
     assert!(worst[1] <= 5e-14, "LSA {:e}", worst[1]);
     assert!(worst[2] <= 1e-12, "edge LSA {:e}", worst[2]);
+}
+
+/// A magnifier (object inside F): fan and spot measure in its virtual
+/// image, before V2, where the rays' backward extensions meet. The plane
+/// against a paraxial y–nu trace from the object point; every fan ray's
+/// image point against the reference ray's exit line extended backwards.
+#[test]
+fn a_magnifier_is_measured_in_its_virtual_image() {
+    let (d, r1, r2, n, dist) = (2.0, 5.0, 5.0, 1.5, 3.5);
+    // From the axial object point: height u·(dist) at S1's vertex plane.
+    let u = 1e-6;
+    let (y2, u2) = ynu(d, r1, r2, n, u * dist, u);
+    let virtual_plane = -y2 / u2;
+    assert!(virtual_plane < -10.0, "{virtual_plane}");
+    let spot = json("spot", d, r1, r2, "1.5", &["--object-distance", "3.5", "--rings", "3"]);
+    let got = f(&spot["image_plane_from_v2"]);
+    assert!(
+        (got - virtual_plane).abs() <= 1e-8 * virtual_plane.abs(),
+        "{got} vs {virtual_plane}"
+    );
+    assert_eq!(spot["virtual_image"], Value::Bool(true));
+    let fan = json(
+        "fan",
+        d,
+        r1,
+        r2,
+        "1.5",
+        &["--object-distance", "3.5", "--field-deg", "4"],
+    );
+    assert_eq!(f(&fan["image_plane_from_v2"]), got);
+    let s = spec(d, r1, r2, n);
+    let plane_z = -sag(d, r2) - got;
+    let mut checked = 0;
+    for ray in fan["rays"].as_array().unwrap() {
+        let reference = retrace(&s, ray);
+        let (x, _) = exit_s2(&reference).expect("every fan ray leaves through S2");
+        let want = plane_crossing(&reference, plane_z).unwrap();
+        let p = arr3(&ray["image_point"]);
+        assert!(
+            (p[0] - want[0]).abs() <= 1e-9 * d && (p[1] - want[1]).abs() <= 1e-9 * d,
+            "{p:?} vs {want:?}"
+        );
+        // Behind the exit point, against the light: a backward extension.
+        assert!(p[2] > x.0[2].to_f64(), "{p:?}");
+        checked += 1;
+    }
+    assert_eq!(checked, 7);
+}
+
+/// `spot -o` and `distortion -o` draw charts (PNG, SVG) with titled axes;
+/// `--fields` gives a spot diagram per field angle; the fan of a magnifier
+/// draws its rays' backward extensions dashed.
+#[test]
+fn spot_and_distortion_are_drawn_and_magnifier_rays_dashed() {
+    let dir = std::env::temp_dir().join(format!("lensview-charts-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let lens = ["lens", "?", "--d", "2", "--r1", "5", "--r2", "5", "--n", "1.5,0.004"];
+    let go = |cmd: &str, extra: &[&str]| {
+        let mut args: Vec<String> = lens.iter().map(|s| s.to_string()).collect();
+        args[1] = cmd.into();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let (ok, out, err) = run(&args);
+        assert!(ok, "{args:?}: {err}");
+        out
+    };
+    for ext in ["png", "svg"] {
+        let spot = dir.join(format!("spot.{ext}"));
+        let dist = dir.join(format!("dist.{ext}"));
+        go("spot", &["--fields", "0,10,-20", "-o", spot.to_str().unwrap()]);
+        go("distortion", &["-o", dist.to_str().unwrap()]);
+        for (path, titles) in [
+            (&spot, &["field 10°", "x − centroid (units)"][..]),
+            (&dist, &["field angle (°)", "distortion (%)"]),
+        ] {
+            let bytes = std::fs::read(path).unwrap();
+            if ext == "png" {
+                assert_eq!(&bytes[1..4], b"PNG");
+            } else {
+                let text = String::from_utf8(bytes).unwrap();
+                for t in titles {
+                    assert!(text.contains(t), "{}: no {t}", path.display());
+                }
+            }
+        }
+    }
+    let many: Value = serde_json::from_str(&go("spot", &["--fields", "0,5", "--json"])).unwrap();
+    let fields: Vec<f64> = many.as_array().unwrap().iter().map(|d| f(&d["field_deg"])).collect();
+    assert_eq!(fields, [0.0, 5.0]);
+    let text = go("spot", &["--fields", "0,5,10"]);
+    assert_eq!(text.matches("spot diagram:").count(), 3, "{text}");
+    let fan = dir.join("magnifier.svg");
+    go(
+        "fan",
+        &["--object-distance", "3.5", "--rays", "9", "-o", fan.to_str().unwrap()],
+    );
+    let svg = std::fs::read_to_string(&fan).unwrap();
+    assert_eq!(
+        svg.matches("stroke-dasharray").count(),
+        9,
+        "one dashed extension per ray"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

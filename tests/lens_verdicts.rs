@@ -2,9 +2,9 @@
 //! a real image to measure on (no image plane given): on seeded random
 //! lenses and objects, n = 1 and objects inside the front focal point
 //! among them, all three measure or all three refuse, naming the same
-//! field — but for an object inside F, whose virtual image `distortion`
-//! measures (a magnifier's) where fan and spot refuse; a refusal never
-//! names `object-distance` when no object distance was given.
+//! field; an object inside F (a magnifier) is measured by all three in its
+//! virtual image; a refusal never names `object-distance` when no object
+//! distance was given.
 
 use lensview::lens_tools::{Setup, distortion, fan, spot_diagram};
 use lensview::optics::Index;
@@ -24,7 +24,7 @@ impl Rng {
 #[test]
 fn fan_spot_and_distortion_give_one_verdict() {
     let mut rng = Rng(29);
-    let (mut measured, mut refused) = (0, 0);
+    let (mut measured, mut refused, mut magnifiers) = (0, 0, 0);
     for case in 0..600 {
         let d = 0.5 + 3.0 * rng.unit();
         let r = |rng: &mut Rng| d / 2.0 * (1.0 + 20.0 * rng.unit() * rng.unit());
@@ -42,18 +42,20 @@ fn fan_spot_and_distortion_give_one_verdict() {
         };
         let dist = distortion(&setup, 10.0, 3);
         let magnifier = dist.as_ref().is_ok_and(|d| d.virtual_image);
-        let verdicts = [
-            fan(&setup, 5, None).map(|_| ()),
-            spot_diagram(&setup, None, 2).map(|_| ()),
-            // A magnifier's distortion stands for the refusal the others give.
-            match dist {
-                Ok(_) if magnifier => Err(lensview::lens_tools::SetupError {
-                    field: "object-distance",
-                    message: "virtual image".into(),
-                }),
-                d => d.map(|_| ()),
-            },
-        ];
+        let fan = fan(&setup, 5, None);
+        let spot = spot_diagram(&setup, None, 2);
+        // A magnifier is measured by all three in its virtual image, before V2.
+        if magnifier {
+            let (f, s) = (fan.as_ref().unwrap(), spot.as_ref().unwrap());
+            let plane = dist.as_ref().unwrap().image_plane_from_v2;
+            assert!(f.virtual_image && s.virtual_image && plane < 0.0, "case {case}");
+            assert_eq!(
+                (f.image_plane_from_v2, s.image_plane_from_v2),
+                (plane, plane),
+                "case {case}"
+            );
+        }
+        let verdicts = [fan.map(|_| ()), spot.map(|_| ()), dist.map(|_| ())];
         let fields: Vec<Option<&str>> = verdicts.iter().map(|v| v.as_ref().err().map(|e| e.field)).collect();
         let what = format!("case {case}: d {d} r1 {r1} r2 {r2} n {n} object {object:?}: {verdicts:?}");
         assert!(fields.iter().all(|f| *f == fields[0]), "{what}");
@@ -64,13 +66,14 @@ fn fan_spot_and_distortion_give_one_verdict() {
             assert_eq!(fields[0], Some("n"), "{what}");
         }
         assert!(!magnifier || object.is_some(), "{what}");
+        magnifiers += usize::from(magnifier);
         match fields[0] {
             None => measured += 1,
             Some(_) => refused += 1,
         }
     }
     assert!(
-        measured > 100 && refused > 100,
-        "{measured} measured, {refused} refused"
+        measured > 100 && refused > 100 && magnifiers > 20,
+        "{measured} measured, {refused} refused, {magnifiers} magnifiers"
     );
 }

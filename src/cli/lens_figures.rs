@@ -4,10 +4,11 @@
 //! system (`--preset`, `--prescription`, `--system`) is handed to
 //! `lens_system_figures.rs`.
 
+use super::lens_charts::{FieldSpot, LineDots, distortion_chart, spot_chart};
 use super::lens_system_figures::{FigureLens, Which};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
-use lensview::lens_tools::sketch::Sketch;
+use lensview::lens_tools::sketch::{Sketch, place_label};
 use lensview::lens_tools::{Setup, SetupError};
 use lensview::output::write_file;
 use std::path::{Path, PathBuf};
@@ -53,9 +54,37 @@ pub struct SpotArgs {
     /// Hexapolar rings (1 + 3K(K+1) rays per wavelength).
     #[arg(long, default_value_t = 6)]
     pub rings: u32,
-    /// Print JSON (every ray) instead of a table.
+    /// Several field angles in degrees, comma-separated (`0,10,20`): a spot
+    /// diagram at each, drawn side by side at one scale (instead of --field-deg).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub fields: Vec<f64>,
+    /// Draw the spot diagrams into this file (.png or .svg): axes in units,
+    /// C, d and F as circle, cross and triangle.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Print JSON (every ray) instead of a table: one diagram, or a list of
+    /// them with --fields.
     #[arg(long)]
     pub json: bool,
+}
+
+impl SpotArgs {
+    /// A refusal, naming --fields for a field angle given there.
+    pub fn refuse(&self, e: SetupError) -> anyhow::Error {
+        match e.field {
+            "field-deg" if !self.fields.is_empty() => refuse(SetupError { field: "fields", ..e }),
+            _ => refuse(e),
+        }
+    }
+
+    /// The field angles asked for: --fields, else --field-deg.
+    pub fn field_list(&self) -> Vec<f64> {
+        if self.fields.is_empty() {
+            vec![self.bench.field_deg]
+        } else {
+            self.fields.clone()
+        }
+    }
 }
 
 #[derive(Args, Debug)]
@@ -71,6 +100,9 @@ pub struct DistortionArgs {
     /// Field angles sampled, evenly up to the largest.
     #[arg(long, default_value_t = 10)]
     pub steps: u32,
+    /// Draw the distortion curve into this file (.png or .svg).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -135,21 +167,98 @@ pub fn spot(a: &SpotArgs) -> Result<()> {
         Which::Lens(l) => l,
         Which::System(sys) => return super::lens_system_figures::spot(a, sys),
     };
-    let s = setup(l, b.object_distance, b.field_deg)?;
-    let spot = lensview::lens_tools::spot_diagram(&s, a.image_plane, a.rings).map_err(refuse)?;
-    if a.json {
-        return print_json(&spot);
+    let mut spots = Vec::new();
+    for field in a.field_list() {
+        let s = Setup::new(l.0, l.1, l.2, l.3, b.object_distance, field).map_err(|e| a.refuse(e))?;
+        spots.push(lensview::lens_tools::spot_diagram(&s, a.image_plane, a.rings).map_err(|e| a.refuse(e))?);
     }
-    println!(
-        "spot diagram: hexapolar, {} rings over {} (0.9·d/2); image plane {} after V2; field {}°",
-        spot.rings, spot.pupil_radius, spot.image_plane_from_v2, spot.field_deg
-    );
-    for sp in &spot.spots {
-        let rays = (sp.ray_count, sp.rays.len());
-        let stats = (sp.centroid, sp.rms_radius);
-        println!("{}", spot_row(sp.line, sp.wavelength_um, Some(sp.n), rays, stats));
+    if let Some(path) = &a.output {
+        let fields: Vec<FieldSpot> = (spots.iter())
+            .map(|d| field_spot(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays))))
+            .collect();
+        let plane = plane_words(rounded(spots[0].image_plane_from_v2), "V2");
+        let title = format!(
+            "Spot diagram: lens d {} R1 {} R2 {}; image plane {plane}",
+            l.0, l.1, l.2
+        );
+        spot_chart(path, &title, &fields)?;
+    }
+    if a.json {
+        return match spots.as_slice() {
+            [one] => print_json(one),
+            many => print_json(&many),
+        };
+    }
+    for spot in &spots {
+        println!(
+            "spot diagram: hexapolar, {} rings over {} (0.9·d/2); image plane {}; field {}°",
+            spot.rings,
+            spot.pupil_radius,
+            plane_words(spot.image_plane_from_v2, "V2"),
+            spot.field_deg
+        );
+        for sp in &spot.spots {
+            let rays = (sp.ray_count, sp.rays.len());
+            let stats = (sp.centroid, sp.rms_radius);
+            println!("{}", spot_row(sp.line, sp.wavelength_um, Some(sp.n), rays, stats));
+        }
     }
     Ok(())
+}
+
+/// An image plane `from_last` along the light from the last vertex `last`,
+/// in words: after it, or before it for a magnifier's virtual image.
+pub(super) fn plane_words(from_last: f64, last: &str) -> String {
+    if from_last < 0.0 {
+        format!(
+            "{} before {last} (the virtual image: rays extended backwards)",
+            -from_last
+        )
+    } else {
+        format!("{from_last} after {last}")
+    }
+}
+
+/// `x` to six decimals, for a chart's title (the tables keep every digit).
+pub(super) fn rounded(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+/// One field's spot as the chart draws it: each line's image points.
+pub(super) fn field_spot<'a, R: 'a + HasImagePoint>(
+    field_deg: f64,
+    lines: impl Iterator<Item = (&'static str, &'a Vec<R>)>,
+) -> FieldSpot {
+    FieldSpot {
+        field_deg,
+        lines: lines
+            .map(|(line, rays)| LineDots {
+                line,
+                points: rays
+                    .iter()
+                    .filter_map(|r| r.image_point())
+                    .map(|p| [p[0], p[1]])
+                    .collect(),
+            })
+            .collect(),
+    }
+}
+
+/// A listed ray's image point (the lens's rays and a system's).
+pub(super) trait HasImagePoint {
+    fn image_point(&self) -> Option<[f64; 3]>;
+}
+
+impl HasImagePoint for lensview::lens_tools::setup::ListedRay {
+    fn image_point(&self) -> Option<[f64; 3]> {
+        self.image_point
+    }
+}
+
+impl HasImagePoint for lensview::lens_tools::system_bench::SystemRay {
+    fn image_point(&self) -> Option<[f64; 3]> {
+        self.image_point
+    }
 }
 
 /// One line of a spot's table (the lens's, with its index, and a
@@ -178,6 +287,19 @@ pub fn distortion(a: &DistortionArgs) -> Result<()> {
     };
     let s = setup(l, a.object_distance, 0.0)?;
     let dist = lensview::lens_tools::distortion(&s, a.max_field_deg, a.steps).map_err(refuse)?;
+    if let Some(path) = &a.output {
+        let pts: Vec<(f64, f64)> = (dist.points.iter())
+            .filter_map(|p| Some((p.field_deg, p.distortion_percent?)))
+            .collect();
+        let title = format!(
+            "Distortion: lens d {} R1 {} R2 {}; image {}",
+            l.0,
+            l.1,
+            l.2,
+            plane_words(rounded(dist.image_plane_from_v2), "V2")
+        );
+        distortion_chart(path, &title, &pts)?;
+    }
     if a.json {
         return print_json(&dist);
     }
@@ -202,16 +324,23 @@ fn sketch_png(path: &Path, sketch: &Sketch) -> Result<()> {
         for (kind, pts) in &sketch.lines {
             let ([r, g, b], width) = kind.style();
             let style = RGBColor(r, g, b).stroke_width(width.round().max(1.0) as u32);
-            root.draw(&PathElement::new(
-                pts.iter().map(|&p| pix(p)).collect::<Vec<_>>(),
-                style,
-            ))
+            let pts: Vec<(i32, i32)> = pts.iter().map(|&p| pix(p)).collect();
+            match kind.dashes() {
+                Some((on, off)) => root.draw(&plotters::element::DashedPathElement::new(
+                    pts, on as u32, off as u32, style,
+                )),
+                None => root.draw(&PathElement::new(pts, style)),
+            }
             .map_err(e)?;
         }
+        let mut placed = Vec::new();
         for (label, p) in &sketch.marks {
             let (x, y) = pix(*p);
             root.draw(&Circle::new((x, y), 3, BLACK.filled())).map_err(e)?;
-            root.draw(&Text::new(*label, (x + 4, y - 20), ("sans-serif", 16).into_font()))
+            let [tx, ty] = place_label([f64::from(x), f64::from(y)], label, 16.0, &mut placed);
+            // plotters places text by its top left corner.
+            let at = (tx.round() as i32, (ty - 16.0).round() as i32);
+            root.draw(&Text::new(*label, at, ("sans-serif", 16).into_font()))
                 .map_err(e)?;
         }
         root.present().map_err(e)?;

@@ -4,7 +4,9 @@
 //! system's figures ([`lensview::lens_tools::system_fan`],
 //! [`lensview::lens_tools::system_spot`]).
 
-use super::lens_figures::{DistortionArgs, FanArgs, SpotArgs, print_json, refuse, spot_row, write_sketch};
+use super::lens_figures::{
+    DistortionArgs, FanArgs, SpotArgs, field_spot, plane_words, print_json, refuse, rounded, spot_row, write_sketch,
+};
 use anyhow::{Result, bail};
 use clap::Args;
 use glam::DVec3;
@@ -152,20 +154,40 @@ pub fn fan(a: &FanArgs, sys: Box<LensSystem>) -> Result<()> {
 
 pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
     let b = &a.bench;
-    let bench = SystemBench::new(*sys, b.object_distance, b.field_deg).map_err(refuse)?;
-    let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
-    let spot = system_spot(&bench, a.image_plane, a.rings).map_err(refuse)?;
-    if a.json {
-        return print_json(&spot);
+    let mut spots = Vec::new();
+    for field in a.field_list() {
+        let bench = SystemBench::new((*sys).clone(), b.object_distance, field).map_err(|e| a.refuse(e))?;
+        let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
+        spots.push(system_spot(&bench, a.image_plane, a.rings).map_err(|e| a.refuse(e))?);
     }
-    println!(
-        "spot diagram: hexapolar, {} rings over the entrance pupil (radius {} at {} from the first vertex); image plane {} after the last vertex; field {}°",
-        spot.rings, spot.pupil.radius, spot.pupil.z, spot.image_plane_from_last_vertex, spot.field_deg
-    );
-    for sp in &spot.spots {
-        let rays = (sp.ray_count, sp.rays.len());
-        let stats = (sp.centroid, sp.rms_radius);
-        println!("{}", spot_row(sp.line, sp.wavelength_um, None, rays, stats));
+    if let Some(path) = &a.output {
+        let fields: Vec<_> = (spots.iter())
+            .map(|d| field_spot(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays))))
+            .collect();
+        let plane = plane_words(rounded(spots[0].image_plane_from_last_vertex), "the last vertex");
+        let title = format!("Spot diagram: {} surfaces; image plane {plane}", sys.len());
+        super::lens_charts::spot_chart(path, &title, &fields)?;
+    }
+    if a.json {
+        return match spots.as_slice() {
+            [one] => print_json(one),
+            many => print_json(&many),
+        };
+    }
+    for spot in &spots {
+        println!(
+            "spot diagram: hexapolar, {} rings over the entrance pupil (radius {} at {} from the first vertex); image plane {}; field {}°",
+            spot.rings,
+            spot.pupil.radius,
+            spot.pupil.z,
+            plane_words(spot.image_plane_from_last_vertex, "the last vertex"),
+            spot.field_deg
+        );
+        for sp in &spot.spots {
+            let rays = (sp.ray_count, sp.rays.len());
+            let stats = (sp.centroid, sp.rms_radius);
+            println!("{}", spot_row(sp.line, sp.wavelength_um, None, rays, stats));
+        }
     }
     Ok(())
 }
@@ -173,6 +195,14 @@ pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
 pub fn distortion(a: &DistortionArgs, sys: Box<LensSystem>) -> Result<()> {
     let bench = SystemBench::new(*sys, a.object_distance, 0.0).map_err(refuse)?;
     let dist = system_distortion(&bench, a.max_field_deg, a.steps).map_err(refuse)?;
+    if let Some(path) = &a.output {
+        let pts: Vec<(f64, f64)> = (dist.points.iter())
+            .filter_map(|p| Some((p.field_deg, p.distortion_percent?)))
+            .collect();
+        let plane = plane_words(rounded(dist.image_plane_from_last_vertex), "the last vertex");
+        let title = format!("Distortion: {} surfaces; image {plane}", dist.surfaces);
+        super::lens_charts::distortion_chart(path, &title, &pts)?;
+    }
     if a.json {
         return print_json(&dist);
     }

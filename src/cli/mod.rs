@@ -18,6 +18,7 @@ mod bench_work;
 mod converge;
 mod film;
 mod lens;
+mod lens_charts;
 mod lens_figures;
 mod lens_system;
 mod lens_system_figures;

@@ -4,7 +4,7 @@
 //! [`Bench`] trait the figures (fan, LSA, spot, distortion) are computed
 //! on once for both.
 
-use super::setup::{SPOT_WAVELENGTHS_UM, SetupError, bad};
+use super::setup::{ParaxialImage, SPOT_WAVELENGTHS_UM, SetupError, bad};
 use super::spot::{check_rings, hexapolar, spot_stats};
 use glam::DVec3;
 use serde::Serialize;
@@ -50,12 +50,33 @@ pub(super) fn real_image(names: &Names, image: Option<(f64, Option<f64>)>) -> Re
     Ok((from_last, m))
 }
 
+/// The image the figures measure in when no plane is given: from the last
+/// vertex, the magnification, and whether it is virtual. The real paraxial
+/// image (`real`); or, for an object inside F (a magnifier), its virtual
+/// image before the last vertex on the object's side (`virtual_image`),
+/// where the rays' backward extensions meet, as Ray Optics Simulation draws
+/// them. Refused as `real` is otherwise.
+pub(super) fn figure_image(
+    real: Result<(f64, Option<f64>), SetupError>,
+    virtual_image: impl FnOnce() -> Option<ParaxialImage>,
+) -> Result<(f64, Option<f64>, bool), SetupError> {
+    let refused = match real {
+        Ok((from_last, m)) => return Ok((from_last, m, false)),
+        Err(e) => e,
+    };
+    match virtual_image() {
+        Some(p) if p.is_virtual => Ok((p.from_last_vertex, Some(p.magnification), true)),
+        _ => Err(refused),
+    }
+}
+
 /// The image plane from the last vertex: `given` if given (checked: after
-/// the last vertex, at most 1e9), else the real paraxial image `real()`.
+/// the last vertex, at most 1e9), else the figures' image `image()` (real,
+/// or a magnifier's virtual one: [`figure_image`]).
 pub(super) fn image_plane(
     names: &Names,
     given: Option<f64>,
-    real: impl FnOnce() -> Result<(f64, Option<f64>), SetupError>,
+    image: impl FnOnce() -> Result<(f64, Option<f64>, bool), SetupError>,
 ) -> Result<f64, SetupError> {
     match given {
         Some(z) if z > 0.0 && z <= crate::math::domain::MAX_LENGTH => Ok(z),
@@ -66,7 +87,7 @@ pub(super) fn image_plane(
                 names.after
             ),
         )),
-        None => real().map(|(z, _)| z).map_err(|e| {
+        None => image().map(|(z, _, _)| z).map_err(|e| {
             bad(
                 e.field,
                 format!("{}; give --image-plane to trace to a plane of your own", e.message),

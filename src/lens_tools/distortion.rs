@@ -49,7 +49,7 @@ pub struct Distortion {
 pub fn distortion(setup: &Setup, max_field_deg: f64, steps: u32) -> Result<Distortion, SetupError> {
     check_fields(max_field_deg, steps)?;
     let n = setup.index.nominal();
-    let (from_v2, m, virtual_image) = setup.distortion_image(n)?;
+    let (from_v2, m, virtual_image) = setup.figure_image(n)?;
     let efl = setup.paraxial(n).efl;
     let plane_z = setup.plane_z(from_v2);
     let sweep = field_sweep(

@@ -57,6 +57,10 @@ pub struct Fan {
     pub field_deg: f64,
     /// The plane the rays are followed to (their `image_point`), from V2.
     pub image_plane_from_v2: f64,
+    /// That plane is a magnifier's virtual image, before V2: the image
+    /// points are the rays' backward extensions. Absent when real.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_image: bool,
     pub cardinal: Cardinal,
     pub rays: Vec<FanRay>,
     pub lsa: Vec<LsaPoint>,
@@ -104,8 +108,9 @@ pub fn lsa_curve(setup: &Setup, steps: u32) -> Vec<LsaPoint> {
 }
 
 /// `rays` meridional rays (pupil x from −1 to 1) at the d line, followed to
-/// `image_plane` (default: the real paraxial image, refused without one as
-/// `spot` and `distortion` refuse: [`Setup::real_image`]).
+/// `image_plane` (default: the paraxial image, real or a magnifier's virtual
+/// one, refused without either as `spot` and `distortion` refuse:
+/// [`Setup::figure_image`]).
 pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, SetupError> {
     let pupil = super::bench::fan_pupil(rays)?;
     let n = setup.index.nominal();
@@ -119,6 +124,7 @@ pub fn fan(setup: &Setup, rays: u32, image_plane: Option<f64>) -> Result<Fan, Se
         object_distance: setup.object_distance,
         field_deg: setup.field_deg,
         image_plane_from_v2: from_v2,
+        virtual_image: from_v2 < 0.0,
         cardinal: cardinal(setup)?,
         rays: pupil.iter().map(|&px| fan_ray(setup, px, n, plane_z)).collect(),
         lsa: lsa_curve(setup, LSA_STEPS),
@@ -149,25 +155,39 @@ impl Fan {
     pub fn sketch(&self, setup: &Setup) -> Sketch {
         let (c, m) = (&self.cardinal.info, self.cardinal.object_marginal_focus_from_v2);
         let mut sk = Sketch::default();
-        let end = c.sag2 + self.image_plane_from_v2;
+        let image = c.sag2 + self.image_plane_from_v2;
+        // A magnifier's rays diverge after the lens: drawn on a while, their
+        // backward extensions dashed to the virtual image before it.
+        let end = match self.virtual_image {
+            true => c.sag2 + (0.5 * -self.image_plane_from_v2).max(self.d),
+            false => image,
+        };
         let far = self.object_distance.unwrap_or(self.d).min(1.5 * end.max(self.d));
         let front = c.ffd.filter(|f| *f < 1.5 * end.max(self.d)).unwrap_or(0.0);
-        let start = -c.sag1 - far.max(1.1 * front);
+        let start = (-c.sag1 - far.max(1.1 * front)).min(image - 0.05 * (end - image));
         sk.line(Kind::Axis, vec![[start, 0.0], [end * 1.05 + 0.05 * self.d, 0.0]]);
         sk.line(Kind::Lens, outline(setup, 64));
         for r in &self.rays {
             let mut pts = vec![sx(r.ray.origin)];
             pts.extend(r.entry_point.map(sx));
             pts.extend(r.exit_point.map(sx));
-            let tail = r.ray.image_point.map(sx).or_else(|| {
-                let (x, u) = (r.exit_point?, r.exit_direction?);
-                Some(sx((DVec3::from(x) + DVec3::from(u) * self.d).to_array()))
-            });
-            pts.extend(tail);
+            let ahead = |t: f64| {
+                let (x, u) = (DVec3::from(r.exit_point?), DVec3::from(r.exit_direction?));
+                Some(sx((x + u * t).to_array()))
+            };
+            match (self.virtual_image, r.ray.image_point, r.exit_point, r.exit_direction) {
+                (true, Some(back), Some(x), Some(u)) => {
+                    // On to s = end (s = −z along the light).
+                    let t = if u[2] < 0.0 { (end + x[2]) / -u[2] } else { self.d };
+                    pts.extend(ahead(t.max(0.0)));
+                    sk.line(Kind::Virtual, vec![sx(x), sx(back)]);
+                }
+                (_, tail, _, _) => pts.extend(tail.map(sx).or_else(|| ahead(self.d))),
+            }
             sk.line(Kind::Ray, pts);
         }
         let half = 0.6 * self.d;
-        sk.line(Kind::Plane, vec![[end, -half], [end, half]]);
+        sk.line(Kind::Plane, vec![[image, -half], [image, half]]);
         let s2 = |from_v2: Option<f64>| from_v2.map(|x| c.sag2 + x);
         let marks = [
             ("V1", Some(-c.sag1)),

@@ -241,24 +241,18 @@ impl Setup {
         bench::real_image(&NAMES, self.paraxial_image(n))
     }
 
-    /// The image distortion is measured in, from V2 along the light, its
-    /// magnification, and whether it is virtual: the real paraxial image,
-    /// or for an object inside F (a magnifier) the virtual one, before V2
-    /// on the object's side, where the chief rays' backward extensions are
-    /// taken. Refused as [`Self::real_image`] otherwise.
-    pub fn distortion_image(&self, n: f64) -> Result<(f64, Option<f64>, bool), SetupError> {
-        let real = match self.real_image(n) {
-            Ok((from_v2, m)) => return Ok((from_v2, m, false)),
-            Err(e) => e,
-        };
+    /// The image the figures (fan, spot, distortion) measure in, from V2
+    /// along the light, its magnification, and whether it is virtual: the
+    /// real paraxial image, or for an object inside F (a magnifier) the
+    /// virtual one, before V2 on the object's side, where the rays'
+    /// backward extensions are taken ([`bench::figure_image`]). Refused as
+    /// [`Self::real_image`] otherwise.
+    pub fn figure_image(&self, n: f64) -> Result<(f64, Option<f64>, bool), SetupError> {
         let px = self.paraxial(n);
-        let image = (self.object_distance)
-            .filter(|_| px.has_power())
-            .and_then(|dist| paraxial_image(dist, px.efl, [px.h1, px.h2]));
-        match image {
-            Some(p) if p.is_virtual => Ok((p.from_last_vertex, Some(p.magnification), true)),
-            _ => Err(real),
-        }
+        bench::figure_image(self.real_image(n), || {
+            let dist = self.object_distance.filter(|_| px.has_power())?;
+            paraxial_image(dist, px.efl, [px.h1, px.h2])
+        })
     }
 
     /// World z of the plane `from_v2` beyond V2 along the light.
@@ -269,7 +263,7 @@ impl Setup {
     /// The image plane: `image_plane` if given (checked: after V2), else the
     /// paraxial image at the d line.
     pub fn image_plane(&self, image_plane: Option<f64>) -> Result<f64, SetupError> {
-        bench::image_plane(&NAMES, image_plane, || self.real_image(self.index.nominal()))
+        bench::image_plane(&NAMES, image_plane, || self.figure_image(self.index.nominal()))
     }
 }
 

@@ -13,6 +13,9 @@ pub enum Kind {
     Principal,
     /// A system's aperture stop (the diaphragm).
     Stop,
+    /// A ray's backward extension to a virtual image (a magnifier's),
+    /// drawn dashed as Ray Optics Simulation draws it.
+    Virtual,
 }
 
 impl Kind {
@@ -25,8 +28,40 @@ impl Kind {
             Kind::Plane => ([40, 150, 60], 1.0),
             Kind::Principal => ([150, 80, 180], 1.0),
             Kind::Stop => ([0, 0, 0], 3.0),
+            Kind::Virtual => ([220, 60, 20], 1.0),
         }
     }
+
+    /// Dash and gap lengths in pixels for a dashed stroke.
+    pub fn dashes(self) -> Option<(f64, f64)> {
+        (self == Kind::Virtual).then_some((6.0, 4.0))
+    }
+}
+
+/// A mark's label, as the drawings place it: its text box's left and
+/// baseline in pixels, given the mark at `at` (pixels) and the boxes of the
+/// labels already placed (left, top, right, bottom). The first of four
+/// places (above right, above left, below right, below left) whose box
+/// clears them, so close marks (V1 and V2 of a thin lens) do not print one
+/// label over the other; above right when none does.
+pub fn place_label(at: [f64; 2], text: &str, font_px: f64, placed: &mut Vec<[f64; 4]>) -> [f64; 2] {
+    let w = 0.62 * font_px * text.chars().count() as f64;
+    let gap = 4.0;
+    let spots = [
+        [at[0] + gap, at[1] - gap],
+        [at[0] - gap - w, at[1] - gap],
+        [at[0] + gap, at[1] + gap + font_px],
+        [at[0] - gap - w, at[1] + gap + font_px],
+    ];
+    let boxed = |p: [f64; 2]| [p[0], p[1] - font_px, p[0] + w, p[1]];
+    let clear = |b: [f64; 4]| {
+        placed
+            .iter()
+            .all(|q| b[2] <= q[0] || q[2] <= b[0] || b[3] <= q[1] || q[3] <= b[1])
+    };
+    let p = spots.into_iter().find(|p| clear(boxed(*p))).unwrap_or(spots[0]);
+    placed.push(boxed(p));
+    p
 }
 
 #[derive(Clone, Debug, Default)]
@@ -108,20 +143,23 @@ impl Sketch {
                 .map(|&p| f.px(p))
                 .map(|[x, y]| format!("{x:.2},{y:.2}"))
                 .collect();
+            let dash = kind
+                .dashes()
+                .map_or(String::new(), |(on, off)| format!(r#" stroke-dasharray="{on} {off}""#));
             let _ = writeln!(
                 out,
-                r#"<polyline fill="none" stroke="rgb({r},{g},{b})" stroke-width="{w}" points="{}"/>"#,
+                r#"<polyline fill="none" stroke="rgb({r},{g},{b})" stroke-width="{w}"{dash} points="{}"/>"#,
                 d.join(" ")
             );
         }
+        let mut placed = Vec::new();
         for (label, p) in &self.marks {
             let [x, y] = f.px(*p);
             let _ = writeln!(out, r#"<circle cx="{x:.2}" cy="{y:.2}" r="3" fill="black"/>"#);
+            let [tx, ty] = place_label([x, y], label, 14.0, &mut placed);
             let _ = writeln!(
                 out,
-                r#"<text x="{:.2}" y="{:.2}" font-family="sans-serif" font-size="14">{label}</text>"#,
-                x + 4.0,
-                y - 6.0
+                r#"<text x="{tx:.2}" y="{ty:.2}" font-family="sans-serif" font-size="14">{label}</text>"#,
             );
         }
         out.push_str("</svg>\n");

@@ -57,6 +57,10 @@ pub struct SpotDiagram {
     pub image_plane_z: f64,
     /// The paraxial image (d line) from V2, when it is real.
     pub paraxial_image_from_v2: Option<f64>,
+    /// The plane is a magnifier's virtual image, before V2: the image
+    /// points are the rays' backward extensions. Absent when real.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_image: bool,
     pub spots: Vec<Spot>,
 }
 
@@ -138,6 +142,7 @@ pub fn spot_diagram(setup: &Setup, image_plane: Option<f64>, rings: u32) -> Resu
         image_plane_from_v2: from_v2,
         image_plane_z: plane_z,
         paraxial_image_from_v2: setup.paraxial_image(setup.index.nominal()).map(|p| p.0),
+        virtual_image: from_v2 < 0.0,
         spots,
     })
 }

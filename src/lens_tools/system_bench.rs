@@ -250,10 +250,21 @@ impl SystemBench {
         bench::real_image(&NAMES, self.paraxial_image())
     }
 
+    /// The image the figures measure in (from the last vertex, the
+    /// magnification, virtual or not): the real paraxial image, or a
+    /// magnifier's virtual one ([`bench::figure_image`]).
+    pub fn figure_image(&self) -> Result<(f64, Option<f64>, bool), SetupError> {
+        let p = &self.paraxial;
+        bench::figure_image(self.real_image(), || {
+            let dist = self.object_distance.filter(|_| p.efl.is_finite())?;
+            super::setup::paraxial_image(dist, p.efl, [p.front_principal, p.rear_principal])
+        })
+    }
+
     /// The image plane from the last vertex: `image_plane` if given
-    /// (checked), else the paraxial image at the d line.
+    /// (checked), else the figures' image at the d line ([`Self::figure_image`]).
     pub fn image_plane(&self, image_plane: Option<f64>) -> Result<f64, SetupError> {
-        bench::image_plane(&NAMES, image_plane, || self.real_image())
+        bench::image_plane(&NAMES, image_plane, || self.figure_image())
     }
 
     /// Local `z` of the plane `from_last` after the last vertex.

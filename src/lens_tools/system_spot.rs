@@ -28,6 +28,10 @@ pub struct SystemSpotDiagram {
     pub image_plane_from_last_vertex: f64,
     pub image_plane_z: f64,
     pub paraxial_image_from_last_vertex: Option<f64>,
+    /// The plane is a magnifier's virtual image, before the last vertex:
+    /// the image points are the rays' backward extensions. Absent when real.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_image: bool,
     pub spots: Vec<SystemSpot>,
 }
 
@@ -44,6 +48,7 @@ pub fn system_spot(bench: &SystemBench, image_plane: Option<f64>, rings: u32) ->
         image_plane_from_last_vertex: traced.from_last,
         image_plane_z: traced.plane_z,
         paraxial_image_from_last_vertex: bench.paraxial_image().map(|p| p.0),
+        virtual_image: traced.from_last < 0.0,
         spots: traced.spots,
     })
 }
@@ -79,6 +84,11 @@ pub struct SystemDistortion {
     /// The paraxial image plane, from the last vertex along the light.
     pub image_plane_from_last_vertex: f64,
     pub magnification: Option<f64>,
+    /// The image is virtual (a magnifier): the plane lies before the last
+    /// vertex and the heights are the chief rays' backward extensions'.
+    /// Absent when real.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub virtual_image: bool,
     pub points: Vec<SystemDistortionPoint>,
 }
 
@@ -86,7 +96,7 @@ pub struct SystemDistortion {
 /// lateral colour of the F and C lines in the same plane.
 pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) -> Result<SystemDistortion, SetupError> {
     super::distortion::check_fields(max_field_deg, steps)?;
-    let (from_last, m) = bench.real_image()?;
+    let (from_last, m, virtual_image) = bench.figure_image()?;
     let efl = bench.paraxial.efl;
     let plane_z = bench.plane_z(from_last);
     let sweep = field_sweep(
@@ -123,6 +133,7 @@ pub fn system_distortion(bench: &SystemBench, max_field_deg: f64, steps: u32) ->
         stop_z: bench.system.vertex_z(bench.paraxial.stop),
         image_plane_from_last_vertex: from_last,
         magnification: m,
+        virtual_image,
         points,
     })
 }

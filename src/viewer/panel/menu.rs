@@ -116,7 +116,15 @@ fn view_menu(ui: &mut egui::Ui, cx: &mut Ctx) {
 /// the last error.
 pub fn status(ui: &mut egui::Ui, cx: &mut Ctx) {
     ui.horizontal_wrapped(|ui| {
-        ui.strong(cx.doc.source().to_string());
+        // A file by its name on one line (the whole path on hover): a long
+        // path must not wrap and push the sections down.
+        let source = cx.doc.source();
+        let shown = match source {
+            lensview::edit::Source::File(p) => p.file_name().map_or(source.to_string(), |n| n.to_string_lossy().into()),
+            _ => source.to_string(),
+        };
+        let label = egui::Label::new(RichText::new(shown).strong()).truncate();
+        ui.add(label).on_hover_text(source.to_string());
         let u = cx.doc.unsaved();
         if u.content {
             ui.colored_label(WARN, "* unsaved changes");

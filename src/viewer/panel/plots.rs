@@ -2,7 +2,7 @@
 //! with their ranges, lines or dots, and the cross-section sketch.
 
 use egui::{Color32, Pos2, Rect, Stroke, Vec2, pos2};
-use lensview::lens_tools::sketch::Sketch;
+use lensview::lens_tools::sketch::{Sketch, place_label};
 
 pub struct Series {
     pub colour: Color32,
@@ -155,19 +155,27 @@ pub fn sketch(ui: &mut egui::Ui, sk: &Sketch, width: f32, max_height: f32) -> Re
     for (kind, pts) in &sk.lines {
         let ([r, g, b], w) = kind.style();
         let line: Vec<Pos2> = pts.iter().map(|&p| at(p)).collect();
-        painter.add(egui::Shape::line(
-            line,
-            Stroke::new(w as f32, Color32::from_rgb(r, g, b)),
-        ));
+        let stroke = Stroke::new(w as f32, Color32::from_rgb(r, g, b));
+        match kind.dashes() {
+            Some((on, off)) => {
+                painter.extend(egui::Shape::dashed_line(&line, stroke, on as f32, off as f32));
+            }
+            None => {
+                painter.add(egui::Shape::line(line, stroke));
+            }
+        }
     }
+    let mut placed = Vec::new();
     for (label, p) in &sk.marks {
         let q = at(*p);
         painter.circle_filled(q, 3.0, Color32::BLACK);
         let font = egui::FontId::proportional(13.0);
         // egui's font has no ′.
         let text = label.replace('′', "'");
+        let rel = [f64::from(q.x - rect.min.x), f64::from(q.y - rect.min.y)];
+        let [tx, ty] = place_label(rel, &text, 13.0, &mut placed);
         painter.text(
-            q + Vec2::new(4.0, -4.0),
+            rect.min + Vec2::new(tx as f32, ty as f32),
             egui::Align2::LEFT_BOTTOM,
             text,
             font,
