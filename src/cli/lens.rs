@@ -43,6 +43,10 @@ pub struct LensInfoArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Every digit in the table (the shortest text that reads back to the
+    /// same number), not rounded to 9 decimals.
+    #[arg(long)]
+    pub exact: bool,
 }
 
 /// The lens: diameter, radii and index.
@@ -128,6 +132,8 @@ fn lens_info(a: &LensInfoArgs) -> Result<()> {
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&info)?);
+    } else if a.exact {
+        print!("{info:#}");
     } else {
         print!("{info}");
     }

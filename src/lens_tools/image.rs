@@ -1,8 +1,8 @@
 //! `lens info --object-distance`: the paraxial image of an object before
 //! V1, real or virtual (a magnifier's), with its magnification.
 
-use super::LensInfo;
 use super::setup;
+use super::{LensInfo, table_number, table_row};
 use serde::Serialize;
 
 /// [`LensInfo::image`]: the object's distance before V1 and its paraxial
@@ -31,25 +31,18 @@ impl LensInfo {
 
 /// The image lines of `lens info --object-distance`.
 pub(super) fn write_image(f: &mut std::fmt::Formatter, im: &ImageInfo) -> std::fmt::Result {
-    let g = |x: f64| format!("{x:<24}");
-    writeln!(
-        f,
-        "  object distance            {}   (before V1)",
-        g(im.object_distance)
-    )?;
+    table_row(f, "object distance", &[im.object_distance], "(before V1)")?;
     let Some(p) = im.paraxial else {
-        return writeln!(f, "  image                      at infinity (the object is at F)");
+        return writeln!(f, "  {:<30}at infinity (the object is at F)", "image");
     };
+    let z = p.from_last_vertex;
     if p.is_virtual {
-        writeln!(
-            f,
-            "  virtual image              {}   (from V2: {} before it, on the object's side)",
-            g(p.from_last_vertex),
-            -p.from_last_vertex
-        )?;
-        writeln!(f, "  magnification              {}   (upright)", g(p.magnification))
+        let before = table_number(-z, f.alternate());
+        let note = format!("(from V2: {} before it, on the object's side)", before.trim());
+        table_row(f, "virtual image", &[z], &note)?;
+        table_row(f, "magnification", &[p.magnification], "(upright)")
     } else {
-        writeln!(f, "  real image                 {}   (from V2)", g(p.from_last_vertex))?;
-        writeln!(f, "  magnification              {}   (inverted)", g(p.magnification))
+        table_row(f, "real image", &[z], "(from V2)")?;
+        table_row(f, "magnification", &[p.magnification], "(inverted)")
     }
 }

@@ -554,10 +554,38 @@ pub fn lens_info(d: f64, r1: f64, r2: f64, index: Index, wavelength_um: f64) -> 
     })
 }
 
+/// A number in `lens info`'s table: rounded to 9 decimals and
+/// right-aligned, so the decimal points line up (scientific notation for
+/// magnitudes outside 1e-4..1e6); with `exact` (`{:#}`, `lens info
+/// --exact`) the shortest text that reads back to the same `f64`, every
+/// digit meant (the JSON keeps every digit too).
+pub fn table_number(x: f64, exact: bool) -> String {
+    if exact {
+        return format!("{x:<24}");
+    }
+    let a = x.abs();
+    let s = if x == 0.0 || (1e-4..1e6).contains(&a) || !x.is_finite() {
+        format!("{x:.9}")
+    } else {
+        format!("{x:.9e}")
+    };
+    format!("{s:>18}")
+}
+
+/// One row of `lens info`'s table: the label in its column, the values,
+/// and a note.
+pub(crate) fn table_row(f: &mut std::fmt::Formatter, label: &str, values: &[f64], note: &str) -> std::fmt::Result {
+    let v: Vec<String> = values.iter().map(|&x| table_number(x, f.alternate())).collect();
+    let note = if note.is_empty() {
+        String::new()
+    } else {
+        format!("   {note}")
+    };
+    writeln!(f, "  {label:<30}{}{note}", v.join("  "))
+}
+
 impl std::fmt::Display for LensInfo {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        // Shortest representation that reads back to the same f64: every digit shown is meant.
-        let g = |x: f64| format!("{x:<24}");
         writeln!(
             f,
             "lens d = {}, R1 = {}, R2 = {}, n = {} at λ = {} µm",
@@ -570,14 +598,14 @@ impl std::fmt::Display for LensInfo {
                 gl.name, gl.nd, gl.abbe
             )?;
         }
-        writeln!(f, "  centre thickness           {}", g(self.thickness))?;
-        writeln!(f, "  sagitta S1, S2             {}, {}", g(self.sag1), g(self.sag2))?;
+        table_row(f, "centre thickness", &[self.thickness], "")?;
+        table_row(f, "sagitta S1, S2", &[self.sag1, self.sag2], "")?;
         if let Some(why) = self.no_power {
             writeln!(f, "  no power ({why})")?;
-            writeln!(f, "  effective focal length     ∞")?;
-            writeln!(f, "  back focal distance        ∞")?;
-            writeln!(f, "  front focal distance       ∞")?;
-            writeln!(f, "  principal planes H, H'     none")?;
+            for label in ["effective focal length", "back focal distance", "front focal distance"] {
+                writeln!(f, "  {label:<30}{:>18}", "∞")?;
+            }
+            writeln!(f, "  {:<30}{:>18}", "principal planes H, H′", "none")?;
             writeln!(
                 f,
                 "  real ray at 0.9·d/2 = {} leaves parallel: no focus",
@@ -585,30 +613,28 @@ impl std::fmt::Display for LensInfo {
             )?;
             return Ok(());
         }
-        let g = |x: Option<f64>| format!("{:<24}", x.unwrap_or(f64::NAN));
-        writeln!(f, "  effective focal length     {}", g(self.efl))?;
-        writeln!(f, "  back focal distance        {}   (from V2)", g(self.bfd))?;
-        writeln!(f, "  front focal distance       {}   (before V1)", g(self.ffd))?;
-        writeln!(
+        let g = |x: Option<f64>| [x.unwrap_or(f64::NAN)];
+        table_row(f, "effective focal length", &g(self.efl), "")?;
+        table_row(f, "back focal distance", &g(self.bfd), "(from V2)")?;
+        table_row(f, "front focal distance", &g(self.ffd), "(before V1)")?;
+        let along = "+ along the light";
+        table_row(
             f,
-            "  principal plane H          {}   (from V1, + along the light)",
-            g(self.principal_front_from_v1)
+            "principal plane H",
+            &g(self.principal_front_from_v1),
+            &format!("(from V1, {along})"),
         )?;
-        writeln!(
+        table_row(
             f,
-            "  principal plane H'         {}   (from V2, + along the light)",
-            g(self.principal_rear_from_v2)
+            "principal plane H′",
+            &g(self.principal_rear_from_v2),
+            &format!("(from V2, {along})"),
         )?;
-        let g = |x: f64| format!("{x:<24}");
         match (self.marginal_focus_from_v2, self.spherical_aberration) {
             (Some(m), Some(sa)) => {
-                writeln!(
-                    f,
-                    "  real focus of ray at 0.9·d/2 {}   (from V2; h = {})",
-                    g(m),
-                    self.marginal_height
-                )?;
-                writeln!(f, "  longitudinal sph. aberr.   {}   (real − paraxial)", g(sa))?;
+                let h = self.marginal_height;
+                table_row(f, "real focus of ray at 0.9·d/2", &[m], &format!("(from V2; h = {h})"))?;
+                table_row(f, "longitudinal sph. aberration", &[sa], "(real − paraxial)")?;
             }
             _ => writeln!(
                 f,
@@ -617,7 +643,7 @@ impl std::fmt::Display for LensInfo {
             )?,
         }
         if let Some(c) = self.axial_colour {
-            writeln!(f, "  axial colour BFD(F) − BFD(C) {}   (486.1 nm − 656.3 nm)", g(c))?;
+            table_row(f, "axial colour BFD(F) − BFD(C)", &[c], "(486.1 nm − 656.3 nm)")?;
         }
         if let Some(im) = &self.image {
             image::write_image(f, im)?;

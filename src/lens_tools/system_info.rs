@@ -82,32 +82,46 @@ pub const DEFAULT_WAVELENGTH_UM: f64 = WAVELENGTH_D_UM;
 
 impl fmt::Display for SystemInfo {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        let v = |x: Option<f64>| x.map_or("∞ (no power)".to_string(), |x| format!("{x:.9}"));
+        use super::table_row as row;
         writeln!(
             f,
             "lens system: {} surfaces, length {:.9}, at {} µm",
             self.surfaces, self.length, self.wavelength_um
         )?;
-        writeln!(f, "EFL                          {}", v(self.efl))?;
-        writeln!(f, "BFD (last vertex to F')      {}", v(self.bfd))?;
-        writeln!(f, "FFD (F to first vertex)      {}", v(self.ffd))?;
-        writeln!(f, "H from first vertex          {}", v(self.front_principal))?;
-        writeln!(f, "H' from last vertex          {}", v(self.rear_principal))?;
-        writeln!(f, "stop                         surface {}", self.stop)?;
+        let rows = [
+            ("EFL", self.efl, ""),
+            ("BFD", self.bfd, "(last vertex to F′)"),
+            ("FFD", self.ffd, "(F to first vertex)"),
+            ("principal plane H", self.front_principal, "(from the first vertex)"),
+            ("principal plane H′", self.rear_principal, "(from the last vertex)"),
+        ];
+        for (label, x, note) in rows {
+            match x {
+                Some(x) => row(f, label, &[x], note)?,
+                None => writeln!(f, "  {label:<30}{:>18}   (no power)", "∞")?,
+            }
+        }
+        writeln!(f, "  {:<30}{:>18}", "stop", format!("surface {}", self.stop))?;
         let (e, x) = (self.entrance_pupil, self.exit_pupil);
-        writeln!(
+        let pupil = "(position, semi-diameter)";
+        row(
             f,
-            "entrance pupil               {:.9} from the first vertex, semi-diameter {:.9}",
-            e.position, e.semi_diameter
+            "entrance pupil",
+            &[e.position, e.semi_diameter],
+            &format!("{pupil} from the first vertex"),
         )?;
-        writeln!(
+        row(
             f,
-            "exit pupil                   {:.9} from the last vertex, semi-diameter {:.9}",
-            x.position, x.semi_diameter
+            "exit pupil",
+            &[x.position, x.semi_diameter],
+            &format!("{pupil} from the last vertex"),
         )?;
-        writeln!(f, "f-number                     {}", v(self.f_number))?;
+        match self.f_number {
+            Some(n) => row(f, "f-number", &[n], "")?,
+            None => writeln!(f, "  {:<30}{:>18}   (no power)", "f-number", "∞")?,
+        }
         if let Some(c) = self.axial_colour {
-            writeln!(f, "axial colour BFD(F) - BFD(C) {c:.9}")?;
+            row(f, "axial colour BFD(F) − BFD(C)", &[c], "")?;
         }
         Ok(())
     }

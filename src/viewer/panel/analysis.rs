@@ -11,6 +11,8 @@
 use super::Ctx;
 use super::plots::{Series, plot, sketch};
 use egui::{Color32, Vec2};
+use egui_plot::MarkerShape;
+use lensview::lens_tools::bench::Bench;
 use lensview::lens_tools::{Setup, distortion, fan, spot_diagram};
 
 /// The optics display state (not part of the scene).
@@ -187,14 +189,9 @@ fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_ana
                 opt(f.cardinal.object_marginal_focus_from_v2)
             ));
             placed.push(("analysis sketch", sketch(ui, &f.sketch(s), width, sketch_h)));
-            ui.horizontal_wrapped(|ui| {
+            ui.with_layout(figure_row(), |ui| {
                 let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
-                let series = [Series {
-                    colour: LINES[1],
-                    points: lsa,
-                    dots: false,
-                }];
-                let r = plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
+                let r = lsa_plot(ui, size, lsa);
                 placed.push(("analysis LSA", r));
                 placed.extend(spot(ui, s, a, size).map(|r| ("analysis spot", r)));
                 placed.extend(distortion_plot(ui, s, size).map(|r| ("analysis distortion", r)));
@@ -208,29 +205,91 @@ fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_ana
 }
 
 fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) -> Option<egui::Rect> {
-    let paraxial = s.image_plane(None).ok();
-    let plane = paraxial.map(|p| p + a.defocus).filter(|p| *p > 0.0);
-    let Some(Ok(sd)) = plane.map(|p| spot_diagram(s, Some(p), a.rings)) else {
+    // The paraxial image moved by the defocus; a magnifier's virtual image
+    // as it is (a plane given to the spot lies after V2).
+    let plane = match s.image_plane(None) {
+        Ok(p) if p > 0.0 => Some(Some(p + a.defocus).filter(|p| *p > 0.0)),
+        Ok(_) => Some(None),
+        Err(_) => None,
+    };
+    let diagrams: Option<Vec<_>> = plane.and_then(|plane| {
+        (spot_fields(a.field_deg).into_iter())
+            .map(|f| spot_diagram(&s.at_field(f), plane, a.rings).ok())
+            .collect()
+    });
+    let Some(diagrams) = diagrams else {
         ui.allocate_ui(size, |ui| {
-            ui.label("Spot: no real image plane after V2 here.");
+            ui.label("Spot: no image plane here (give the image a plane after V2).");
         });
         return None;
     };
-    ui.vertical(|ui| {
-        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
-        let title = format!("Spot at {:.4} after V2", sd.image_plane_from_v2);
-        let rect = plot(ui, size, &title, ("x", "y"), &series, true);
-        for (sp, colour) in sd.spots.iter().zip(LINES) {
-            let c = sp
-                .centroid
-                .map_or("—".into(), |c| lensview::lens_tools::spot::centroid_text(c, 2));
-            let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
-            ui.colored_label(colour, format!("{}: RMS {r}  centroid {c}", sp.line));
-        }
-        rect
-    })
-    .inner
-    .into()
+    let spots = diagrams.iter().map(|d| {
+        let lines = d.spots.iter().map(|sp| SpotLine {
+            line: sp.line,
+            points: sp.rays.iter().map(|r| r.image_point).collect(),
+            rms: sp.rms_radius,
+            centroid: sp.centroid,
+        });
+        let title = format!("Spot, field {}°", d.field_deg);
+        (title, plane_words(d.image_plane_from_v2, "V2"), lines.collect())
+    });
+    spot_plots(ui, size, spots)
+}
+
+/// The field angles the window's spot shows: the axis, and the chosen
+/// field beside it when it is off the axis.
+pub(super) fn spot_fields(field_deg: f64) -> Vec<f64> {
+    if field_deg == 0.0 {
+        vec![0.0]
+    } else {
+        vec![0.0, field_deg]
+    }
+}
+
+/// An image plane from the last vertex `last`, in words, rounded.
+pub(super) fn plane_words(from_last: f64, last: &str) -> String {
+    if from_last < 0.0 {
+        format!("virtual image {:.4} before {last}", -from_last)
+    } else {
+        format!("plane {from_last:.4} after {last}")
+    }
+}
+
+/// One wavelength's spot as the window shows it.
+pub(super) struct SpotLine {
+    pub line: &'static str,
+    pub points: Vec<Option<[f64; 3]>>,
+    pub rms: Option<f64>,
+    pub centroid: Option<[f64; 2]>,
+}
+
+/// Spot plots side by side (title, plane in words, lines), each with its
+/// lines' RMS radius and centroid below; returns where they are together.
+pub(super) fn spot_plots(
+    ui: &mut egui::Ui,
+    size: Vec2,
+    spots: impl Iterator<Item = (String, String, Vec<SpotLine>)>,
+) -> Option<egui::Rect> {
+    let mut all: Option<egui::Rect> = None;
+    for (title, plane, lines) in spots {
+        // Its size with the lines below, so that a wrapping row wraps before it.
+        let tall = size + Vec2::new(0.0, 80.0);
+        let r = ui.allocate_ui_with_layout(tall, egui::Layout::top_down(egui::Align::Min), |ui| {
+            let series = spot_series(lines.iter().map(|l| l.points.iter().copied()));
+            let rect = plot(ui, size, &title, ("x (units)", "y (units)"), &series, true);
+            ui.small(plane);
+            for (l, colour) in lines.iter().zip(LINES) {
+                let c = l
+                    .centroid
+                    .map_or("—".into(), |c| lensview::lens_tools::spot::centroid_text(c, 2));
+                let r = l.rms.map_or("—".into(), |r| format!("{r:.3e}"));
+                ui.colored_label(colour, format!("{}: RMS {r}  centroid {c}", l.line));
+            }
+            rect
+        });
+        all = Some(all.map_or(r.inner, |a| a.union(r.inner)));
+    }
+    all
 }
 
 fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) -> Option<egui::Rect> {
@@ -242,20 +301,53 @@ fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) -> Option<egui::Rec
     distortion_curve(ui, size, points)
 }
 
+/// The plots' row: left to right, wrapped, their tops aligned.
+pub(super) fn figure_row() -> egui::Layout {
+    egui::Layout::left_to_right(egui::Align::Min).with_main_wrap(true)
+}
+
+/// The longitudinal spherical aberration (the lens's and a system's).
+pub(super) fn lsa_plot(ui: &mut egui::Ui, size: Vec2, points: Vec<[f64; 2]>) -> egui::Rect {
+    let series = [Series {
+        colour: LINES[1],
+        points,
+        dots: None,
+        name: "",
+    }];
+    let axes = ("focus − paraxial focus (units)", "pupil height (units)");
+    plot(
+        ui,
+        size,
+        "Longitudinal spherical aberration (d line)",
+        axes,
+        &series,
+        false,
+    )
+}
+
 /// The spot plot's series (the lens's and a system's): where each line's
 /// rays meet the image plane, as dots in the line's colour (C, d, F).
 pub(super) fn spot_series<I>(lines: impl IntoIterator<Item = I>) -> Vec<Series>
 where
     I: IntoIterator<Item = Option<[f64; 3]>>,
 {
-    (lines.into_iter().zip(LINES))
-        .map(|(hits, colour)| Series {
+    (lines.into_iter().zip(LINES).zip(SPOT_MARKS))
+        .map(|((hits, colour), (name, shape))| Series {
             colour,
             points: hits.into_iter().flatten().map(|p| [p[0], p[1]]).collect(),
-            dots: true,
+            dots: Some(shape),
+            name,
         })
         .collect()
 }
+
+/// The C, d and F lines' names and markers (dots that coincide stay
+/// distinguishable: a hollow circle, a cross, a hollow triangle).
+const SPOT_MARKS: [(&str, MarkerShape); 3] = [
+    ("C", MarkerShape::Circle),
+    ("d", MarkerShape::Cross),
+    ("F", MarkerShape::Up),
+];
 
 /// The distortion plot of `points` (field °, %) from the axis, or why
 /// there is none (no real paraxial image): the lens's and a system's.
@@ -269,10 +361,27 @@ pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec
     };
     let mut pts = vec![[0.0, 0.0]];
     pts.extend(points);
-    let series = [Series {
-        colour: LINES[2],
-        points: pts,
-        dots: false,
-    }];
-    Some(plot(ui, size, "Distortion", ("field °", "%"), &series, false))
+    let marks: Vec<[f64; 2]> = pts.iter().skip(1).step_by(5).copied().collect();
+    let series = [
+        Series {
+            colour: LINES[2],
+            points: pts,
+            dots: None,
+            name: "",
+        },
+        Series {
+            colour: LINES[2],
+            points: marks,
+            dots: Some(MarkerShape::Circle),
+            name: "",
+        },
+    ];
+    Some(plot(
+        ui,
+        size,
+        "Distortion",
+        ("field angle (°)", "distortion (%)"),
+        &series,
+        false,
+    ))
 }

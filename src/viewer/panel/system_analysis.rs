@@ -10,10 +10,11 @@
 //! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
 //! compute them.
 
-use super::analysis::{AnalysisState, LINES, distortion_curve, spot_series};
+use super::analysis::{AnalysisState, LINES, SpotLine, distortion_curve, plane_words, spot_fields, spot_plots};
 use super::plots::{Series, plot, sketch};
 use egui::{Color32, Rect, Vec2};
 use lensview::geometry::LensSystem;
+use lensview::lens_tools::bench::Bench;
 use lensview::lens_tools::system_bench::SystemBench;
 use lensview::lens_tools::system_colour::usable_curve;
 use lensview::lens_tools::system_fan::system_fan;
@@ -57,14 +58,9 @@ pub fn figures(ui: &mut egui::Ui, sys: &LensSystem, a: &AnalysisState) -> Placed
     // Three plots, for dispersive glass five with the axial and lateral
     // colour: all in a row if they fit, wrapped (and scrolled) if not.
     let dist = system_distortion(&bench, 30.0, 30).ok();
-    ui.horizontal_wrapped(|ui| {
+    ui.with_layout(super::analysis::figure_row(), |ui| {
         let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
-        let series = [Series {
-            colour: LINES[1],
-            points: lsa,
-            dots: false,
-        }];
-        let r = plot(ui, size, "LSA (d line)", ("focus − paraxial", "height"), &series, false);
+        let r = super::analysis::lsa_plot(ui, size, lsa);
         placed.push(("analysis LSA", r));
         placed.extend(spot(ui, &bench, a, f.image_plane_from_last_vertex, size).map(|r| ("analysis spot", r)));
         placed.extend(distortion_plot(ui, dist.as_ref(), size).map(|r| ("analysis distortion", r)));
@@ -90,29 +86,44 @@ fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) -> Rect {
     let series = [Series {
         colour: LINES[0],
         points,
-        dots: false,
+        dots: None,
+        name: "",
     }];
-    plot(ui, size, "Axial colour", ("focus − focus(d)", "nm"), &series, false)
+    let axes = ("focus − focus at d (units)", "wavelength (nm)");
+    plot(ui, size, "Axial colour", axes, &series, false)
 }
 
 fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64, size: Vec2) -> Option<Rect> {
-    let Ok(sd) = system_spot(bench, Some(paraxial + a.defocus), a.rings) else {
+    // A magnifier's virtual image as it is; a real one moved by the defocus.
+    let plane = if paraxial < 0.0 {
+        None
+    } else {
+        Some(paraxial + a.defocus)
+    };
+    let diagrams: Option<Vec<_>> = (spot_fields(a.field_deg).into_iter())
+        .map(|f| system_spot(&bench.at_field(f), plane, a.rings).ok())
+        .collect();
+    let Some(diagrams) = diagrams else {
         ui.allocate_ui(size, |ui| {
-            ui.label("Spot: no real image plane after the last vertex here.");
+            ui.label("Spot: no image plane here (give the image a plane after the last vertex).");
         });
         return None;
     };
-    ui.vertical(|ui| {
-        let series = spot_series(sd.spots.iter().map(|sp| sp.rays.iter().map(|r| r.image_point)));
-        let title = format!("Spot at {:.4}", sd.image_plane_from_last_vertex);
-        let rect = plot(ui, size, &title, ("x", "y"), &series, true);
-        for (sp, colour) in sd.spots.iter().zip(LINES) {
-            let r = sp.rms_radius.map_or("—".into(), |r| format!("{r:.3e}"));
-            ui.colored_label(colour, format!("{}: RMS {r}  rays {}", sp.line, sp.ray_count));
-        }
-        Some(rect)
-    })
-    .inner
+    let spots = diagrams.iter().map(|d| {
+        let lines = d.spots.iter().map(|sp| SpotLine {
+            line: sp.line,
+            points: sp.rays.iter().map(|r| r.image_point).collect(),
+            rms: sp.rms_radius,
+            centroid: sp.centroid,
+        });
+        let title = format!("Spot, field {}°", d.field_deg);
+        (
+            title,
+            plane_words(d.image_plane_from_last_vertex, "the last vertex"),
+            lines.collect(),
+        )
+    });
+    spot_plots(ui, size, spots)
 }
 
 fn distortion_plot(ui: &mut egui::Ui, dist: Option<&SystemDistortion>, size: Vec2) -> Option<Rect> {
@@ -138,9 +149,11 @@ fn lateral_colour(ui: &mut egui::Ui, dist: Option<&SystemDistortion>, size: Vec2
     let series = [Series {
         colour: LATERAL,
         points,
-        dots: false,
+        dots: None,
+        name: "",
     }];
-    Some(plot(ui, size, "Lateral colour", ("field °", "F − C"), &series, false))
+    let axes = ("field angle (°)", "F − C height (units)");
+    Some(plot(ui, size, "Lateral colour", axes, &series, false))
 }
 
 /// The lateral colour curve's colour: a magenta no other plot uses.
