@@ -337,7 +337,7 @@ fn sketch_png(path: &Path, sketch: &Sketch) -> Result<()> {
         for (label, p) in &sketch.marks {
             let (x, y) = pix(*p);
             root.draw(&Circle::new((x, y), 3, BLACK.filled())).map_err(e)?;
-            let [tx, ty] = place_label([f64::from(x), f64::from(y)], label, 16.0, &mut placed);
+            let [tx, ty] = place_label([f64::from(x), f64::from(y)], label, 16.0, 4.0, &mut placed);
             // plotters places text by its top left corner.
             let at = (tx.round() as i32, (ty - 16.0).round() as i32);
             root.draw(&Text::new(*label, at, ("sans-serif", 16).into_font()))

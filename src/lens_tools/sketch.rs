@@ -39,14 +39,13 @@ impl Kind {
 }
 
 /// A mark's label, as the drawings place it: its text box's left and
-/// baseline in pixels, given the mark at `at` (pixels) and the boxes of the
-/// labels already placed (left, top, right, bottom). The first of four
+/// baseline in pixels, `gap` from the mark at `at` (pixels), given the
+/// boxes of the labels already placed (left, top, right, bottom). The first of four
 /// places (above right, above left, below right, below left) whose box
 /// clears them, so close marks (V1 and V2 of a thin lens) do not print one
 /// label over the other; above right when none does.
-pub fn place_label(at: [f64; 2], text: &str, font_px: f64, placed: &mut Vec<[f64; 4]>) -> [f64; 2] {
+pub fn place_label(at: [f64; 2], text: &str, font_px: f64, gap: f64, placed: &mut Vec<[f64; 4]>) -> [f64; 2] {
     let w = 0.62 * font_px * text.chars().count() as f64;
-    let gap = 4.0;
     let spots = [
         [at[0] + gap, at[1] - gap],
         [at[0] - gap - w, at[1] - gap],
@@ -156,7 +155,7 @@ impl Sketch {
         for (label, p) in &self.marks {
             let [x, y] = f.px(*p);
             let _ = writeln!(out, r#"<circle cx="{x:.2}" cy="{y:.2}" r="3" fill="black"/>"#);
-            let [tx, ty] = place_label([x, y], label, 14.0, &mut placed);
+            let [tx, ty] = place_label([x, y], label, 14.0, 4.0, &mut placed);
             let _ = writeln!(
                 out,
                 r#"<text x="{tx:.2}" y="{ty:.2}" font-family="sans-serif" font-size="14">{label}</text>"#,

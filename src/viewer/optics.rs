@@ -15,6 +15,7 @@
 use glam::DVec3;
 use lensview::camera::Camera;
 use lensview::geometry::{Lens, LensSurface, LensSystem};
+use lensview::lens_tools::sketch::place_label;
 use lensview::optics::WAVELENGTH_D_UM;
 use lensview::scene::Scene;
 
@@ -300,10 +301,14 @@ pub fn paint(ctx: &egui::Context, cam: &Camera, pic: Picture, fig: &Figure) {
         line(r, egui::Stroke::new(1.5, RAY));
     }
     let font = egui::FontId::proportional(15.0);
-    let label = |at: egui::Pos2, text: &str, colour: egui::Color32| {
+    let mut placed = Vec::new();
+    let mut label = |at: egui::Pos2, text: &str, colour: egui::Color32| {
         let g = painter.layout_no_wrap(text.to_string(), font.clone(), colour);
-        // Up and right, clear of a marker's disc (radius 5).
-        let r = egui::Rect::from_min_size(at + egui::vec2(9.0, -g.size().y - 9.0), g.size()).expand(2.0);
+        // Up and right, clear of a marker's disc (radius 5), or on another
+        // side when a label is already there (V1 and Vn of a thin lens).
+        let spot = [f64::from(at.x), f64::from(at.y)];
+        let [x, y] = place_label(spot, text, f64::from(g.size().y), 9.0, &mut placed);
+        let r = egui::Rect::from_min_size(egui::pos2(x as f32, y as f32 - g.size().y), g.size()).expand(2.0);
         painter.rect_filled(r, 2.0, egui::Color32::from_black_alpha(170));
         painter.galley(r.min + egui::vec2(2.0, 2.0), g, colour);
     };

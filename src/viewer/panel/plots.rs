@@ -108,7 +108,7 @@ pub fn sketch(ui: &mut egui::Ui, sk: &Sketch, width: f32, max_height: f32) -> Re
         // egui's font has no ′.
         let text = label.replace('′', "'");
         let rel = [f64::from(q.x - rect.min.x), f64::from(q.y - rect.min.y)];
-        let [tx, ty] = place_label(rel, &text, 13.0, &mut placed);
+        let [tx, ty] = place_label(rel, &text, 13.0, 4.0, &mut placed);
         painter.text(
             rect.min + Vec2::new(tx as f32, ty as f32),
             egui::Align2::LEFT_BOTTOM,
