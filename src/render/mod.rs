@@ -11,6 +11,7 @@ pub mod first_frame;
 mod image;
 pub mod progressive;
 pub mod reproject;
+pub mod steps;
 mod sparse;
 pub mod worker;
 
