@@ -47,7 +47,11 @@ fn missing_tools() -> Vec<&'static str> {
 /// then (the page driver's Chromium and server with it).
 fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, String) {
     use std::os::unix::process::CommandExt;
-    let out = cmd.process_group(0).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
+    let out = cmd
+        .process_group(0)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn();
     let mut child = out.unwrap_or_else(|e| panic!("{what}: cannot start: {e}"));
     let pid = child.id() as i32;
     let start = Instant::now();
@@ -62,7 +66,10 @@ fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, Strin
         std::thread::sleep(Duration::from_millis(100));
     }
     let o = child.wait_with_output().unwrap();
-    let (stdout, stderr) = (String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned());
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    );
     assert!(o.status.success(), "{what} failed ({}):\n{stdout}\n{stderr}", o.status);
     (stdout, stderr)
 }
@@ -83,7 +90,10 @@ fn native_rgb(scene: &Path, png: &Path) -> Vec<u8> {
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size().unwrap()];
     let info = reader.next_frame(&mut buf).unwrap();
-    assert_eq!((info.width, info.height, info.color_type), (SIZE.0, SIZE.1, png::ColorType::Rgb));
+    assert_eq!(
+        (info.width, info.height, info.color_type),
+        (SIZE.0, SIZE.1, png::ColorType::Rgb)
+    );
     buf.truncate(info.buffer_size());
     buf
 }
@@ -112,14 +122,22 @@ fn assert_same_picture(canvas: &[u8], native: &[u8], what: &str) {
 #[test]
 fn the_page_renders_what_the_native_renderer_renders() {
     let missing = missing_tools();
-    assert!(missing.is_empty(), "the web test needs: {}. .ci/run installs them.", missing.join("; "));
+    assert!(
+        missing.is_empty(),
+        "the web test needs: {}. .ci/run installs them.",
+        missing.join("; ")
+    );
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("web");
     let _ = std::fs::remove_dir_all(&work);
     std::fs::create_dir_all(&work).unwrap();
     let dist = work.join("dist");
     let t = Instant::now();
-    run_bounded(Command::new("bash").arg(root.join("web/build.sh")).arg(&dist), Duration::from_secs(1800), "web/build.sh");
+    run_bounded(
+        Command::new("bash").arg(root.join("web/build.sh")).arg(&dist),
+        Duration::from_secs(1800),
+        "web/build.sh",
+    );
     eprintln!("web/build.sh: {:.1} s", t.elapsed().as_secs_f64());
 
     let bad = work.join("bad.toml");
@@ -128,15 +146,31 @@ fn the_page_renders_what_the_native_renderer_renders() {
     let query = format!("scene=cubes&w={}&h={}&spp={SPP}&seed={SEED}", SIZE.0, SIZE.1);
     let t = Instant::now();
     let mut driver = Command::new("python3");
-    driver.arg(root.join("tools/web_page_test.py")).arg("--dist").arg(&dist).arg("--out").arg(&out);
+    driver
+        .arg(root.join("tools/web_page_test.py"))
+        .arg("--dist")
+        .arg(&dist)
+        .arg("--out")
+        .arg(&out);
     driver.args(["--query", &query]).arg("--bad").arg(&bad);
-    let (report, _) = run_bounded(&mut driver, Duration::from_secs(300), "the page test (tools/web_page_test.py)");
+    let (report, _) = run_bounded(
+        &mut driver,
+        Duration::from_secs(300),
+        "the page test (tools/web_page_test.py)",
+    );
     eprintln!("the page in Chromium: {:.1} s; {report}", t.elapsed().as_secs_f64());
     let report: String = std::fs::read_to_string(out.join("report.json")).unwrap();
-    assert!(report.contains("\"console_errors\": []"), "the page logged errors: {report}");
+    assert!(
+        report.contains("\"console_errors\": []"),
+        "the page logged errors: {report}"
+    );
 
     let first = std::fs::read(out.join("first.rgba")).unwrap();
-    assert_same_picture(&first, &native_rgb(&root.join("scenes/cubes.toml"), &work.join("first.png")), "cubes");
+    assert_same_picture(
+        &first,
+        &native_rgb(&root.join("scenes/cubes.toml"), &work.join("first.png")),
+        "cubes",
+    );
     let moved = std::fs::read(out.join("moved.rgba")).unwrap();
     assert_ne!(first, moved, "W changed nothing on the page");
     let native_moved = native_rgb(&out.join("moved.toml"), &work.join("moved.png"));
@@ -152,5 +186,9 @@ fn the_page_renders_what_the_native_renderer_renders() {
     let cli = String::from_utf8_lossy(&o.stderr);
     let page = std::fs::read_to_string(out.join("error.txt")).unwrap();
     assert!(page.starts_with("error: bad.toml:"), "{page}");
-    assert_eq!(page.trim_end(), cli.trim_end(), "the page's error line is not the command line's");
+    assert_eq!(
+        page.trim_end(),
+        cli.trim_end(),
+        "the page's error line is not the command line's"
+    );
 }

@@ -11,8 +11,8 @@ pub mod first_frame;
 mod image;
 pub mod progressive;
 pub mod reproject;
-pub mod steps;
 mod sparse;
+pub mod steps;
 pub mod worker;
 
 pub use adaptive::Adaptive;
