@@ -19,6 +19,7 @@ let started = 0;
 function restart() {
   state.done = false;
   started = performance.now();
+  state.stepMs = 0;
 }
 
 function draw() {
@@ -31,6 +32,7 @@ function frame() {
   if (!app.done()) {
     const t0 = performance.now();
     while (app.step(1) && performance.now() - t0 < 30) {}
+    state.stepMs += performance.now() - t0;
     draw();
     if (state.firstPictureMs === null && app.samplesDone() >= 1) {
       state.firstPictureMs = performance.now();
@@ -51,10 +53,13 @@ document.addEventListener("keydown", (e) => {
   restartIf(() => app.key(e.code));
 });
 
+// Runs `change`; when it starts the picture over, the clocks start over
+// (stepMs: time in Rust, the photons of the change included).
 function restartIf(change) {
   const t = performance.now();
   if (change()) {
     started = t;
+    state.stepMs = performance.now() - t;
     state.done = false;
   }
 }
@@ -79,6 +84,7 @@ async function main() {
   restart();
   try {
     app = new App(params.get("scene"), width, height, num("spp", 0), num("seed", 0));
+    state.stepMs = performance.now() - started;
   } catch (err) {
     errorLine.textContent = String(err);
     state.error = String(err);
