@@ -5,7 +5,8 @@
 //! same size, spp, seed and the portable kernel; W moves the camera and the
 //! new picture is again the native one of the page's own scene file; a bad
 //! scene file gets the command line's one-line error in the page; no
-//! console error. Needs Debian's rustc-web, rust-web-src, rust-web-llvm,
+//! console error; two more presets (dispersion, a lens camera) are the
+//! native pictures too. Needs Debian's rustc-web, rust-web-src, rust-web-llvm,
 //! lld, chromium, wasm-bindgen-cli and Python's websocket-client (`.ci/run`
 //! installs them); fails, naming what is missing, without them.
 
@@ -119,6 +120,32 @@ fn assert_same_picture(canvas: &[u8], native: &[u8], what: &str) {
     );
 }
 
+/// The page's picture of preset `scene` (as `scenes/SCENE.toml`) is the
+/// native one.
+fn assert_preset_is_native(root: &Path, work: &Path, scene: &str) {
+    let out = work.join(scene);
+    let query = format!("scene={scene}.toml&w={}&h={}&spp={SPP}&seed={SEED}", SIZE.0, SIZE.1);
+    let mut driver = Command::new("python3");
+    driver
+        .arg(root.join("tools/web_page_test.py"))
+        .arg("--dist")
+        .arg(work.join("dist"));
+    driver.arg("--out").arg(&out).args(["--query", &query, "--measure"]);
+    run_bounded(&mut driver, Duration::from_secs(300), scene);
+    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    assert!(
+        report.contains("\"console_errors\": []"),
+        "{scene}: the page logged errors: {report}"
+    );
+    let page = std::fs::read(out.join("first.rgba")).unwrap();
+    let scene_file = root.join("scenes").join(format!("{scene}.toml"));
+    assert_same_picture(
+        &page,
+        &native_rgb(&scene_file, &work.join(format!("{scene}.png"))),
+        scene,
+    );
+}
+
 #[test]
 fn the_page_renders_what_the_native_renderer_renders() {
     let missing = missing_tools();
@@ -175,6 +202,12 @@ fn the_page_renders_what_the_native_renderer_renders() {
     assert_ne!(first, moved, "W changed nothing on the page");
     let native_moved = native_rgb(&out.join("moved.toml"), &work.join("moved.png"));
     assert_same_picture(&moved, &native_moved, "cubes after W");
+
+    // Two more presets, each by another path: dispersion (primitives) and a
+    // lens camera, whose rays are traced one by one (camera-dgauss).
+    for scene in ["primitives", "camera-dgauss"] {
+        assert_preset_is_native(&root, &work, scene);
+    }
 
     // The command line's refusal of the same file, named the same way.
     let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
