@@ -112,6 +112,7 @@ fn not_written(meta: &Metadata) -> io::Error {
 /// else the path it would be created at.
 #[derive(Debug, PartialEq)]
 enum Identity {
+    #[cfg(unix)]
     Inode(u64, u64),
     Path(PathBuf),
 }

@@ -28,7 +28,17 @@
 //!         ↑
 //! bench · lens_tools                          measurements · lens trace / info / figures
 //! ```
-//! The binary adds `cli` (`src/cli/`) and `viewer` (`src/viewer/`) on top.
+//! The binary adds `cli` (`src/cli/`) and `viewer` (`src/viewer/`) on top;
+//! the web page (`web/`, a workspace member) adds `web/src/view.rs`.
+//!
+//! ## Features
+//!
+//! `desktop` (default) is the binary's: the command line and the window
+//! (clap, indicatif, winit, pixels, egui, plotters) and `signals` (Ctrl-C
+//! removes a write's temporary file: [`output::remove_temp_files_on_interrupt`]).
+//! Without default features the library builds for `wasm32-unknown-unknown`
+//! (web/build.sh): time is `web_time::Instant` (std's off the web), the SIMD
+//! dispatch falls to the portable build, rayon runs on the calling thread.
 //!
 //! ## Where things live
 //!
@@ -55,6 +65,7 @@
 //! | the pass through a lens, scalar and in lanes | `integrator/lens_pass.rs` |
 //! | feature dispatch, entry points | `integrator/mod.rs` |
 //! | rendering an image, the progressive schedule, the render thread | `render/{mod,progressive,worker}.rs` |
+//! | `render` in steps of one band of one sample, on the calling thread (the web page) | `render/steps.rs` |
 //! | caustics: the photon map, photons traced, passes scheduled | `photon/`, `integrator/photons.rs`, `render/caustics.rs` |
 //! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |

@@ -293,7 +293,9 @@ fn new_file_permissions() -> Option<Permissions> {
 /// Installs a handler of Ctrl-C (SIGINT), SIGTERM and SIGHUP (`ctrlc`'s
 /// `termination` feature) that removes the temporary files being written
 /// and exits with status 130. For the headless commands; without it any of
-/// the three kills the process before any clean-up.
+/// the three kills the process before any clean-up. (Feature `signals`:
+/// a browser has no signals.)
+#[cfg(feature = "signals")]
 pub fn remove_temp_files_on_interrupt() {
     // It fails only when a handler is already installed: then that one rules.
     let _ = ctrlc::set_handler(|| {

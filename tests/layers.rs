@@ -295,13 +295,19 @@ fn functions(lines: &[&str]) -> Vec<(String, usize, usize)> {
 
 #[test]
 fn no_file_or_function_outgrows_its_room() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    // The web crate's Rust too (web/src), named from the root.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = root.join("src");
     let mut files = Vec::new();
     rs_files(&src, &mut files);
+    rs_files(&root.join("web/src"), &mut files);
     let mut too_long = Vec::new();
     for file in files {
         let text = std::fs::read_to_string(&file).expect("a readable source file");
-        let rel = file.strip_prefix(&src).expect("under src").display().to_string();
+        let rel = match file.strip_prefix(&src) {
+            Ok(r) => r.display().to_string(),
+            Err(_) => format!("../{}", file.strip_prefix(root).expect("under the root").display()),
+        };
         let n = text.lines().count();
         if n > MAX_FILE_LINES {
             too_long.push(format!("src/{rel}: {n} lines"));

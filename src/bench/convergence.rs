@@ -74,7 +74,7 @@ pub fn converge(scene: &Scene, reference: &Image, max_spp: u32, sampling: Sampli
     let mut elapsed_ms = 0.0;
     let mut rows = Vec::new();
     for stage in schedule(max_spp) {
-        let t0 = std::time::Instant::now();
+        let t0 = web_time::Instant::now();
         p.run(scene, stage, &|| false);
         let stage_ms = t0.elapsed().as_secs_f64() * 1e3;
         elapsed_ms += stage_ms;
@@ -128,7 +128,7 @@ pub fn converge_step(
     p.record_first_hits(before, &|| false);
     let pixels = (w as f64 * h as f64).max(1.0);
     let mut rows = Vec::new();
-    let t0 = std::time::Instant::now();
+    let t0 = web_time::Instant::now();
     p.reproject(after, before, |_| block);
     let mut elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
     let r = p.reprojection;
@@ -154,7 +154,7 @@ pub fn converge_step(
     };
     push(&p, Stage::Reprojected, elapsed_ms, elapsed_ms);
     for stage in schedule(max_spp).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
-        let t0 = std::time::Instant::now();
+        let t0 = web_time::Instant::now();
         p.run(after, stage, &|| false);
         let stage_ms = t0.elapsed().as_secs_f64() * 1e3;
         elapsed_ms += stage_ms;

@@ -10,7 +10,7 @@ use crate::scene::Scene;
 use crate::simd::LANES;
 use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits, closest_hit};
 use rayon::prelude::*;
-use std::time::Instant;
+use web_time::Instant;
 
 /// Median wall time in seconds of `runs` calls of `f` (after one warm-up).
 pub fn median_time(runs: usize, mut f: impl FnMut()) -> f64 {

@@ -19,7 +19,7 @@ use crate::color::Rgb;
 use glam::{DVec3, Vec4};
 use grid::{Entry, Grid};
 use rayon::prelude::*;
-use std::time::Instant;
+use web_time::Instant;
 
 thread_local! {
     /// This thread's queries near photons (where a query costs more than a

@@ -252,7 +252,7 @@ impl Interleaved {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         self.credit += photon_allowance(camera_work);
         let per_pass = c.photons_per_pass() as f64;
         let first = c.passes() == 0 && camera_work > 0.0;

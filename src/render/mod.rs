@@ -12,6 +12,7 @@ mod image;
 pub mod progressive;
 pub mod reproject;
 mod sparse;
+pub mod steps;
 pub mod worker;
 
 pub use adaptive::Adaptive;

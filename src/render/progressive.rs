@@ -230,9 +230,9 @@ impl Progressive {
         if !(self.spp > 0 || self.reprojected) || n == 0 {
             return false;
         }
-        let t0 = std::time::Instant::now();
+        let t0 = web_time::Instant::now();
         self.record_first_hits(from, &|| false);
-        let t1 = std::time::Instant::now();
+        let t1 = web_time::Instant::now();
         let size = (self.width, self.height);
         // The source colours: the means of the samples, or the preview.
         let (colour, count) = if self.spp > 0 {
@@ -255,7 +255,7 @@ impl Progressive {
             &mut self.next,
             &mut self.next_first,
         );
-        let (t2, level) = (std::time::Instant::now(), level(holes));
+        let (t2, level) = (web_time::Instant::now(), level(holes));
         let cast = fill(scene, size, level, &mut self.next, &mut self.next_first);
         self.reprojection = ReprojectTimes {
             first_hits_s: (t1 - t0).as_secs_f64(),

@@ -1,0 +1,207 @@
+#!/usr/bin/env python3
+"""Drives lensview's web page in headless Chromium over the DevTools
+protocol, for tests/web.rs (and the figures of docs/web.md).
+
+Serves DIST on 127.0.0.1 (a thread of this process, web/serve.py's server),
+starts Chromium with a new profile, opens the page with QUERY, waits for the
+finished picture and writes what it saw into OUT:
+  first.rgba       the canvas's RGBA bytes
+  moved.rgba/.toml after pressing W: the canvas, and the page's scene file
+  error.txt        the page's error line after opening BAD with its file input
+  report.json      times, sizes and every console error or exception
+--measure: only the first picture (no key, no file). Exits 0 when the page
+ran; the caller judges the pictures. Chromium and the server are stopped
+on every exit (and the caller kills the process group on a timeout)."""
+
+import argparse
+import base64
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "web"))
+import serve  # noqa: E402
+
+try:
+    import websocket  # websocket-client, from PyPI
+except ImportError:
+    sys.exit("error: Python's websocket-client is missing: python3 -m pip install websocket-client (.ci/run does)")
+
+FLAGS = [
+    "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--no-first-run", "--no-default-browser-check",
+    "--remote-debugging-port=0", "--remote-debugging-address=127.0.0.1", "--window-size=1400,1000",
+]
+
+
+class Page:
+    """One DevTools connection to a page: commands, and the events seen."""
+
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
+        self.next_id = 0
+        self.errors = []
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:
+            msg = json.loads(self.ws.recv())
+            if msg.get("id") == self.next_id:
+                if "error" in msg:
+                    raise RuntimeError(f"{method}: {msg['error']}")
+                return msg.get("result", {})
+            self.event(msg)
+
+    def event(self, msg):
+        m, p = msg.get("method"), msg.get("params", {})
+        if m == "Runtime.exceptionThrown":
+            d = p["exceptionDetails"]
+            self.errors.append("exception: " + d.get("exception", {}).get("description", d.get("text", "")))
+        elif m == "Runtime.consoleAPICalled" and p["type"] in ("error", "assert"):
+            self.errors.append("console.error: " + " ".join(str(a.get("value", a.get("description"))) for a in p["args"]))
+        elif m == "Log.entryAdded" and p["entry"]["level"] == "error":
+            self.errors.append("log: " + p["entry"]["text"])
+
+    def eval(self, expr):
+        r = self.call("Runtime.evaluate", expression=expr, returnByValue=True, awaitPromise=True)
+        if "exceptionDetails" in r:
+            raise RuntimeError(f"{expr}: {r['exceptionDetails']}")
+        return r["result"].get("value")
+
+    def wait(self, expr, what, timeout):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if self.eval(expr):
+                return
+            time.sleep(0.05)
+        raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('JSON.stringify(window.lensview)')}")
+
+    def canvas(self):
+        b64 = self.eval("""(() => {
+            const c = document.getElementById('view');
+            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+            let s = '';
+            for (let i = 0; i < d.length; i += 0x8000) s += String.fromCharCode.apply(null, d.subarray(i, i + 0x8000));
+            return btoa(s);
+        })()""")
+        return base64.b64decode(b64)
+
+
+def start_chromium(profile):
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not exe:
+        sys.exit("error: chromium is missing: apt-get install chromium (.ci/run does)")
+    proc = subprocess.Popen([exe, *FLAGS, f"--user-data-dir={profile}", "about:blank"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    port_file = os.path.join(profile, "DevToolsActivePort")
+    for _ in range(300):
+        if os.path.exists(port_file):
+            with open(port_file) as f:
+                port = f.readline().strip()
+            if port:
+                return proc, int(port)
+        if proc.poll() is not None:
+            sys.exit(f"error: chromium exited at start (status {proc.returncode})")
+        time.sleep(0.1)
+    proc.kill()
+    sys.exit("error: chromium did not open its DevTools port in 30 s")
+
+
+def page_target(port):
+    for _ in range(100):
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list", timeout=10) as r:
+            pages = [t for t in json.load(r) if t["type"] == "page"]
+        if pages:
+            return pages[0]["webSocketDebuggerUrl"]
+        time.sleep(0.1)
+    raise RuntimeError("chromium shows no page")
+
+
+def run(page, url, a, out, report):
+    t0 = time.monotonic()
+    page.call("Page.navigate", url=url)
+    page.wait("window.lensview && (window.lensview.done || window.lensview.error !== '')", "its first picture", a.timeout)
+    state = page.eval("JSON.stringify(window.lensview)")
+    report["first"] = json.loads(state)
+    report["first_wall_s"] = time.monotonic() - t0
+    with open(os.path.join(out, "first.rgba"), "wb") as f:
+        f.write(page.canvas())
+    if a.measure:
+        return
+    # W, as a user presses it, on the focused canvas.
+    page.eval("document.getElementById('view').focus()")
+    for kind in ("keyDown", "keyUp"):
+        page.call("Input.dispatchKeyEvent", type=kind, code="KeyW", key="w", windowsVirtualKeyCode=87,
+                  **({"text": "w"} if kind == "keyDown" else {}))
+    page.wait("window.lensview.renders >= 2 && window.lensview.done", "the picture after W", a.timeout)
+    report["moved"] = json.loads(page.eval("JSON.stringify(window.lensview)"))
+    with open(os.path.join(out, "moved.rgba"), "wb") as f:
+        f.write(page.canvas())
+    with open(os.path.join(out, "moved.toml"), "w") as f:
+        f.write(page.eval("window.lensview.sceneToml()"))
+    # A bad scene file through the file input.
+    doc = page.call("DOM.getDocument")
+    node = page.call("DOM.querySelector", nodeId=doc["root"]["nodeId"], selector="#file")["nodeId"]
+    page.call("DOM.setFileInputFiles", nodeId=node, files=[os.path.abspath(a.bad)])
+    page.wait("window.lensview.error !== ''", "an error line for the bad file", a.timeout)
+    shown = page.eval("document.getElementById('error').textContent")
+    with open(os.path.join(out, "error.txt"), "w") as f:
+        f.write(shown)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--dist", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--query", required=True, help="the page's URL parameters, e.g. scene=cubes&w=160&h=120&spp=4")
+    ap.add_argument("--bad", help="a scene file the page must refuse")
+    ap.add_argument("--measure", action="store_true")
+    ap.add_argument("--timeout", type=float, default=240)
+    a = ap.parse_args()
+    # SIGTERM (a timeout) ends through the `finally` below.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit("error: terminated"))
+    os.makedirs(a.out, exist_ok=True)
+    httpd = serve.server(a.dist, 0)
+    threading.Thread(target=httpd.serve_forever, daemon=True).start()
+    profile = tempfile.mkdtemp(prefix="lensview-chromium-")
+    chromium = None
+    report = {"console_errors": []}
+    try:
+        chromium, port = start_chromium(profile)
+        page = Page(page_target(port))
+        for domain in ("Runtime", "Log", "Page", "DOM"):
+            page.call(f"{domain}.enable")
+        url = f"http://127.0.0.1:{httpd.server_address[1]}/?{a.query}"
+        report["url"] = url
+        try:
+            run(page, url, a, a.out, report)
+        finally:
+            report["console_errors"] = page.errors
+            report["user_agent"] = page.eval("navigator.userAgent")
+            report["cross_origin_isolated"] = page.eval("window.crossOriginIsolated")
+    finally:
+        with open(os.path.join(a.out, "report.json"), "w") as f:
+            json.dump(report, f, indent=1)
+        if chromium:
+            chromium.terminate()
+            try:
+                chromium.wait(10)
+            except subprocess.TimeoutExpired:
+                chromium.kill()
+                chromium.wait()
+        httpd.shutdown()
+        httpd.server_close()
+        shutil.rmtree(profile, ignore_errors=True)
+    print(json.dumps(report))
+
+
+if __name__ == "__main__":
+    main()
