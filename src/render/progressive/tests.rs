@@ -286,3 +286,35 @@ fn a_reprojection_records_the_first_hits_it_needs() {
     assert_eq!(late.image().pixels, early.image().pixels);
     assert_eq!(late.first_hits(), early.first_hits());
 }
+
+/// A lens camera's picture is never warped (the warp assumes a pinhole):
+/// moved, or moved into, it is refused and the picture left as it was.
+#[test]
+fn a_lens_camera_is_never_reprojected() {
+    use crate::camera::Camera;
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
+    let (_, lens) = Scene::parse("lens", text).unwrap();
+    let c = &lens.camera;
+    let moved = Scene {
+        camera: Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg),
+        ..lens.clone()
+    };
+    let pinhole = Scene {
+        lens: None,
+        ..moved.clone()
+    };
+    let (w, h) = (24, 16);
+    let mut p = Progressive::new(w, h, 0);
+    assert!(p.run(&lens, Stage::Samples(1), &|| false));
+    let before = p.image().pixels;
+    assert!(!p.reproject(&moved, &lens, |_| 1));
+    assert!(!p.reproject(&lens, &pinhole, |_| 1));
+    assert!(!p.reproject(&pinhole, &lens, |_| 1));
+    assert_eq!(p.image().pixels, before);
+    // The pinhole of the same pose reprojects.
+    let mut q = Progressive::new(w, h, 0);
+    assert!(q.run(&pinhole, Stage::Samples(1), &|| false));
+    assert!(q.reproject(&Scene { lens: None, ..lens.clone() }, &pinhole, |_| 1));
+}
