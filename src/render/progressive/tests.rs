@@ -318,3 +318,40 @@ fn a_lens_camera_is_never_reprojected() {
     assert!(q.run(&pinhole, Stage::Samples(1), &|| false));
     assert!(q.reproject(&Scene { lens: None, ..lens.clone() }, &pinhole, |_| 1));
 }
+
+/// Adaptive waves through a lens camera cast the lens camera's samples
+/// (each pixel's sum is its samples `0 .. count` of the whole-picture
+/// path), not the pinhole's: a defocused picture stays defocused.
+#[test]
+fn adaptive_waves_sample_through_the_lens_camera() {
+    use crate::render::pixel_sample;
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 1.5\nf_number = 2.8\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"cuboid\"\nposition = [0, 0.5, 0]\nsize = [1, 1, 1]\n";
+    let (_, s) = Scene::parse("lens", text).unwrap();
+    let (w, h) = (24u32, 16u32);
+    let mut p = Progressive::new(w, h, 5).with_sampling(Sampling::default());
+    for st in schedule(8) {
+        assert!(p.run(&s, st, &|| false));
+    }
+    let counts = p.counts().to_vec();
+    assert!(counts.iter().any(|&n| n > 1), "no wave refined anything");
+    let img = p.image();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: 8,
+        seed: 5,
+    };
+    let lit = crate::integrator::Lit::from(&s);
+    for y in 0..h {
+        for x in 0..w {
+            let n = counts[(y * w + x) as usize];
+            let sum = (0..n).fold(Rgb::ZERO, |a, i| {
+                a + pixel_sample(&lit, (x, y), (i, p.sampling.pattern), &settings)
+            });
+            let want = sum / n as f64;
+            assert!((img.get(x, y) - want).abs().max_element() < 1e-5, "pixel ({x}, {y})");
+        }
+    }
+}
