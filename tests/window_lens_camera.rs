@@ -56,7 +56,11 @@ fn f9_switches_to_the_lens_camera_and_pgdn_stops_it_down() {
     let x = Xvfb::start();
     let (dir, _) = test_dir("lens-camera");
     let scene = dir.join("cubes.toml");
-    std::fs::copy(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml"), &scene).unwrap();
+    std::fs::copy(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml"),
+        &scene,
+    )
+    .unwrap();
     // What the keys should make, headless: the document's own edits.
     let mut doc = Document::open(&scene).unwrap();
     let pinhole = headless(doc.built());
@@ -72,7 +76,17 @@ fn f9_switches_to_the_lens_camera_and_pgdn_stops_it_down() {
     assert!(apart > 1.0, "f/2.8 and f/{n_want} differ by {apart:.2} only");
 
     let (w, h) = (SW.to_string(), SH.to_string());
-    let args = ["--no-panel", "--width", &w, "--height", &h, "--max-spp", "16", "--exit-after", "600"];
+    let args = [
+        "--no-panel",
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--max-spp",
+        "16",
+        "--exit-after",
+        "600",
+    ];
     let s = Session::launch(&x, &dir, &scene, &args, dir.join("frames.jsonl"));
     let g1 = s.wait_frame(0, 16, "start");
     s.overlay_to("full");

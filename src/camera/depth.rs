@@ -93,11 +93,17 @@ mod tests {
             assert!((c - 0.36f64.hypot(0.24) / 1500.0).abs() < 1e-15);
             let (near, far) = cam.depth_of_field(c);
             let near_b = solve(&cam, c, (0.6, focus));
-            assert!((near - near_b).abs() < 1e-9 * focus, "f/{n} at {focus}: near {near} vs {near_b}");
+            assert!(
+                (near - near_b).abs() < 1e-9 * focus,
+                "f/{n} at {focus}: near {near} vs {near_b}"
+            );
             assert!(near < focus && far > focus);
             if far.is_finite() {
                 let far_b = solve(&cam, c, (focus, 1e9));
-                assert!((far - far_b).abs() < 1e-8 * far, "f/{n} at {focus}: far {far} vs {far_b}");
+                assert!(
+                    (far - far_b).abs() < 1e-8 * far,
+                    "f/{n} at {focus}: far {far} vs {far_b}"
+                );
             } else {
                 // Beyond the hyperfocal distance: even infinity is sharp enough.
                 assert!(blur(&cam, 1e12) <= c * (1.0 + 1e-9), "f/{n} at {focus}");

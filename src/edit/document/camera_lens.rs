@@ -5,9 +5,9 @@
 
 use super::{Change, Document, Rejected};
 use crate::camera::{LensCamera, nearest_focus};
+use crate::math::Ray;
 use crate::scene::SceneFile;
 use crate::scene::file::CameraLensFile;
-use crate::math::Ray;
 use crate::trace::closest_hit_skip;
 
 /// The lens a pinhole scene is given when switched to the lens camera:
@@ -211,7 +211,8 @@ mod tests {
         let mut doc = Document::preset("lens camera").unwrap();
         let boxes = |doc: &Document| doc.built().lens.clone().unwrap().pupil_boxes().as_ptr();
         let first = boxes(&doc);
-        doc.fly_camera(DVec3::new(1.0, 5.0, 9.0), DVec3::new(-20.0, 5.0, 0.0)).unwrap();
+        doc.fly_camera(DVec3::new(1.0, 5.0, 9.0), DVec3::new(-20.0, 5.0, 0.0))
+            .unwrap();
         assert_eq!(boxes(&doc), first, "searched again after a move");
         doc.edit("move a cube", |sf| sf.objects[1].position[0] += 0.5).unwrap();
         assert_eq!(boxes(&doc), first, "searched again after a cube's edit");

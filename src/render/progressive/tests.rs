@@ -316,7 +316,14 @@ fn a_lens_camera_is_never_reprojected() {
     // The pinhole of the same pose reprojects.
     let mut q = Progressive::new(w, h, 0);
     assert!(q.run(&pinhole, Stage::Samples(1), &|| false));
-    assert!(q.reproject(&Scene { lens: None, ..lens.clone() }, &pinhole, |_| 1));
+    assert!(q.reproject(
+        &Scene {
+            lens: None,
+            ..lens.clone()
+        },
+        &pinhole,
+        |_| 1
+    ));
 }
 
 /// Adaptive waves through a lens camera cast the lens camera's samples
