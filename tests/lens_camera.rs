@@ -367,6 +367,18 @@ fn the_command_line_reports_and_reads_the_camera_lens() {
     let (code, text) = run(&["lens", "system", "--system", scene, "--camera"]);
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("f-number                     2.800000000"), "{text}");
+    // Shown as a pinhole (the viewer's switch), the lens is still read.
+    let pinhole = std::env::temp_dir().join(format!("lens-camera-pinhole-{}.toml", std::process::id()));
+    let text = std::fs::read_to_string(scene).unwrap();
+    std::fs::write(
+        &pinhole,
+        text.replace("f_number = 2.8", "f_number = 2.8\npinhole = true"),
+    )
+    .unwrap();
+    let (code, text) = run(&["lens", "system", "--system", pinhole.to_str().unwrap(), "--camera"]);
+    let _ = std::fs::remove_file(&pinhole);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("f-number                     2.800000000"), "{text}");
     let cubes = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cubes.toml");
     let (code, text) = run(&["lens", "system", "--system", cubes, "--camera"]);
     assert_eq!(code, Some(1), "{text}");

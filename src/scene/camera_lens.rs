@@ -35,6 +35,12 @@ fn as_system(lens: &CameraLensFile) -> Result<SystemFile, String> {
     toml::from_str(&file).map_err(|e| e.to_string())
 }
 
+/// The lens camera `sf`'s `[camera]` describes, shown or not (`pinhole =
+/// true` keeps it): `None` without a `lens`, or when it is refused.
+pub fn lens_camera_of(sf: &SceneFile) -> Option<LensCamera> {
+    Validator::default().lens_camera(sf)
+}
+
 impl Validator {
     /// The lens camera of `[camera]`, if it has a `lens` (`None`, with the
     /// problem noted, when it is impossible).

@@ -15,6 +15,7 @@ mod stream;
 mod systems;
 mod validate;
 
+pub use camera_lens::lens_camera_of;
 pub use change::Change;
 pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;

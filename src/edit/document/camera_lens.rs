@@ -21,9 +21,7 @@ const FAR_FOCUS: f64 = 1000.0;
 impl Document {
     /// The lens camera of the scene, switched on or not (`pinhole`).
     pub fn lens_camera(&self) -> Option<LensCamera> {
-        let mut sf = self.scene.clone();
-        sf.camera.pinhole = None;
-        crate::scene::Scene::build(&sf).ok()?.lens.map(|l| (*l).clone())
+        crate::scene::lens_camera_of(&self.scene)
     }
 
     /// Whether the picture is the lens camera's.
