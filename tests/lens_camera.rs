@@ -294,6 +294,16 @@ fn bad_lens_cameras_are_refused_with_file_line_and_key() {
             "camera.f_number: `f_number` needs a `lens`",
         ),
         (
+            format!("{base}pinhole = true\n"),
+            "t.toml:3:",
+            "camera.pinhole: `pinhole` needs a `lens`",
+        ),
+        (
+            format!("{base}{lens}pinhole = \"yes\"\n"),
+            "t.toml:4:",
+            "camera.pinhole",
+        ),
+        (
             format!("{base}{lens}focus_distance = 5\nsensor_distance = 0.4\n"),
             "t.toml:5:",
             "camera.sensor_distance: give either",
