@@ -2,10 +2,11 @@
 //! `Ry·Rx·Rz`, see [`crate::math::rotation_from_degrees`]) and a vertical
 //! field of view. With no rotation it looks along −z with +y up.
 
+mod depth;
 mod lens;
 pub mod pupil;
 
-pub use lens::{Focus, LensCamera, LensCameraError, LensCameraSpec, LocalRay};
+pub use lens::{Focus, LensCamera, LensCameraError, LensCameraSpec, LocalRay, nearest_focus};
 
 use crate::math::{Ray, rotation_from_degrees};
 use glam::{DMat3, DVec3};

@@ -294,6 +294,16 @@ fn bad_lens_cameras_are_refused_with_file_line_and_key() {
             "camera.f_number: `f_number` needs a `lens`",
         ),
         (
+            format!("{base}pinhole = true\n"),
+            "t.toml:3:",
+            "camera.pinhole: `pinhole` needs a `lens`",
+        ),
+        (
+            format!("{base}{lens}pinhole = \"yes\"\n"),
+            "t.toml:4:",
+            "camera.pinhole",
+        ),
+        (
             format!("{base}{lens}focus_distance = 5\nsensor_distance = 0.4\n"),
             "t.toml:5:",
             "camera.sensor_distance: give either",
@@ -367,6 +377,18 @@ fn the_command_line_reports_and_reads_the_camera_lens() {
     let (code, text) = run(&["lens", "system", "--system", scene, "--camera"]);
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("f-number                     2.800000000"), "{text}");
+    // Shown as a pinhole (the viewer's switch), the lens is still read.
+    let pinhole = std::env::temp_dir().join(format!("lens-camera-pinhole-{}.toml", std::process::id()));
+    let text = std::fs::read_to_string(scene).unwrap();
+    std::fs::write(
+        &pinhole,
+        text.replace("f_number = 2.8", "f_number = 2.8\npinhole = true"),
+    )
+    .unwrap();
+    let (code, text) = run(&["lens", "system", "--system", pinhole.to_str().unwrap(), "--camera"]);
+    let _ = std::fs::remove_file(&pinhole);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("f-number                     2.800000000"), "{text}");
     let cubes = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cubes.toml");
     let (code, text) = run(&["lens", "system", "--system", cubes, "--camera"]);
     assert_eq!(code, Some(1), "{text}");
@@ -435,5 +457,171 @@ fn a_defocused_point_spreads_as_the_spot_diagram_says() {
         (got - want).abs() < 0.05 * want,
         "rendered RMS {got}, spot diagram {want} ({} px)",
         want / unit
+    );
+}
+
+/// The double Gauss at f/`n`, focused at `focus`.
+fn double_gauss(n: f64, focus: f64) -> String {
+    format!("lens = {{ preset = \"double-gauss-50mm\", scale = 0.01 }}\nfocus_distance = {focus}\nf_number = {n}\n")
+}
+
+/// README's N-BK7 biconvex singlet (f/2.7, dispersive), focused at 11.4.
+const SINGLET: &str = "lens = { surfaces = [\n\
+    { radius = 0.5, thickness = 0.06, n = \"N-BK7\", semi_aperture = 0.09 },\n\
+    { radius = -0.5, thickness = 0, semi_aperture = 0.09 },\n] }\n\
+    sensor = [0.36, 0.24]\nfocus_distance = 11.4\n";
+
+/// The lens camera of `[camera]` keys `camera` photographing white
+/// spheres of radius `r` at the local object points of `fields` (degrees,
+/// in the system's meridional plane) at distance `d` from the camera: the
+/// scene, and each sphere's camera-space centre.
+fn field_scene(camera: &str, d: f64, r: f64, fields: &[f64]) -> (Scene, Vec<DVec3>) {
+    use lensview::lens_tools::system_bench::SystemBench;
+    let head = format!(
+        "[render]\nbackground = [0, 0, 0]\nshadows = false\n[camera]\nposition = [0, 0, 0]\n{camera}\
+         [ambient]\ncolor = [1, 1, 1]\nintensity = 1\n[materials.white]\ncolor = [1, 1, 1]\ndiffuse = 0\n"
+    );
+    let l = Scene::parse("lens", &head).unwrap().1.lens.unwrap();
+    let at: Vec<DVec3> = fields
+        .iter()
+        .map(|&a| {
+            let bench = SystemBench::new(l.system.clone(), Some(d + l.system.vertex.z), a).unwrap();
+            l.system.world_point(bench.object_point(d + l.system.vertex.z))
+        })
+        .collect();
+    let mut t = head;
+    for p in &at {
+        t += &format!(
+            "[[objects]]\ntype = \"sphere\"\nposition = [{}, {}, {}]\nradius = {r}\nmaterial = \"white\"\n",
+            p.x, p.y, p.z
+        );
+    }
+    (Scene::parse("field", &t).unwrap().1, at)
+}
+
+/// Where the pinhole of the lens's field of view sees `p` (continuous
+/// pixels of a `w × h` picture): near where the lens images it.
+fn pinhole_pixel(s: &Scene, p: DVec3, (w, h): (u32, u32)) -> (f64, f64) {
+    let t = (0.5 * s.camera.fov_y_deg.to_radians()).tan();
+    let a = w as f64 / h as f64;
+    let (sx, sy) = (p.x / -p.z / (t * a), p.y / -p.z / t);
+    ((sx + 1.0) * 0.5 * w as f64, (1.0 - sy) * 0.5 * h as f64)
+}
+
+/// The first and second moments of channel `c` (0: C, 1: d, 2: F) of the
+/// rendered pixels within `half` pixels of `near`: centroid and variance
+/// (px²), the window re-centred once on the centroid.
+fn moments(s: &Scene, set: &RenderSettings, near: (f64, f64), half: i64, c: usize) -> ((f64, f64), f64) {
+    let mut centre = near;
+    let mut out = ((0.0, 0.0), 0.0);
+    for _ in 0..2 {
+        let (x0, y0) = (centre.0 as i64, centre.1 as i64);
+        let (mut m0, mut mx, mut my, mut mxx) = (0.0, 0.0, 0.0, 0.0);
+        for py in (y0 - half).max(0)..(y0 + half).min(set.height as i64) {
+            for px in (x0 - half).max(0)..(x0 + half).min(set.width as i64) {
+                let v = render_pixel(s, px as u32, py as u32, set)[c];
+                let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                (m0, mx, my, mxx) = (m0 + v, mx + v * x, my + v * y, mxx + v * (x * x + y * y));
+            }
+        }
+        assert!(m0 > 0.0, "nothing bright near {centre:?}");
+        centre = (mx / m0, my / m0);
+        out = (centre, mxx / m0 - centre.0 * centre.0 - centre.1 * centre.1);
+    }
+    out
+}
+
+/// An off-axis point out of focus through the double Gauss (d line: its
+/// prescription has no dispersion), and the C and F lines on and off
+/// axis through the N-BK7 singlet (each colour channel is its line's):
+/// the rendered PSF's RMS radius within 5 % of the spot diagram's for that
+/// field and the sensor's plane, as on axis at the d line.
+#[test]
+fn off_axis_and_coloured_points_spread_as_the_spot_diagram_says() {
+    use lensview::lens_tools::system_bench::SystemBench;
+    use lensview::lens_tools::system_spot::system_spot;
+    let field = 8.0;
+    let (w, h) = (240u32, 160u32);
+    let set = RenderSettings {
+        width: w,
+        height: h,
+        spp: 256,
+        seed: 4,
+    };
+    let cases = [
+        // (camera, the point's distance and radius, field angle, lines)
+        (double_gauss(2.8, 11.4), (4.0, 0.02), field, &["d"][..]),
+        (SINGLET.to_string(), (2.5, 0.008), 0.0, &["C", "F"][..]),
+        (SINGLET.to_string(), (2.5, 0.008), field, &["C", "d", "F"][..]),
+    ];
+    for (camera, (d, r), a, lines) in cases {
+        let (s, at) = field_scene(&camera, d, r, &[a]);
+        let l = lens(&s);
+        assert_eq!(l.is_dispersive(), lines.len() > 1);
+        let unit = l.picture(w, h).1 / h as f64;
+        let bench = SystemBench::new(l.system.clone(), Some(d + l.system.vertex.z), a).unwrap();
+        let spot = system_spot(&bench, Some(l.sensor_distance), 64).unwrap();
+        let (h1, _, f) = thick_lens(l);
+        let rho = f / (h1 + d - f) * r / unit;
+        for &line in lines {
+            let c = ["C", "d", "F"].iter().position(|&x| x == line).unwrap();
+            let want = spot.spots.iter().find(|p| p.line == line).unwrap().rms_radius.unwrap();
+            assert!(want / unit > 3.0, "{line} at {a}°: {} px", want / unit);
+            let near = pinhole_pixel(&s, at[0], (w, h));
+            let (_, var) = moments(&s, &set, near, 20, c);
+            let got = (var - rho * rho / 2.0 - 1.0 / 6.0).sqrt() * unit;
+            eprintln!("{line} at {a}°: rendered RMS {got:.6}, spot diagram {want:.6}");
+            assert!(
+                (got - want).abs() < 0.05 * want,
+                "{line} at {a}°: rendered RMS {got}, spot diagram {want} ({} px)",
+                want / unit
+            );
+        }
+    }
+}
+
+/// A grid of points in focus (f/11: the centroid is the chief ray's
+/// landing) along one row of the picture: how far each lands from the
+/// centre, against the paraxial height (magnification from real near-axis
+/// rays, times the point's lateral offset), is the distortion `lens
+/// distortion` gives for the camera's lens at that field and distance.
+#[test]
+fn a_photographed_grid_shows_the_lens_distortion() {
+    use lensview::lens_tools::system_bench::SystemBench;
+    use lensview::lens_tools::system_spot::system_distortion;
+    let (d, fields) = (6.0, [6.0, 12.0, 18.0]);
+    let (s, at) = field_scene(&double_gauss(11.0, d), d, 0.01, &fields);
+    let l = lens(&s);
+    let (w, h) = (360u32, 240u32);
+    let unit = l.picture(w, h).1 / h as f64;
+    let bench = SystemBench::new(l.system.clone(), Some(d + l.system.vertex.z), 0.0).unwrap();
+    let table = system_distortion(&bench, 18.0, 3).unwrap();
+    let (h1, _, f) = thick_lens(l);
+    let m = f / (h1 + d - f);
+    let set = RenderSettings {
+        width: w,
+        height: h,
+        spp: 64,
+        seed: 2,
+    };
+    let mut largest: f64 = 0.0;
+    for (k, (&a, p)) in fields.iter().zip(&at).enumerate() {
+        let ((cx, cy), _) = moments(&s, &set, pinhole_pixel(&s, *p, (w, h)), 8, 1);
+        let real = (cx - w as f64 / 2.0).hypot(cy - h as f64 / 2.0) * unit;
+        let paraxial = m * p.x.hypot(p.y);
+        let got = 100.0 * (real - paraxial) / paraxial;
+        let row = &table.points[k];
+        assert!((row.field_deg - a).abs() < 1e-9);
+        let want = row.distortion_percent.unwrap();
+        eprintln!("{a}°: rendered distortion {got:.4} %, lens distortion {want:.4} %");
+        largest = largest.max(want.abs());
+        assert!(
+            (got - want).abs() < 0.1,
+            "{a}°: rendered distortion {got:.3} %, lens distortion {want:.3} %"
+        );
+    }
+    assert!(
+        largest > 0.2,
+        "the lens barely distorts ({largest:.3} %): nothing is checked"
     );
 }

@@ -31,7 +31,7 @@ use crate::optics::{RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::sampling::radical_inverse;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// What sets the focus.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,8 +83,9 @@ pub struct LensCamera {
     pub sensor_distance: f64,
     /// The distance in focus from the camera (infinite: at infinity).
     pub focus_distance: f64,
-    /// The stop's paraxial f-number as set.
+    /// The stop's paraxial f-number as set, and wide open.
     pub f_number: f64,
+    pub open_f_number: f64,
     /// Paraxial lateral magnification of the plane in focus (negative:
     /// the image is inverted).
     pub magnification: f64,
@@ -93,8 +94,9 @@ pub struct LensCamera {
     rear_z: f64,
     half_diagonal: f64,
     /// The exit pupil's boxes and the exposure, found at the first ray
-    /// (half a million rays: a scene is built, and checked, without them).
-    sampling: OnceLock<Sampling>,
+    /// (half a million rays: a scene is built, and checked, without them),
+    /// or taken from [`SAMPLINGS`].
+    sampling: OnceLock<Arc<Sampling>>,
     /// The media at the C, d and F lines ([`RGB_WAVELENGTHS_UM`]).
     media: Vec<Vec<f64>>,
 }
@@ -105,7 +107,7 @@ impl LensCamera {
         if !(sw > 0.0 && sh > 0.0 && sw.is_finite() && sh.is_finite()) {
             return fail("sensor", format!("sensor {sw} × {sh} must be positive and finite"));
         }
-        let surfaces = stopped_down(&spec.surfaces, spec.f_number)?;
+        let (surfaces, open_f_number) = stopped_down(&spec.surfaces, spec.f_number)?;
         let probe = system_at(0.0, surfaces.clone()).map_err(|e| match spec.f_number {
             // The lens as given was built: the stop's new aperture failed.
             Some(n) => LensCameraError {
@@ -166,6 +168,7 @@ impl LensCamera {
             sensor_distance,
             focus_distance,
             f_number,
+            open_f_number,
             magnification,
             sensor_z,
             rear_z,
@@ -187,11 +190,13 @@ fn system_at(e: f64, surfaces: Vec<SurfaceSpec>) -> Result<LensSystem, LensCamer
 }
 
 /// The surfaces with the stop's aperture set for `f_number` (paraxial:
-/// the entrance pupil scales with the stop).
-fn stopped_down(surfaces: &[SurfaceSpec], f_number: Option<f64>) -> Result<Vec<SurfaceSpec>, LensCameraError> {
+/// the entrance pupil scales with the stop), and the lens's f-number wide
+/// open.
+fn stopped_down(surfaces: &[SurfaceSpec], f_number: Option<f64>) -> Result<(Vec<SurfaceSpec>, f64), LensCameraError> {
     let mut out = surfaces.to_vec();
+    let open = system_at(0.0, out.clone())?.paraxial(WAVELENGTH_D_UM).f_number;
     let Some(n) = f_number else {
-        return Ok(out);
+        return Ok((out, open));
     };
     if !(n > 0.0 && n.is_finite()) {
         return fail("f_number", format!("f-number {n} must be positive and finite"));
@@ -202,7 +207,6 @@ fn stopped_down(surfaces: &[SurfaceSpec], f_number: Option<f64>) -> Result<Vec<S
             "the lens has no stop surface to set (mark one `stop = true`)".into(),
         );
     };
-    let open = system_at(0.0, out.clone())?.paraxial(WAVELENGTH_D_UM).f_number;
     if n < open * (1.0 - 1e-9) {
         return fail(
             "f_number",
@@ -210,7 +214,13 @@ fn stopped_down(surfaces: &[SurfaceSpec], f_number: Option<f64>) -> Result<Vec<S
         );
     }
     out[stop].semi_aperture *= open / n;
-    Ok(out)
+    Ok((out, open))
+}
+
+/// The nearest distance from the entrance pupil that a lens of paraxial
+/// data `p` can focus on (the object at its front focal point).
+pub fn nearest_focus(p: &Paraxial) -> f64 {
+    p.efl - p.front_principal + p.entrance_pupil.position
 }
 
 /// The sensor's distance behind the rear vertex and the distance in focus
@@ -231,7 +241,7 @@ fn focus(p: &Paraxial, f: Focus) -> Result<(f64, f64), LensCameraError> {
                     "focus_distance",
                     format!(
                         "focus distance {d} is nearer than the lens can focus: it must exceed {:.6}",
-                        efl - h + e
+                        nearest_focus(p)
                     ),
                 );
             }
@@ -297,6 +307,29 @@ struct Sampling {
     exposure: f64,
 }
 
+/// What the pupil boxes and the exposure depend on: the system (its
+/// surfaces and stop, in camera space), the sensor and its distance (the
+/// focus); not the camera's pose nor the scene.
+#[derive(PartialEq)]
+struct SamplingKey {
+    system: LensSystem,
+    sensor: [f64; 2],
+    sensor_distance: f64,
+}
+
+/// Samplings kept, the newest last: an edit of the scene or a move of the
+/// camera builds a new [`LensCamera`], which finds its sampling here
+/// instead of searching again (0.3–0.6 s); a few, so that stepping the
+/// focus or f-number back and forth, or undoing, finds them too.
+const SAMPLINGS_KEPT: usize = 8;
+static SAMPLINGS: Mutex<Vec<(SamplingKey, Arc<Sampling>)>> = Mutex::new(Vec::new());
+
+/// The kept sampling of `key`, if any.
+fn cached(key: &SamplingKey) -> Option<Arc<Sampling>> {
+    let cache = SAMPLINGS.lock().unwrap_or_else(|e| e.into_inner());
+    cache.iter().find(|(k, _)| k == key).map(|(_, s)| s.clone())
+}
+
 /// A camera ray in camera space: origin, direction and weight.
 pub struct LocalRay {
     pub origin: DVec3,
@@ -305,34 +338,54 @@ pub struct LocalRay {
 }
 
 impl LensCamera {
-    /// The pupil boxes and the exposure, found once ([`super::pupil`]).
+    /// The pupil boxes and the exposure, found once for each lens, sensor
+    /// and focus ([`SAMPLINGS`]; [`super::pupil`]).
     fn sampling(&self) -> &Sampling {
         self.sampling.get_or_init(|| {
-            let planes = Planes {
-                system: &self.system,
-                media: &self.media[1],
-                sensor_z: self.sensor_z,
-                rear_z: self.rear_z,
-                exit_pupil: (
-                    self.rear_z + self.paraxial.exit_pupil.position,
-                    self.paraxial.exit_pupil.semi_diameter,
-                ),
+            let key = SamplingKey {
+                system: self.system.clone(),
+                sensor: self.sensor,
+                sensor_distance: self.sensor_distance,
             };
-            let half = 1.5 * self.system.surfaces[self.system.len() - 1].semi_aperture;
-            let pupil: Vec<PupilBox> = (0..INTERVALS)
-                .into_par_iter()
-                .map(|i| {
-                    let r = |i: usize| i as f64 / INTERVALS as f64 * self.half_diagonal;
-                    planes.bound(half, (r(i), r(i + 1)))
-                })
-                .collect();
-            // Not zero: the axial ray passes ([`LensCamera::new`]).
-            let centre = centre_weight(&planes, &pupil[0]);
-            Sampling {
-                exposure: if centre > 0.0 { 1.0 / centre } else { 0.0 },
-                pupil,
+            if let Some(s) = cached(&key) {
+                return s;
             }
+            let s = Arc::new(self.search());
+            let mut cache = SAMPLINGS.lock().unwrap_or_else(|e| e.into_inner());
+            if cache.len() == SAMPLINGS_KEPT {
+                cache.remove(0);
+            }
+            cache.push((key, s.clone()));
+            s
         })
+    }
+
+    /// Searches the pupil boxes and the exposure.
+    fn search(&self) -> Sampling {
+        let planes = Planes {
+            system: &self.system,
+            media: &self.media[1],
+            sensor_z: self.sensor_z,
+            rear_z: self.rear_z,
+            exit_pupil: (
+                self.rear_z + self.paraxial.exit_pupil.position,
+                self.paraxial.exit_pupil.semi_diameter,
+            ),
+        };
+        let half = 1.5 * self.system.surfaces[self.system.len() - 1].semi_aperture;
+        let pupil: Vec<PupilBox> = (0..INTERVALS)
+            .into_par_iter()
+            .map(|i| {
+                let r = |i: usize| i as f64 / INTERVALS as f64 * self.half_diagonal;
+                planes.bound(half, (r(i), r(i + 1)))
+            })
+            .collect();
+        // Not zero: the axial ray passes ([`LensCamera::new`]).
+        let centre = centre_weight(&planes, &pupil[0]);
+        Sampling {
+            exposure: if centre > 0.0 { 1.0 / centre } else { 0.0 },
+            pupil,
+        }
     }
 
     /// The picture's width and height on the sensor for a `width × height`

@@ -71,9 +71,10 @@ pub(super) fn load_system(
     };
     match (system, prescription, preset) {
         (Some((path, None)), None, None) if path.extension().is_some_and(|e| e == "toml") => {
-            let (_, scene) = lensview::scene::Scene::load(path)?;
-            match &scene.lens {
-                Some(lens) => Ok(lens.system.clone()),
+            // The camera's lens whether shown or not (`pinhole = true`).
+            let (sf, _) = lensview::scene::Scene::load(path)?;
+            match lensview::scene::lens_camera_of(&sf) {
+                Some(lens) => Ok(lens.system),
                 None => bail!("{}: --camera: the scene's [camera] has no lens", path.display()),
             }
         }

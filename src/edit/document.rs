@@ -15,14 +15,17 @@
 //! - `scene_edits`: every other change the panel and keys make (camera,
 //!   lens, light, material, render settings, the key edits of
 //!   [`super::Edit`]), each one method.
+//! - `camera_lens`: the lens camera's switch, focus and f-number.
 //! - `files`: save, save as, reload, and the TOML text.
 
+mod camera_lens;
 mod files;
 mod items;
 mod scene_edits;
 mod systems;
 mod unsaved;
 
+pub use camera_lens::DEFAULT_CAMERA_LENS;
 pub use unsaved::Unsaved;
 
 pub use files::{ReloadError, SaveError, to_toml};

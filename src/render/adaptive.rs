@@ -10,6 +10,7 @@
 //! is the same on any number of threads.
 
 use super::sparse::{Batch, FirstHit};
+use super::{RenderSettings, pixel_sample};
 use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::sampling::{Pattern, pixel_offset};
@@ -148,6 +149,12 @@ impl Adaptive {
         let means = &means[..];
         let band = w * TILE;
         let size = (w as u32, h as u32);
+        let settings = RenderSettings {
+            width: size.0,
+            height: size.1,
+            spp: target,
+            seed,
+        };
         let bands = new.sum.par_chunks_mut(band).zip(new.sq.par_chunks_mut(band));
         bands
             .zip(new.count.par_chunks_mut(band))
@@ -179,10 +186,17 @@ impl Adaptive {
                                 continue;
                             }
                             let pixel = (y * w + x) as u64;
+                            let dst = ((y - y0) * w + x) as u32;
                             for i in old.count[pixel as usize]..target {
-                                let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
-                                let dst = ((y - y0) * w + x) as u32;
-                                batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
+                                if scene.lens.is_some() {
+                                    // A lens camera's rays one by one, as
+                                    // the whole-picture stages cast them.
+                                    let c = pixel_sample(scene, (x as u32, y as u32), (i, pattern), &settings);
+                                    sink(dst, c, &|| FirstHit::UNKNOWN);
+                                } else {
+                                    let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
+                                    batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
+                                }
                                 cast += 1;
                             }
                         }

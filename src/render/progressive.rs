@@ -221,13 +221,17 @@ impl Progressive {
     /// with it: the frame of [`Stage::Reprojected`]. What cannot be moved
     /// is traced at the block size `level(pixels left)` picks (1: each
     /// pixel's centre). Returns `false`, changing nothing, when there is no
-    /// picture to move (nothing refined yet, or only block levels).
+    /// picture to move (nothing refined yet, or only block levels), or when
+    /// either view is a lens camera's: the warp and its first hits assume a
+    /// pinhole (one centre ray a pixel from one point), and a lens camera's
+    /// pixel gathers rays from the whole pupil, blurred by the focus.
     pub fn reproject<'a>(&mut self, scene: impl Into<Lit<'a>>, from: &Scene, level: impl Fn(usize) -> u32) -> bool {
         let lit = scene.into();
         let scene = &lit;
         use super::reproject::{Source, fill, warp};
         let n = self.width as usize * self.height as usize;
-        if !(self.spp > 0 || self.reprojected) || n == 0 {
+        let pinholes = from.lens.is_none() && scene.lens.is_none();
+        if !(self.spp > 0 || self.reprojected) || n == 0 || !pinholes {
             return false;
         }
         let t0 = web_time::Instant::now();

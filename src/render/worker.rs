@@ -495,7 +495,9 @@ fn run(
 /// first hits for the next move's reprojection (which otherwise records
 /// them itself, on the input's time).
 fn record_first_hits(prog: &mut Progressive, scene: &Scene, costs: &mut Costs, cancelled: &(dyn Fn() -> bool + Sync)) {
-    if prog.record_first_hits(scene, cancelled)
+    // A lens camera's picture is never reprojected ([`Progressive::reproject`]).
+    if scene.lens.is_none()
+        && prog.record_first_hits(scene, cancelled)
         && let Some(share) = prog.specular_share()
     {
         // What the next move's reprojection will have to trace, at least.

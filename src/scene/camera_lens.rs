@@ -1,7 +1,7 @@
-//! `[camera] lens`, `sensor`, `focus_distance` | `sensor_distance` and
-//! `f_number`: the lens camera ([`LensCamera`]), its surfaces read as a
-//! `[[systems]]` entry's are (a preset, a prescription or a table), each
-//! refusal naming its key.
+//! `[camera] lens`, `sensor`, `focus_distance` | `sensor_distance`,
+//! `f_number` and `pinhole`: the lens camera ([`LensCamera`]), its surfaces
+//! read as a `[[systems]]` entry's are (a preset, a prescription or a
+//! table), each refusal naming its key.
 
 use super::error::FieldPath;
 use super::file::{CameraLensFile, SceneFile, SystemFile};
@@ -35,6 +35,12 @@ fn as_system(lens: &CameraLensFile) -> Result<SystemFile, String> {
     toml::from_str(&file).map_err(|e| e.to_string())
 }
 
+/// The lens camera `sf`'s `[camera]` describes, shown or not (`pinhole =
+/// true` keeps it): `None` without a `lens`, or when it is refused.
+pub fn lens_camera_of(sf: &SceneFile) -> Option<LensCamera> {
+    Validator::default().lens_camera(sf)
+}
+
 impl Validator {
     /// The lens camera of `[camera]`, if it has a `lens` (`None`, with the
     /// problem noted, when it is impossible).
@@ -47,6 +53,7 @@ impl Validator {
                 ("focus_distance", c.focus_distance.is_some()),
                 ("sensor_distance", c.sensor_distance.is_some()),
                 ("f_number", c.f_number.is_some()),
+                ("pinhole", c.pinhole.is_some()),
             ] {
                 if set {
                     self.problem(cp.key(key), format!("`{key}` needs a `lens`"));

@@ -113,6 +113,11 @@ pub struct CameraFile {
     /// The aperture stop's f-number (default: wide open).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub f_number: Option<f64>,
+    /// With a `lens`, `true`: look through the pinhole of the lens's field
+    /// of view instead, the lens, focus and f-number kept (the viewer's
+    /// pinhole/lens switch).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pinhole: Option<bool>,
 }
 
 /// `[camera] lens`: `"PRESET"` or `{ preset | prescription | surfaces, scale }`.

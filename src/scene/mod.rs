@@ -15,6 +15,7 @@ mod stream;
 mod systems;
 mod validate;
 
+pub use camera_lens::lens_camera_of;
 pub use change::Change;
 pub use error::{FieldPath, Problem, SceneError, escape_controls};
 pub use file::SceneFile;
@@ -231,7 +232,7 @@ pub struct Scene {
     /// lens's equivalent: [`LensCamera::fov_y_deg`]).
     pub camera: Camera,
     /// A lens system and sensor the camera rays come through (`[camera]
-    /// lens`); `None`: the pinhole.
+    /// lens`); `None`: the pinhole (also with a `lens` and `pinhole = true`).
     pub lens: Option<std::sync::Arc<LensCamera>>,
     /// Ambient light: colour × intensity.
     pub ambient: Rgb,
@@ -394,6 +395,9 @@ impl Scene {
             Some(l) => Camera::new(camera.position, camera.rotation_deg, l.fov_y_deg()),
             None => camera,
         };
+        // `pinhole = true`: the lens checked and its field of view kept,
+        // the picture the pinhole's.
+        let lens = lens.filter(|_| sf.camera.pinhole != Some(true));
         let ambient = v.ambient(sf);
         let lights = v.lights(sf);
         let mut objects = v.objects(sf);

@@ -145,6 +145,18 @@ impl Viewer {
             Action::TogglePanel => s.ask(Command::ShowPanel(!self.display.panel)),
             Action::Pause => s.ask(Command::TogglePause),
             Action::ToggleCaustics => s.toggle_caustics(),
+            Action::ToggleLensCamera => {
+                let r = s.doc.toggle_lens_camera();
+                s.key_result(Some(r));
+            }
+            Action::Focus(f) => {
+                let r = s.doc.step_focus(f);
+                s.key_result(r);
+            }
+            Action::FNumber(stops) => {
+                let r = s.doc.step_f_number(stops);
+                s.key_result(r);
+            }
             Action::Exposure(d) => {
                 let stops = s.doc.scene().display.exposure + d;
                 let r = s.doc.set_exposure(stops);

@@ -37,6 +37,10 @@ pub enum Action {
     LensN(f64),
     ResetView,
     Reload,
+    // Pressed: the lens camera (issue #32).
+    ToggleLensCamera,
+    Focus(f64),
+    FNumber(f64),
     // Pressed: editing (undo history, files, the panel); each restarts
     // refinement by itself when, and only when, the picture changes.
     Undo,
@@ -104,6 +108,7 @@ impl Action {
                 | Action::TogglePanel
                 | Action::Pause
                 | Action::ToggleCaustics
+                | Action::ToggleLensCamera
                 | Action::DeleteSelected
                 | Action::DuplicateSelected
         )
@@ -171,6 +176,26 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::Digit6, "", Action::LensR2(0.25), ""),
     (KeyCode::Digit7, "7/8", Action::LensN(-0.02), "lens index n -/+"),
     (KeyCode::Digit8, "", Action::LensN(0.02), ""),
+    (
+        KeyCode::F9,
+        "F9",
+        Action::ToggleLensCamera,
+        "camera: pinhole / lens (a scene with no lens gets the double Gauss)",
+    ),
+    (
+        KeyCode::Semicolon,
+        "; / '",
+        Action::Focus(0.8),
+        "lens camera: focus nearer / farther (×0.8, ×1.25)",
+    ),
+    (KeyCode::Quote, "", Action::Focus(1.25), ""),
+    (
+        KeyCode::PageUp,
+        "PgUp/PgDn",
+        Action::FNumber(-1.0),
+        "lens camera: f-number -/+ one stop (open / stop down)",
+    ),
+    (KeyCode::PageDown, "", Action::FNumber(1.0), ""),
     (KeyCode::KeyR, "R", Action::ResetView, "reset the view"),
     (
         KeyCode::F5,
@@ -329,5 +354,7 @@ mod tests {
         assert_eq!(label_of(Action::TogglePanel), "F4");
         assert!(help_rows().iter().any(|r| r.0 == "Ctrl+Z" && r.1 == "undo"));
         assert!(!Action::ToggleOverlay.restarts() && Action::LensD(0.1).restarts());
+        assert_eq!(action_for(KeyCode::F9, false, false), Some(Action::ToggleLensCamera));
+        assert!(!Action::ToggleLensCamera.restarts() && Action::FNumber(1.0).restarts());
     }
 }

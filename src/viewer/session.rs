@@ -125,6 +125,19 @@ impl Session {
         }
     }
 
+    /// A lens-camera key's edit: its line, or why it was refused, on the
+    /// message line (`None`: the scene has no lens camera).
+    pub fn key_result(&mut self, r: Option<Result<(String, Change), Rejected>>) {
+        match r {
+            Some(Ok((msg, c))) => {
+                self.message = msg;
+                self.changed(c);
+            }
+            Some(Err(err)) => self.message = format!("not applied: {err}"),
+            None => self.message = "no lens camera: F9 switches to one".into(),
+        }
+    }
+
     pub fn reset_view(&mut self) {
         match self.doc.reset_view() {
             Ok(c) => {

@@ -194,6 +194,22 @@ pub fn scene_lines(doc: &Document, speed: f64) -> Vec<String> {
     v
 }
 
+/// The lens camera's focus readout, when the picture is its: the f-number,
+/// the distance in focus and the depth of field (near and far, for a
+/// circle of confusion of the sensor's diagonal / 1500).
+pub fn focus_line(doc: &Document) -> Option<String> {
+    let lens = doc.built().lens.as_deref()?;
+    let d = |x: f64| if x.is_finite() { format!("{x:.2}") } else { "inf".into() };
+    let (near, far) = lens.depth_of_field(lens.circle_of_confusion());
+    Some(format!(
+        "lens camera f/{:.2}  focus {}  DoF {} - {}",
+        lens.f_number,
+        d(lens.focus_distance),
+        d(near),
+        d(far)
+    ))
+}
+
 /// The lines of the overlay in `mode`: compact, the frame's stage and
 /// speed, the camera and the message; full, the title, both timing lines,
 /// camera, light and lens, and the message. A feature with something to
@@ -212,11 +228,13 @@ pub fn overlay_lines(
         OverlayMode::Compact => {
             v.extend(timing.into_iter().take(1));
             v.extend(scene_lines(doc, speed).into_iter().take(1));
+            v.extend(focus_line(doc));
         }
         OverlayMode::Full => {
             v.push(title);
             v.extend(timing);
             v.extend(scene_lines(doc, speed));
+            v.extend(focus_line(doc));
         }
     }
     v.push(format!("> {message}"));
@@ -249,6 +267,24 @@ mod tests {
             ["rendering…", "camera (0.00, 6.00, 10.00)  speed 3.0", "> hello"]
         );
         assert!(overlay_lines(OverlayMode::Off, "t".into(), timing, &doc, 3.0, "hello").is_empty());
+    }
+
+    /// With the lens camera, both modes read its focus and depth of field
+    /// (the library's figures); switched to the pinhole, no such line.
+    #[test]
+    fn the_overlay_reads_the_lens_cameras_focus() {
+        let mut doc = Document::preset("lens camera").unwrap();
+        let lens = doc.built().lens.clone().unwrap();
+        let (near, far) = lens.depth_of_field(lens.circle_of_confusion());
+        let want = format!("lens camera f/2.80  focus 11.40  DoF {near:.2} - {far:.2}");
+        assert!(near < 11.4 && far > 11.4 && far.is_finite());
+        for mode in [OverlayMode::Compact, OverlayMode::Full] {
+            let lines = overlay_lines(mode, "t".into(), vec![], &doc, 3.0, "m");
+            assert!(lines.contains(&want), "{lines:?}");
+        }
+        doc.toggle_lens_camera().unwrap();
+        let lines = overlay_lines(OverlayMode::Full, "t".into(), vec![], &doc, 3.0, "m");
+        assert!(!lines.iter().any(|l| l.starts_with("lens camera")), "{lines:?}");
     }
 
     /// Every field of a frame-log line, from a frame whose figures are known.

@@ -286,3 +286,79 @@ fn a_reprojection_records_the_first_hits_it_needs() {
     assert_eq!(late.image().pixels, early.image().pixels);
     assert_eq!(late.first_hits(), early.first_hits());
 }
+
+/// A lens camera's picture is never warped (the warp assumes a pinhole):
+/// moved, or moved into, it is refused and the picture left as it was.
+#[test]
+fn a_lens_camera_is_never_reprojected() {
+    use crate::camera::Camera;
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
+    let (_, lens) = Scene::parse("lens", text).unwrap();
+    let c = &lens.camera;
+    let moved = Scene {
+        camera: Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg),
+        ..lens.clone()
+    };
+    let pinhole = Scene {
+        lens: None,
+        ..moved.clone()
+    };
+    let (w, h) = (24, 16);
+    let mut p = Progressive::new(w, h, 0);
+    assert!(p.run(&lens, Stage::Samples(1), &|| false));
+    let before = p.image().pixels;
+    assert!(!p.reproject(&moved, &lens, |_| 1));
+    assert!(!p.reproject(&lens, &pinhole, |_| 1));
+    assert!(!p.reproject(&pinhole, &lens, |_| 1));
+    assert_eq!(p.image().pixels, before);
+    // The pinhole of the same pose reprojects.
+    let mut q = Progressive::new(w, h, 0);
+    assert!(q.run(&pinhole, Stage::Samples(1), &|| false));
+    assert!(q.reproject(
+        &Scene {
+            lens: None,
+            ..lens.clone()
+        },
+        &pinhole,
+        |_| 1
+    ));
+}
+
+/// Adaptive waves through a lens camera cast the lens camera's samples
+/// (each pixel's sum is its samples `0 .. count` of the whole-picture
+/// path), not the pinhole's: a defocused picture stays defocused.
+#[test]
+fn adaptive_waves_sample_through_the_lens_camera() {
+    use crate::render::pixel_sample;
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 1.5\nf_number = 2.8\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"cuboid\"\nposition = [0, 0.5, 0]\nsize = [1, 1, 1]\n";
+    let (_, s) = Scene::parse("lens", text).unwrap();
+    let (w, h) = (24u32, 16u32);
+    let mut p = Progressive::new(w, h, 5).with_sampling(Sampling::default());
+    for st in schedule(8) {
+        assert!(p.run(&s, st, &|| false));
+    }
+    let counts = p.counts().to_vec();
+    assert!(counts.iter().any(|&n| n > 1), "no wave refined anything");
+    let img = p.image();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: 8,
+        seed: 5,
+    };
+    let lit = crate::integrator::Lit::from(&s);
+    for y in 0..h {
+        for x in 0..w {
+            let n = counts[(y * w + x) as usize];
+            let sum = (0..n).fold(Rgb::ZERO, |a, i| {
+                a + pixel_sample(&lit, (x, y), (i, p.sampling.pattern), &settings)
+            });
+            let want = sum / n as f64;
+            assert!((img.get(x, y) - want).abs().max_element() < 1e-5, "pixel ({x}, {y})");
+        }
+    }
+}

@@ -1,4 +1,5 @@
-//! The *Camera* section: pose and field of view, the flight speed, *Reset
+//! The *Camera* section: pose and field of view, the pinhole/lens switch
+//! with the lens camera's focus and f-number, the flight speed, *Reset
 //! the view* and *Look at the lens*.
 
 use super::widgets::{Field, vec3};
@@ -30,6 +31,7 @@ pub fn section(ui: &mut egui::Ui, cx: &mut Ctx) {
             },
             |doc, (pos, rot, fov)| doc.set_camera(DVec3::from(pos), DVec3::from(rot), fov),
         );
+        super::camera_lens::controls(ui, cx);
         ui.horizontal(|ui| {
             ui.label("movement speed");
             ui.add(

@@ -20,6 +20,7 @@
 mod add;
 mod analysis;
 mod camera;
+mod camera_lens;
 mod confirm;
 mod file_dialog;
 mod lens;
