@@ -53,7 +53,13 @@ pub fn pick(doc: &Document, pic: &Picture, cursor: (f64, f64), ppp: f64) -> Opti
         return Some(Picked::Light(i));
     }
     let (w, h) = pic.size;
-    let ray: Ray = scene.camera.ray(p[0], p[1], w, h);
+    // Through a lens camera, the ray the lens sends out for the pixel's
+    // centre through the middle of its pupil box (the picture is made of
+    // such rays, not the pinhole's); the pinhole's where the lens stops it.
+    let through_lens = (scene.lens.as_ref())
+        .and_then(|l| l.ray(&scene.camera, (p[0], p[1]), (w, h), (0.5, 0.5), 1))
+        .map(|r| r.0);
+    let ray: Ray = through_lens.unwrap_or_else(|| scene.camera.ray(p[0], p[1], w, h));
     let (o, _) = lensview::trace::closest_hit(scene, &ray, f64::INFINITY)?;
     doc.item_of_object(o).map(Picked::Item)
 }
