@@ -8,6 +8,7 @@ use super::lens_charts::{FieldSpot, LineDots, distortion_chart, spot_chart};
 use super::lens_system_figures::{FigureLens, Which};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
+use lensview::lens_tools::bench::Bench as FigureBench;
 use lensview::lens_tools::sketch::{Sketch, place_label};
 use lensview::lens_tools::{Setup, SetupError};
 use lensview::output::write_file;
@@ -172,24 +173,18 @@ pub fn spot(a: &SpotArgs) -> Result<()> {
         let s = Setup::new(l.0, l.1, l.2, l.3, b.object_distance, field).map_err(|e| a.refuse(e))?;
         spots.push(lensview::lens_tools::spot_diagram(&s, a.image_plane, a.rings).map_err(|e| a.refuse(e))?);
     }
-    if let Some(path) = &a.output {
-        let fields: Vec<FieldSpot> = (spots.iter())
-            .map(|d| field_spot(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays))))
+    let chart = || {
+        let fields = (spots.iter())
+            .map(|d| field_spot::<Setup>(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays[..]))))
             .collect();
         let plane = plane_words(rounded(spots[0].image_plane_from_v2), "V2");
         let title = format!(
             "Spot diagram: lens d {} R1 {} R2 {}; image plane {plane}",
             l.0, l.1, l.2
         );
-        spot_chart(path, &title, &fields)?;
-    }
-    if a.json {
-        return match spots.as_slice() {
-            [one] => print_json(one),
-            many => print_json(&many),
-        };
-    }
-    for spot in &spots {
+        (title, fields)
+    };
+    spot_outputs(a, &spots, chart, |spot| {
         println!(
             "spot diagram: hexapolar, {} rings over {} (0.9·d/2); image plane {}; field {}°",
             spot.rings,
@@ -202,7 +197,29 @@ pub fn spot(a: &SpotArgs) -> Result<()> {
             let stats = (sp.centroid, sp.rms_radius);
             println!("{}", spot_row(sp.line, sp.wavelength_um, Some(sp.n), rays, stats));
         }
+    })
+}
+
+/// `spot`'s outputs, for the lens's diagrams and a system's: the chart of
+/// `chart()` (title, fields) with -o, then the JSON (one diagram, or a list
+/// with --fields) or each diagram's text (`text`).
+pub(super) fn spot_outputs<T: serde::Serialize>(
+    a: &SpotArgs,
+    spots: &[T],
+    chart: impl FnOnce() -> (String, Vec<FieldSpot>),
+    text: impl Fn(&T),
+) -> Result<()> {
+    if let Some(path) = &a.output {
+        let (title, fields) = chart();
+        spot_chart(path, &title, &fields)?;
     }
+    if a.json {
+        return match spots {
+            [one] => print_json(one),
+            many => print_json(&many),
+        };
+    }
+    spots.iter().for_each(text);
     Ok(())
 }
 
@@ -224,40 +241,23 @@ pub(super) fn rounded(x: f64) -> f64 {
     (x * 1e6).round() / 1e6
 }
 
-/// One field's spot as the chart draws it: each line's image points.
-pub(super) fn field_spot<'a, R: 'a + HasImagePoint>(
+/// One field's spot as the chart draws it: each line's image points
+/// (the rays listed by the bench `B`, the lens's or a system's).
+pub(super) fn field_spot<'a, B: FigureBench>(
     field_deg: f64,
-    lines: impl Iterator<Item = (&'static str, &'a Vec<R>)>,
-) -> FieldSpot {
+    lines: impl Iterator<Item = (&'static str, &'a [B::Ray])>,
+) -> FieldSpot
+where
+    B::Ray: 'a,
+{
     FieldSpot {
         field_deg,
         lines: lines
             .map(|(line, rays)| LineDots {
                 line,
-                points: rays
-                    .iter()
-                    .filter_map(|r| r.image_point())
-                    .map(|p| [p[0], p[1]])
-                    .collect(),
+                points: rays.iter().filter_map(B::image_point).map(|p| [p[0], p[1]]).collect(),
             })
             .collect(),
-    }
-}
-
-/// A listed ray's image point (the lens's rays and a system's).
-pub(super) trait HasImagePoint {
-    fn image_point(&self) -> Option<[f64; 3]>;
-}
-
-impl HasImagePoint for lensview::lens_tools::setup::ListedRay {
-    fn image_point(&self) -> Option<[f64; 3]> {
-        self.image_point
-    }
-}
-
-impl HasImagePoint for lensview::lens_tools::system_bench::SystemRay {
-    fn image_point(&self) -> Option<[f64; 3]> {
-        self.image_point
     }
 }
 

@@ -5,7 +5,8 @@
 //! [`lensview::lens_tools::system_spot`]).
 
 use super::lens_figures::{
-    DistortionArgs, FanArgs, SpotArgs, field_spot, plane_words, print_json, refuse, rounded, spot_row, write_sketch,
+    DistortionArgs, FanArgs, SpotArgs, field_spot, plane_words, print_json, refuse, rounded, spot_outputs, spot_row,
+    write_sketch,
 };
 use anyhow::{Result, bail};
 use clap::Args;
@@ -160,21 +161,17 @@ pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
         let bench = if b.shape.aim_chief { bench.aimed() } else { bench };
         spots.push(system_spot(&bench, a.image_plane, a.rings).map_err(|e| a.refuse(e))?);
     }
-    if let Some(path) = &a.output {
-        let fields: Vec<_> = (spots.iter())
-            .map(|d| field_spot(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays))))
+    let chart = || {
+        let fields = (spots.iter())
+            .map(|d| field_spot::<SystemBench>(d.field_deg, d.spots.iter().map(|sp| (sp.line, &sp.rays[..]))))
             .collect();
         let plane = plane_words(rounded(spots[0].image_plane_from_last_vertex), "the last vertex");
-        let title = format!("Spot diagram: {} surfaces; image plane {plane}", sys.len());
-        super::lens_charts::spot_chart(path, &title, &fields)?;
-    }
-    if a.json {
-        return match spots.as_slice() {
-            [one] => print_json(one),
-            many => print_json(&many),
-        };
-    }
-    for spot in &spots {
+        (
+            format!("Spot diagram: {} surfaces; image plane {plane}", sys.len()),
+            fields,
+        )
+    };
+    spot_outputs(a, &spots, chart, |spot| {
         println!(
             "spot diagram: hexapolar, {} rings over the entrance pupil (radius {} at {} from the first vertex); image plane {}; field {}°",
             spot.rings,
@@ -188,8 +185,7 @@ pub fn spot(a: &SpotArgs, sys: Box<LensSystem>) -> Result<()> {
             let stats = (sp.centroid, sp.rms_radius);
             println!("{}", spot_row(sp.line, sp.wavelength_um, None, rays, stats));
         }
-    }
-    Ok(())
+    })
 }
 
 pub fn distortion(a: &DistortionArgs, sys: Box<LensSystem>) -> Result<()> {

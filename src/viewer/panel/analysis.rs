@@ -205,35 +205,28 @@ fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_ana
 }
 
 fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) -> Option<egui::Rect> {
-    // The paraxial image moved by the defocus; a magnifier's virtual image
-    // as it is (a plane given to the spot lies after V2).
-    let plane = match s.image_plane(None) {
-        Ok(p) if p > 0.0 => Some(Some(p + a.defocus).filter(|p| *p > 0.0)),
-        Ok(_) => Some(None),
-        Err(_) => None,
-    };
-    let diagrams: Option<Vec<_>> = plane.and_then(|plane| {
+    let diagrams = s.image_plane(None).ok().and_then(|paraxial| {
+        let plane = spot_plane(paraxial, a.defocus);
         (spot_fields(a.field_deg).into_iter())
-            .map(|f| spot_diagram(&s.at_field(f), plane, a.rings).ok())
+            .map(|f| {
+                let d = spot_diagram(&s.at_field(f), plane, a.rings).ok()?;
+                let lines = d
+                    .spots
+                    .iter()
+                    .map(|sp| SpotLine::of::<Setup>(sp.line, &sp.rays, sp.rms_radius, sp.centroid));
+                Some((d.field_deg, d.image_plane_from_v2, lines.collect()))
+            })
             .collect()
     });
-    let Some(diagrams) = diagrams else {
-        ui.allocate_ui(size, |ui| {
-            ui.label("Spot: no image plane here (give the image a plane after V2).");
-        });
-        return None;
-    };
-    let spots = diagrams.iter().map(|d| {
-        let lines = d.spots.iter().map(|sp| SpotLine {
-            line: sp.line,
-            points: sp.rays.iter().map(|r| r.image_point).collect(),
-            rms: sp.rms_radius,
-            centroid: sp.centroid,
-        });
-        let title = format!("Spot, field {}°", d.field_deg);
-        (title, plane_words(d.image_plane_from_v2, "V2"), lines.collect())
-    });
-    spot_plots(ui, size, spots)
+    spot_figure(ui, size, diagrams, "V2")
+}
+
+/// The plane the window's spot is traced to, from the paraxial image
+/// `paraxial` (from the last vertex): a real one moved by the defocus (the
+/// spot refuses it at or before the last vertex), a magnifier's virtual
+/// image as it is (`None`: the figures' own image).
+pub(super) fn spot_plane(paraxial: f64, defocus: f64) -> Option<f64> {
+    (paraxial > 0.0).then_some(paraxial + defocus)
 }
 
 /// The field angles the window's spot shows: the axis, and the chosen
@@ -263,21 +256,45 @@ pub(super) struct SpotLine {
     pub centroid: Option<[f64; 2]>,
 }
 
-/// Spot plots side by side (title, plane in words, lines), each with its
-/// lines' RMS radius and centroid below; returns where they are together.
-pub(super) fn spot_plots(
+impl SpotLine {
+    /// A line's spot from its listed rays (the lens's or a system's).
+    pub fn of<B: Bench>(line: &'static str, rays: &[B::Ray], rms: Option<f64>, centroid: Option<[f64; 2]>) -> SpotLine {
+        SpotLine {
+            line,
+            points: rays.iter().map(B::image_point).collect(),
+            rms,
+            centroid,
+        }
+    }
+}
+
+/// The spot plots of `diagrams` (each: field angle, image plane from the
+/// last vertex `last`, lines) side by side, each with its lines' RMS
+/// radius and centroid below, or why there are none; returns where they
+/// are together.
+pub(super) fn spot_figure(
     ui: &mut egui::Ui,
     size: Vec2,
-    spots: impl Iterator<Item = (String, String, Vec<SpotLine>)>,
+    diagrams: Option<Vec<(f64, f64, Vec<SpotLine>)>>,
+    last: &str,
 ) -> Option<egui::Rect> {
+    let Some(diagrams) = diagrams else {
+        ui.allocate_ui(size, |ui| {
+            ui.label(format!(
+                "Spot: no image plane here (give the image a plane after {last})."
+            ));
+        });
+        return None;
+    };
     let mut all: Option<egui::Rect> = None;
-    for (title, plane, lines) in spots {
+    for (field_deg, plane, lines) in diagrams {
         // Its size with the lines below, so that a wrapping row wraps before it.
         let tall = size + Vec2::new(0.0, 80.0);
         let r = ui.allocate_ui_with_layout(tall, egui::Layout::top_down(egui::Align::Min), |ui| {
             let series = spot_series(lines.iter().map(|l| l.points.iter().copied()));
+            let title = format!("Spot, field {field_deg}°");
             let rect = plot(ui, size, &title, ("x (units)", "y (units)"), &series, true);
-            ui.small(plane);
+            ui.small(plane_words(plane, last));
             for (l, colour) in lines.iter().zip(LINES) {
                 let c = l
                     .centroid

@@ -10,7 +10,7 @@
 //! `LensSystem::trace`), as `lens fan`, `lens spot` and `lens distortion`
 //! compute them.
 
-use super::analysis::{AnalysisState, LINES, SpotLine, distortion_curve, plane_words, spot_fields, spot_plots};
+use super::analysis::{AnalysisState, LINES, SpotLine, distortion_curve, spot_fields, spot_figure, spot_plane};
 use super::plots::{Series, plot, sketch};
 use egui::{Color32, Rect, Vec2};
 use lensview::geometry::LensSystem;
@@ -94,36 +94,16 @@ fn focal_shift(ui: &mut egui::Ui, sys: &LensSystem, size: Vec2) -> Rect {
 }
 
 fn spot(ui: &mut egui::Ui, bench: &SystemBench, a: &AnalysisState, paraxial: f64, size: Vec2) -> Option<Rect> {
-    // A magnifier's virtual image as it is; a real one moved by the defocus.
-    let plane = if paraxial < 0.0 {
-        None
-    } else {
-        Some(paraxial + a.defocus)
-    };
-    let diagrams: Option<Vec<_>> = (spot_fields(a.field_deg).into_iter())
-        .map(|f| system_spot(&bench.at_field(f), plane, a.rings).ok())
+    let plane = spot_plane(paraxial, a.defocus);
+    let diagrams = (spot_fields(a.field_deg).into_iter())
+        .map(|f| {
+            let d = system_spot(&bench.at_field(f), plane, a.rings).ok()?;
+            let lines =
+                (d.spots.iter()).map(|sp| SpotLine::of::<SystemBench>(sp.line, &sp.rays, sp.rms_radius, sp.centroid));
+            Some((d.field_deg, d.image_plane_from_last_vertex, lines.collect()))
+        })
         .collect();
-    let Some(diagrams) = diagrams else {
-        ui.allocate_ui(size, |ui| {
-            ui.label("Spot: no image plane here (give the image a plane after the last vertex).");
-        });
-        return None;
-    };
-    let spots = diagrams.iter().map(|d| {
-        let lines = d.spots.iter().map(|sp| SpotLine {
-            line: sp.line,
-            points: sp.rays.iter().map(|r| r.image_point).collect(),
-            rms: sp.rms_radius,
-            centroid: sp.centroid,
-        });
-        let title = format!("Spot, field {}°", d.field_deg);
-        (
-            title,
-            plane_words(d.image_plane_from_last_vertex, "the last vertex"),
-            lines.collect(),
-        )
-    });
-    spot_plots(ui, size, spots)
+    spot_figure(ui, size, diagrams, "the last vertex")
 }
 
 fn distortion_plot(ui: &mut egui::Ui, dist: Option<&SystemDistortion>, size: Vec2) -> Option<Rect> {
