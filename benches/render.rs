@@ -133,5 +133,42 @@ fn frames(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, shapes, bvh, frames);
+/// The reprojection's warp alone (splat and look back, no tracing) after
+/// a step forward, with its buffers kept from step to step as a flight
+/// keeps them.
+fn warp(c: &mut Criterion) {
+    use lensview::color::Rgb;
+    use lensview::render::FirstHit;
+    use lensview::render::reproject::{Scratch, Source, warp};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cubes.toml");
+    let (_, scene) = Scene::load(&path).unwrap();
+    let mut g = c.benchmark_group("reproject");
+    g.sample_size(20);
+    for (w, h) in [(640, 360), (1280, 720)] {
+        let mut p = Progressive::new(w, h, 0);
+        p.run(&scene, Stage::Samples(1), &|| false);
+        p.record_first_hits(&scene, &|| false);
+        let img = p.image();
+        // Running sums of one sample each, as after the first sample stage.
+        let ones = vec![1; (w * h) as usize];
+        let src = Source {
+            camera: &scene.camera,
+            size: (w, h),
+            colour: &img.pixels,
+            count: Some(&ones),
+            first: p.first_hits().unwrap(),
+        };
+        let c0 = &scene.camera;
+        let to = lensview::camera::Camera::new(c0.position + c0.forward() * 0.1, c0.rotation_deg, c0.fov_y_deg);
+        let n = (w * h) as usize;
+        let (mut out, mut first) = (vec![Rgb::ZERO; n], vec![FirstHit::default(); n]);
+        let mut scratch = Scratch::default();
+        g.bench_function(format!("{w}x{h}-warp-step-forward"), |b| {
+            b.iter(|| warp(black_box(&src), &to, (w, h), &mut scratch, &mut out, &mut first))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, shapes, bvh, frames, warp);
 criterion_main!(benches);

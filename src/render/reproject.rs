@@ -18,7 +18,6 @@
 //!    tap fits — at their centres, or per block of a coarser level when
 //!    the caller's budget says so.
 
-use super::progressive::mean;
 mod fill;
 
 pub use fill::fill;
@@ -28,7 +27,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::scene::Scene;
 use crate::simd::LANES;
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -133,15 +132,24 @@ pub struct Source<'a> {
     pub first: &'a [FirstHit],
 }
 
+impl Source<'_> {
+    /// Old pixel `i`'s colour, in `f32` (a warp's picture is a preview:
+    /// the first sample stage replaces it).
+    #[inline(always)]
+    fn colour(&self, i: usize) -> Vec3 {
+        let c = self.colour[i].as_vec3();
+        match self.count {
+            Some(count) => c * (1.0 / count[i].max(1) as f32),
+            None => c,
+        }
+    }
+}
+
 /// Working memory of [`warp`], kept from call to call.
 #[derive(Debug, Default)]
 pub struct Scratch {
     /// Per new pixel, the nearest point splatted on it: [`key`].
     splat: Vec<AtomicU32>,
-    /// Per old pixel, its colour and (in `w`) its first hit's depth in the
-    /// old view: infinite for the background, NaN where nothing may be
-    /// taken (glass, mirrors, unknown). One load per tap.
-    old: Vec<Vec4>,
 }
 
 /// What a splat key says besides depth (its two low bits): the classes of
@@ -176,12 +184,11 @@ pub fn warp(
 ) -> usize {
     let (wu, hu) = (w as usize, h as usize);
     splat(src, cam, (w, h), scratch);
-    let (splat, old) = (&scratch.splat[..wu * hu], &scratch.old[..]);
+    let splat = &scratch.splat[..wu * hu];
     let back = Back {
         splat,
-        old,
+        src,
         size: (wu, hu),
-        old_size: src.size,
         to_new: Projector::new(cam, (w, h)),
         to_old: Projector::new(src.camera, src.size),
         shift: (cam.position - src.camera.position).as_vec3(),
@@ -207,9 +214,8 @@ pub fn warp(
 /// What step 2 reads.
 struct Back<'a> {
     splat: &'a [AtomicU32],
-    old: &'a [Vec4],
+    src: &'a Source<'a>,
     size: (usize, usize),
-    old_size: (u32, u32),
     to_new: Projector,
     to_old: Projector,
     /// The new camera's position less the old one's.
@@ -248,7 +254,7 @@ impl Back<'_> {
             for l in 0..m {
                 let (class, (u, v, z)) = (k[l] & 3, at[l]);
                 let taken = (class != SPECULAR && z > 0.0)
-                    .then(|| taps(self.old, self.old_size, (u, v), (class != SKY).then_some(z)))
+                    .then(|| taps(self.src, (u, v), (class != SKY).then_some(z)))
                     .flatten();
                 let x = x0 + l;
                 first[x] = match taken {
@@ -272,58 +278,67 @@ impl Back<'_> {
 
 /// Step 1: every old pixel's point splatted on the new view, keeping the
 /// nearest per new pixel (glass and mirrors too, so that they hide what is
-/// behind them); and the old pixels' colours and depths for [`taps`].
+/// behind them). It reads only the old first hits (their colours are read
+/// by [`taps`], where they are taken: a pass that copied them into a
+/// buffer of its own cost more than the look back's reads).
 fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) {
     let n = w as usize * h as usize;
     const CHUNK: usize = 4096;
     scratch.splat.resize_with(n, || AtomicU32::new(EMPTY));
-    scratch.old.resize(src.first.len(), Vec4::ZERO);
     scratch.splat[..n]
         .par_chunks_mut(CHUNK)
         .for_each(|c| c.iter_mut().for_each(|s| *s.get_mut() = EMPTY));
     let splat = &scratch.splat[..n];
     let to_new = Projector::new(cam, (w, h));
     let shift = (src.camera.position - cam.position).as_vec3();
-    let (wf, hf) = (w as f32, h as f32);
     // The old pixels' centre rays, scaled to depth 1 in the old view.
     let from_old = Projector::new(src.camera, src.size);
     let old_w = src.size.0 as usize;
-    scratch
-        .old
-        .par_chunks_mut(old_w.max(1))
-        .enumerate()
-        .for_each(|(y, olds)| {
-            let (row0, dx) = from_old.row_rays(y);
-            for (x, old) in olds.iter_mut().enumerate() {
-                let i = y * old_w + x;
-                let f = src.first[i];
-                let colour = match src.count {
-                    Some(count) => mean(src.colour[i], count[i]),
-                    None => src.colour[i],
-                };
-                let dir = row0 + dx * x as f32;
-                let z = f.depth();
-                let (class, v, depth) = match f.seen() {
-                    Seen::Unknown => {
-                        *old = colour.as_vec3().extend(f32::NAN);
-                        continue;
-                    }
-                    Seen::Sky => (SKY, dir, f32::INFINITY),
-                    Seen::Surface => (SURFACE, dir * z + shift, z),
-                    Seen::Specular => (SPECULAR, dir * z + shift, f32::NAN),
-                };
-                *old = colour.as_vec3().extend(depth);
-                let Some((x, y, z)) = to_new.project(v) else { continue };
-                if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
-                    continue;
-                }
-                let k = key(if class == SKY { f32::MAX } else { z }, class);
-                let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
-                if k < cell.load(Ordering::Relaxed) {
-                    cell.fetch_min(k, Ordering::Relaxed);
-                }
-            }
-        });
+    src.first.par_chunks(old_w.max(1)).enumerate().for_each(|(y, firsts)| {
+        let to = Splat {
+            splat,
+            to_new: &to_new,
+            shift,
+            size: (w, h),
+        };
+        splat_row(&to, from_old.row_rays(y), firsts);
+    });
+}
+
+/// What step 1 writes into, and how.
+struct Splat<'a> {
+    splat: &'a [AtomicU32],
+    to_new: &'a Projector,
+    /// The old camera's position less the new one's.
+    shift: Vec3,
+    size: (u32, u32),
+}
+
+/// Step 1 for one row of old pixels (`rays`: [`Projector::row_rays`]).
+fn splat_row(to: &Splat, (row0, dx): (Vec3, Vec3), firsts: &[FirstHit]) {
+    let (w, h) = to.size;
+    let (wf, hf) = (w as f32, h as f32);
+    for (x, f) in firsts.iter().enumerate() {
+        let dir = row0 + dx * x as f32;
+        let z = f.depth();
+        let (class, v) = match f.seen() {
+            Seen::Unknown => continue,
+            Seen::Sky => (SKY, dir),
+            Seen::Surface => (SURFACE, dir * z + to.shift),
+            Seen::Specular => (SPECULAR, dir * z + to.shift),
+        };
+        let Some((x, y, z)) = to.to_new.project(v) else {
+            continue;
+        };
+        if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
+            continue;
+        }
+        let k = key(if class == SKY { f32::MAX } else { z }, class);
+        let cell = &to.splat[(y as i32 * w as i32 + x as i32) as usize];
+        if k < cell.load(Ordering::Relaxed) {
+            cell.fetch_min(k, Ordering::Relaxed);
+        }
+    }
 }
 
 /// For row `y`: per column `x` (at `x + 1`; the ends stay [`EMPTY`]) the
@@ -360,11 +375,11 @@ fn pick(own: u32, near: &[u32], spec: &[u32]) -> u32 {
 }
 
 /// The old picture's colour at continuous position `(u, v)`, bilinear over
-/// the taps whose depth is within [`DEPTH_TOLERANCE`] of `z` (the
-/// background's when `z` is `None`); `None` if none is.
+/// the taps that saw a surface within [`DEPTH_TOLERANCE`] of depth `z`
+/// (the background, when `z` is `None`); `None` if none did.
 #[inline]
-fn taps(old: &[Vec4], (w, h): (u32, u32), (u, v): (f32, f32), z: Option<f32>) -> Option<Rgb> {
-    let (w, h) = (w as i32, h as i32);
+fn taps(src: &Source, (u, v): (f32, f32), z: Option<f32>) -> Option<Rgb> {
+    let (w, h) = (src.size.0 as i32, src.size.1 as i32);
     let (u, v) = (u - 0.5, v - 0.5);
     if !(u > -1.0 && v > -1.0 && u < w as f32 && v < h as f32) {
         return None;
@@ -377,21 +392,23 @@ fn taps(old: &[Vec4], (w, h): (u32, u32), (u, v): (f32, f32), z: Option<f32>) ->
     let wy = [if v0 >= 0 { 1.0 - fv } else { 0.0 }, if v0 + 1 < h { fv } else { 0.0 }];
     let xs = [u0.max(0), (u0 + 1).min(w - 1)];
     let ys = [v0.max(0), (v0 + 1).min(h - 1)];
-    let (mut sum, mut weight) = (Vec4::ZERO, 0.0);
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
     for (ty, wy) in ys.into_iter().zip(wy) {
         for (tx, wx) in xs.into_iter().zip(wx) {
-            let t = old[(ty * w + tx) as usize];
+            let i = (ty * w + tx) as usize;
+            let t = src.first[i];
             let same = match z {
-                None => t.w == f32::INFINITY,
-                Some(z) => (t.w - z).abs() <= DEPTH_TOLERANCE * z,
+                None => t.seen() == Seen::Sky,
+                Some(z) => t.seen() == Seen::Surface && (t.depth() - z).abs() <= DEPTH_TOLERANCE * z,
             };
-            let wt = if same { wx * wy } else { 0.0 };
-            // (`w` sums nothing meaningful.)
-            sum += t * wt;
-            weight += wt;
+            if same {
+                let wt = wx * wy;
+                sum += src.colour(i) * wt;
+                weight += wt;
+            }
         }
     }
-    (weight > 1e-3).then(|| (sum.truncate() / weight).as_dvec3())
+    (weight > 1e-3).then(|| (sum / weight).as_dvec3())
 }
 
 #[cfg(test)]
