@@ -178,11 +178,21 @@ pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Re
 mod tests {
     use super::*;
 
-    fn dir(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("lensview-files-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    /// A folder of its own for test `name`, removed when dropped.
+    struct Dir(tempfile::TempDir);
+
+    impl std::ops::Deref for Dir {
+        type Target = Path;
+        fn deref(&self) -> &Path {
+            self.0.path()
+        }
+    }
+
+    fn dir(name: &str) -> Dir {
+        Dir(tempfile::Builder::new()
+            .prefix(&format!("lensview-files-{name}-"))
+            .tempdir()
+            .unwrap())
     }
 
     #[test]
@@ -204,7 +214,7 @@ mod tests {
         );
         // On another thread, so that a regression fails instead of hanging.
         let (tx, rx) = std::sync::mpsc::channel();
-        let (fifo2, d2) = (fifo.clone(), d.clone());
+        let (fifo2, d2) = (fifo.clone(), d.to_path_buf());
         std::thread::spawn(move || {
             let e = |p: &Path| open_regular(p).unwrap_err().to_string();
             let a = open_append(&fifo2).unwrap_err().to_string();

@@ -310,11 +310,21 @@ pub fn remove_temp_files_on_interrupt() {
 mod tests {
     use super::*;
 
-    fn dir(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("lensview-output-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    /// A folder of its own for test `name`, removed when dropped.
+    struct Dir(tempfile::TempDir);
+
+    impl std::ops::Deref for Dir {
+        type Target = Path;
+        fn deref(&self) -> &Path {
+            self.0.path()
+        }
+    }
+
+    fn dir(name: &str) -> Dir {
+        Dir(tempfile::Builder::new()
+            .prefix(&format!("lensview-output-{name}-"))
+            .tempdir()
+            .unwrap())
     }
 
     fn names(d: &Path) -> Vec<String> {
@@ -352,7 +362,7 @@ mod tests {
         assert_eq!(e.to_string(), format!("cannot write {}: disk full", p.display()));
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
         assert_eq!(names(&d), ["a.txt"]);
-        assert!(!pending().iter().any(|p| p.starts_with(&d)));
+        assert!(!pending().iter().any(|p| p.starts_with(&*d)));
     }
 
     #[test]
@@ -416,7 +426,7 @@ mod tests {
         assert_eq!(e.path, b);
         assert_eq!(std::fs::read_to_string(&a).unwrap(), "old");
         assert_eq!(names(&d), ["a.csv", "b.png"]);
-        assert!(!pending().iter().any(|p| p.starts_with(&d)));
+        assert!(!pending().iter().any(|p| p.starts_with(&*d)));
         let c = d.join("c.png");
         write_all(&[(&a, b"new"), (&c, b"png")]).unwrap();
         assert_eq!(std::fs::read_to_string(&a).unwrap(), "new");

@@ -9,10 +9,11 @@ fn cubes() -> Document {
     Document::preset("cubes").unwrap()
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lensview-doc-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+/// `name` in a folder of its own, removed when the folder is dropped.
+fn tmp(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let d = tempfile::Builder::new().prefix("lensview-doc-").tempdir().unwrap();
+    let path = d.path().join(name);
+    (d, path)
 }
 
 #[test]
@@ -212,7 +213,7 @@ fn save_and_load_round_trip_every_preset_and_an_edited_scene() {
     for p in PRESETS {
         let mut doc = Document::preset(p.name).unwrap();
         assert_eq!(doc.save().unwrap(), None, "a preset has no file: Save must ask for one");
-        let path = tmp(p.file);
+        let (_path_dir, path) = tmp(p.file);
         doc.save_as(&path).unwrap();
         assert!(!doc.is_dirty());
         assert_eq!(doc.source(), &Source::File(path.clone()));
@@ -246,7 +247,7 @@ fn save_and_load_round_trip_every_preset_and_an_edited_scene() {
         [0.3; 3],
         "a taken material name gets a suffix"
     );
-    let path = tmp("edited.toml");
+    let (_path_dir, path) = tmp("edited.toml");
     let saved = doc.save_as(&path).unwrap();
     assert_eq!(saved, path);
     assert!(!doc.is_dirty());
@@ -267,10 +268,10 @@ fn save_and_load_round_trip_every_preset_and_an_edited_scene() {
 
 #[test]
 fn failed_open_and_save_keep_everything() {
-    let missing = tmp("does-not-exist.toml");
+    let (_missing_dir, missing) = tmp("does-not-exist.toml");
     let e = Document::open(&missing).unwrap_err();
     assert!(e.to_string().contains("cannot read"), "{e}");
-    let bad = tmp("bad.toml");
+    let (_bad_dir, bad) = tmp("bad.toml");
     std::fs::write(&bad, "[camera]\nposition = [0, 0, 0]\nfov = 0\n").unwrap();
     let e = Document::open(&bad).unwrap_err();
     assert!(e.to_string().contains("camera.fov"), "{e}");
@@ -278,17 +279,17 @@ fn failed_open_and_save_keep_everything() {
 
     let mut doc = cubes();
     doc.edit("fov", |sf| sf.camera.fov = 40.0).unwrap();
-    let dir = tmp("a-directory");
+    let (_dir_dir, dir) = tmp("a-directory");
     std::fs::create_dir_all(&dir).unwrap();
     assert!(doc.save_as(&dir).is_err());
-    assert!(doc.save_as(&tmp("no-such-dir").join("x.toml")).is_err());
+    assert!(doc.save_as(&tmp("no-such-dir").1.join("x.toml")).is_err());
     assert!(doc.is_dirty(), "a failed save leaves the changes unsaved");
     assert!(matches!(doc.source(), Source::Preset(_)));
 }
 
 #[test]
 fn reload_is_one_undoable_step_and_keeps_the_camera() {
-    let path = tmp("reload.toml");
+    let (_path_dir, path) = tmp("reload.toml");
     let mut doc = cubes();
     doc.save_as(&path).unwrap();
     doc.edit("fly", |sf| {
@@ -319,7 +320,7 @@ fn reload_is_one_undoable_step_and_keeps_the_camera() {
 /// blocked the window's thread until a writer came.
 #[test]
 fn reload_of_a_path_that_became_a_fifo_does_not_block() {
-    let path = tmp("reload-fifo.toml");
+    let (_path_dir, path) = tmp("reload-fifo.toml");
     let mut doc = cubes();
     doc.save_as(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
@@ -370,7 +371,7 @@ fn lens_axis_angles_round_trip() {
 /// once the file is fixed, the reload goes through.
 #[test]
 fn reload_of_a_broken_file_says_where_and_keeps_everything() {
-    let path = tmp("reload-broken.toml");
+    let (_path_dir, path) = tmp("reload-broken.toml");
     let mut doc = cubes();
     doc.save_as(&path).unwrap();
     let home = doc.camera_pose();
