@@ -5,7 +5,7 @@ lensview on the same primary rays of the same scene, in one run.
 Embree gets the scene as triangles: each cuboid as 12 triangles, the lens as
 two finely tessellated spherical caps (the same geometry as DESIGN.md §2).
 The rays are the camera's pixel-centre rays at WIDTH×HEIGHT, built with the
-camera model of src/camera.rs. Embree casts them with `EmbreeScene.run`
+camera model of core/src/camera.rs. Embree casts them with `EmbreeScene.run`
 (closest hit), in as many threads as there are cores (each on its own slice
 of the rays), and the best of the two (one thread or all) is reported, median
 of RUNS. lensview is measured by `lensview bench --primary-only`, its own
@@ -38,7 +38,7 @@ except ImportError as e:  # pragma: no cover - an optional tool
 
 
 def rotation(deg):
-    """R = Ry·Rx·Rz from degrees about x, y, z (src/math.rs)."""
+    """R = Ry·Rx·Rz from degrees about x, y, z (core/src/math.rs)."""
     x, y, z = (math.radians(a) for a in deg)
     rx = np.array([[1, 0, 0], [0, math.cos(x), -math.sin(x)], [0, math.sin(x), math.cos(x)]])
     ry = np.array([[math.cos(y), 0, math.sin(y)], [0, 1, 0], [-math.sin(y), 0, math.cos(y)]])

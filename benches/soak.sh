@@ -197,7 +197,7 @@ for f in "$tmp"/lensview-*.png; do
     echo "$g $stats black $black" >>"$out/screenshots.txt"
     awk -v s="$stats" 'BEGIN { split(s, a, " "); exit !(a[1] < 0.02) }' && blank=$((blank + 1))
 done
-python3 "$root/benches/soak_rss.py" "$out" "$root/src/limits.rs" >"$out/summary.txt"
+python3 "$root/benches/soak_rss.py" "$out" "$root/core/src/limits.rs" >"$out/summary.txt"
 cat "$out/summary.txt"
 echo "seed $seed, ${minutes} min: keys $nkeys ($nholds held flight keys), resizes $nresizes, clicks $nclicks, F5 reloads $nreloads ($ninvalid of a broken file), window screenshots $nshots, P renders $nrender ($blank blank in all)"
 [ -e "$out/screenshots.txt" ] && cat "$out/screenshots.txt"

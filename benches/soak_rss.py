@@ -3,11 +3,11 @@
 OUT/checkpoints.csv and OUT/frames.jsonl, prints the summary and a last
 line `growth ok` or `growth FAIL`.
 
-    python3 benches/soak_rss.py OUT [src/limits.rs]
+    python3 benches/soak_rss.py OUT [core/src/limits.rs]
 
 RSS follows the size of the picture being refined: the progressive
 renderer keeps PROGRESSIVE_BYTES_PER_PIXEL bytes a rendered pixel
-(src/limits.rs, read from there), and the soak changes the window's size,
+(core/src/limits.rs, read from there), and the soak changes the window's size,
 the resolution (a key) and the panel's width. So each checkpoint (the
 window back at 1100x700, RSS read 3 s later) is judged less those buffers
 at the render size the frame log shows then. A leak raises the floor: the
@@ -17,7 +17,7 @@ fails. Raw checkpoints and the medians are printed too.
 import csv, json, re, statistics, sys
 
 out = sys.argv[1]
-limits = sys.argv[2] if len(sys.argv) > 2 else "src/limits.rs"
+limits = sys.argv[2] if len(sys.argv) > 2 else "core/src/limits.rs"
 m = re.search(r"pub const PROGRESSIVE_BYTES_PER_PIXEL: u64 = ([^;]+);", open(limits).read())
 bpp = eval(m.group(1), {})  # an arithmetic expression of integers
 

@@ -1,7 +1,7 @@
 //! Memory per object when a scene is loaded (issue 19 item 6), counted by a
 //! global allocator that tracks the live and the peak heap bytes.
 //!
-//! A valid scene is read object by object (src/scene/stream.rs): no tree
+//! A valid scene is read object by object (core/src/scene/stream.rs): no tree
 //! of the whole document is made; the span-keeping `toml_edit` parse is
 //! made only for a refusal.
 

@@ -317,7 +317,7 @@ mod tests {
     use super::*;
 
     fn focal_spot() -> Scene {
-        let text = include_str!("../../scenes/focal-spot.toml");
+        let text = include_str!("../../../scenes/focal-spot.toml");
         Scene::parse("focal-spot.toml", text).unwrap().1
     }
 

@@ -498,11 +498,11 @@ pub(super) mod tests {
             ("cubes rotated", Scene::build(&rotated).unwrap()),
             (
                 "primitives",
-                parse("primitives", include_str!("../../scenes/primitives.toml")),
+                parse("primitives", include_str!("../../../scenes/primitives.toml")),
             ),
             (
                 "optical bench",
-                parse("optical bench", include_str!("../../scenes/optical-bench.toml")),
+                parse("optical bench", include_str!("../../../scenes/optical-bench.toml")),
             ),
         ]
     }

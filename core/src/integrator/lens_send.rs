@@ -219,7 +219,7 @@ mod tests {
     /// scalar kernel's, bit for bit.
     #[test]
     fn lens_lanes_send_what_the_scalar_kernel_follows() {
-        let cubes = include_str!("../../scenes/cubes.toml");
+        let cubes = include_str!("../../../scenes/cubes.toml");
         let steep = cubes.replace("r1 = 5\nr2 = 5\nn = 1.5", "r1 = 1.05\nr2 = 8\nn = 3");
         assert!(steep.contains("n = 3"));
         let mut s = Sampler::new(13, 0, 0);

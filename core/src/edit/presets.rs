@@ -20,49 +20,49 @@ pub const PRESETS: &[Preset] = &[
         name: "cubes",
         file: "cubes.toml",
         about: "25 cubes on a slab, one light, the lens in front of the camera (the benchmark scene)",
-        text: include_str!("../../scenes/cubes.toml"),
+        text: include_str!("../../../scenes/cubes.toml"),
     },
     Preset {
         name: "primitives",
         file: "primitives.toml",
         about: "one of each primitive, a mirror ball, a glass ball and a dispersive lens",
-        text: include_str!("../../scenes/primitives.toml"),
+        text: include_str!("../../../scenes/primitives.toml"),
     },
     Preset {
         name: "optical bench",
         file: "optical-bench.toml",
         about: "a checkerboard wall behind the lens: magnification and distortion",
-        text: include_str!("../../scenes/optical-bench.toml"),
+        text: include_str!("../../../scenes/optical-bench.toml"),
     },
     Preset {
         name: "rim lens",
         file: "rim-lens.toml",
         about: "a strong lens seen obliquely: the rim ring and the ghosts of reflections inside",
-        text: include_str!("../../scenes/rim-lens.toml"),
+        text: include_str!("../../../scenes/rim-lens.toml"),
     },
     Preset {
         name: "focal spot",
         file: "focal-spot.toml",
         about: "a point light above a lens: the focal spot and its caustic ring on the floor",
-        text: include_str!("../../scenes/focal-spot.toml"),
+        text: include_str!("../../../scenes/focal-spot.toml"),
     },
     Preset {
         name: "lens family",
         file: "lens-family.toml",
         about: "a checkerboard behind a plano-convex condenser, a biconcave diverger and a meniscus (lens systems)",
-        text: include_str!("../../scenes/lens-family.toml"),
+        text: include_str!("../../../scenes/lens-family.toml"),
     },
     Preset {
         name: "achromat",
         file: "achromat.toml",
         about: "a cemented achromat (AC254-100-A) beside an N-BK7 singlet of the same focal length: the singlet's colour fringes",
-        text: include_str!("../../scenes/achromat.toml"),
+        text: include_str!("../../../scenes/achromat.toml"),
     },
     Preset {
         name: "lens camera",
         file: "camera-dgauss.toml",
         about: "the cubes photographed through a double Gauss at f/2.8 and a 36 × 24 sensor: depth of field and vignetting (a lens camera)",
-        text: include_str!("../../scenes/camera-dgauss.toml"),
+        text: include_str!("../../../scenes/camera-dgauss.toml"),
     },
 ];
 
@@ -78,7 +78,7 @@ mod tests {
 
     #[test]
     fn every_scene_file_is_a_preset_and_every_preset_is_valid() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("scenes");
         let mut files: Vec<String> = std::fs::read_dir(dir)
             .unwrap()
             .filter_map(|e| e.ok())

@@ -35,7 +35,7 @@ use validate::Validator;
 
 /// The scene compiled in for `lensview` without a scene argument: the
 /// benchmark scene `scenes/cubes.toml`.
-pub const DEFAULT_SCENE: &str = include_str!("../../scenes/cubes.toml");
+pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cubes.toml");
 /// The name under which the embedded scene reports errors.
 pub const DEFAULT_SCENE_NAME: &str = "<default scene>";
 

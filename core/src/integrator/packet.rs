@@ -482,8 +482,8 @@ mod tests {
         let parse = |name, text| Scene::parse(name, text).unwrap().1;
         let scenes = [
             Scene::default_scene().1,
-            parse("primitives", include_str!("../../scenes/primitives.toml")),
-            parse("optical bench", include_str!("../../scenes/optical-bench.toml")),
+            parse("primitives", include_str!("../../../scenes/primitives.toml")),
+            parse("optical bench", include_str!("../../../scenes/optical-bench.toml")),
         ];
         let (w, h) = (48u32, 36u32);
         let mut scratch = PacketScratch::default();

@@ -368,11 +368,11 @@ mod tests {
         // A steep lens of index 3: many rays reflect inside it, and the
         // packet path hands those to the scalar lens tracer.
         let steep =
-            include_str!("../../scenes/cubes.toml").replace("r1 = 5\nr2 = 5\nn = 1.5", "r1 = 1.05\nr2 = 8\nn = 3");
+            include_str!("../../../scenes/cubes.toml").replace("r1 = 5\nr2 = 5\nn = 1.5", "r1 = 1.05\nr2 = 8\nn = 3");
         assert!(steep.contains("n = 3"));
         let scenes = [
             Scene::default_scene().1,
-            Scene::parse("primitives", include_str!("../../scenes/primitives.toml"))
+            Scene::parse("primitives", include_str!("../../../scenes/primitives.toml"))
                 .unwrap()
                 .1,
             Scene::parse("steep", &steep).unwrap().1,

@@ -205,7 +205,7 @@ fn a_new_tone_shows_the_samples_held_again() {
 fn reprojected_holes_show_the_caustic() {
     use crate::camera::Camera;
     use glam::DVec3;
-    let text = include_str!("../../../scenes/focal-spot.toml");
+    let text = include_str!("../../../../scenes/focal-spot.toml");
     let mut scene = Scene::parse("focal-spot.toml", text).unwrap().1;
     let eye = DVec3::new(0.0, 1.2, 0.8);
     scene.camera = Camera::new(eye, DVec3::new(-55.0, 180.0, 0.0), 40.0);

@@ -189,9 +189,11 @@ fn cancellation_stops_a_stage_and_keeps_the_previous_image() {
 
 #[test]
 fn the_schedule_gives_the_same_bits_on_one_two_and_three_threads() {
-    let s = Scene::load(&std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/primitives.toml"))
-        .unwrap()
-        .1;
+    let s = Scene::load(
+        &std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("scenes/primitives.toml"),
+    )
+    .unwrap()
+    .1;
     // Taller than one band per thread, and not a whole number of bands.
     let run = |threads| {
         rayon::ThreadPoolBuilder::new()

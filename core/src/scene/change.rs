@@ -132,7 +132,7 @@ mod tests {
     use super::*;
 
     fn cubes() -> SceneFile {
-        toml::from_str(include_str!("../../scenes/cubes.toml")).unwrap()
+        toml::from_str(include_str!("../../../scenes/cubes.toml")).unwrap()
     }
 
     /// Each kind of edit is named for what it touched, and several edits

@@ -174,15 +174,18 @@ pub fn parse(name: &str, text: &str) -> Result<Vec<PrescriptionRow>, Prescriptio
 /// The prescriptions of `lenses/`, compiled in: `[[systems]]` with
 /// `kind = "preset"` and `lens … --preset` name them.
 pub const PRESETS: &[(&str, &str)] = &[
-    ("double-gauss-50mm", include_str!("../lenses/dgauss.50mm.dat")),
-    ("cooke-triplet-100mm", include_str!("../lenses/cooke-triplet.100mm.dat")),
+    ("double-gauss-50mm", include_str!("../../lenses/dgauss.50mm.dat")),
+    (
+        "cooke-triplet-100mm",
+        include_str!("../../lenses/cooke-triplet.100mm.dat"),
+    ),
     (
         "achromat-AC254-100-A",
-        include_str!("../lenses/achromat.AC254-100-A.dat"),
+        include_str!("../../lenses/achromat.AC254-100-A.dat"),
     ),
-    ("wide-22mm", include_str!("../lenses/wide.22mm.dat")),
-    ("telephoto-250mm", include_str!("../lenses/telephoto.250mm.dat")),
-    ("fisheye-10mm", include_str!("../lenses/fisheye.10mm.dat")),
+    ("wide-22mm", include_str!("../../lenses/wide.22mm.dat")),
+    ("telephoto-250mm", include_str!("../../lenses/telephoto.250mm.dat")),
+    ("fisheye-10mm", include_str!("../../lenses/fisheye.10mm.dat")),
 ];
 
 /// The preset called `name`.
@@ -264,7 +267,7 @@ mod tests {
     /// Every prescription shipped in `lenses/` reads.
     #[test]
     fn every_file_in_lenses_parses() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("lenses");
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("lenses");
         let mut seen = 0;
         for entry in std::fs::read_dir(&dir).unwrap() {
             let path = entry.unwrap().path();
