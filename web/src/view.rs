@@ -57,11 +57,16 @@ pub fn error_line(e: &impl std::fmt::Display) -> String {
 }
 
 impl View {
-    /// The preset `scene` (a name or file name of `scenes/`), or the
+    /// The preset `scene` (a name or file name of `scenes/`, with or
+    /// without `.toml`), or the
     /// embedded default scene when `None`.
     pub fn new(scene: Option<&str>, size: (u32, u32), spp: u32, seed: u64) -> Result<View, String> {
         let doc = match scene {
-            Some(name) => Document::preset(name).map_err(|e| error_line(&e))?,
+            // A preset's menu name, file name, or file name without
+            // `.toml` (`?scene=focal-spot`).
+            Some(name) => Document::preset(name)
+                .or_else(|e| Document::preset(&format!("{name}.toml")).map_err(|_| e))
+                .map_err(|e| error_line(&e))?,
             None => {
                 let (sf, _) = Scene::default_scene();
                 Document::new(sf, Source::Default).map_err(|e| rejected(&e))?
@@ -337,6 +342,12 @@ mod tests {
         assert!(e.starts_with("error: bad.toml"), "{e}");
         assert!(!e.contains('\n'));
         assert!(v.done() || v.step(1));
-        assert!(View::new(Some("no such"), (4, 4), 1, 0).is_err());
+        let e = View::new(Some("no such"), (4, 4), 1, 0).err().unwrap();
+        assert_eq!(e, "error: no such:1:1: (document): no such preset");
+        for p in lensview::edit::presets::PRESETS {
+            for name in [p.name, p.file, p.file.trim_end_matches(".toml")] {
+                assert!(View::new(Some(name), (4, 4), 1, 0).is_ok(), "{name}");
+            }
+        }
     }
 }
