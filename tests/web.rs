@@ -228,7 +228,12 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
     let edit = lensview::edit::lens_key("Digit2").unwrap();
     lensview::edit::apply(&mut want, edit);
     let (got, _) = lensview::scene::Scene::parse("lens", &text("lens.toml")).unwrap();
-    assert_eq!(got, want, "the page's lens key is not the desktop's edit");
+    assert!(
+        got == want,
+        "the page's lens key is not the desktop's edit: lenses {:?}, want {:?}",
+        got.lenses,
+        want.lenses
+    );
     // Save scene and Save PNG: the page's scene file and its canvas.
     assert_eq!(text("saved.toml"), text("lens.toml"), "Save scene");
     let (size, colour, png) = read_png(&out.join("saved.png"));
