@@ -30,6 +30,7 @@ if (!self.crossOriginIsolated) {
 const worker = new Worker("worker.js", { type: "module" });
 let picture = 0; // the picture the worker renders now (its generation)
 let lastDone = 0; // the last picture seen finished
+let shownPicture = 0; // the picture the last frame drawn showed
 let sceneName = params.get("scene") || "scene";
 const replies = new Map(); // sceneToml requests by id
 let nextId = 0;
@@ -42,6 +43,12 @@ function showError(text) {
 function drawFrame(f) {
   if (f.generation < picture) return; // posted before the last change
   ctx.putImageData(new ImageData(new Uint8ClampedArray(f.rgba.buffer), f.width, f.height), 0, 0);
+  if (f.generation !== shownPicture) {
+    // The first frame of a new picture: the time from the change (a key,
+    // a file, the start) to it.
+    shownPicture = f.generation;
+    state.reactMs = f.renderMs;
+  }
   if (state.firstFrameMs === undefined) state.firstFrameMs = performance.now();
   if (state.firstPictureMs === null && f.samplesDone >= 1) {
     state.firstPictureMs = performance.now();
