@@ -4,7 +4,8 @@
 # toolchain has no wasm32 std; build-std builds it), then wasm-bindgen.
 # Installs what is missing first (apt as root; wasm-bindgen-cli with the
 # rustup cargo at Cargo.lock's wasm-bindgen version). Recipe and figures:
-# docs/web.md. Cold build on 2 cores: about 7 minutes; after a change, seconds.
+# docs/web.md. Threads and SIMD128: web/.cargo/config.toml. Cold build on 2
+# busy cores: about 8.5-10 minutes; after a change to web/, seconds.
 set -euo pipefail
 web="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$web")"
