@@ -7,7 +7,8 @@
 //! edits the lens as the desktop does, and each new picture is again the
 //! native one of the page's own scene file; Save scene and Save PNG
 //! download that file and the canvas; a bad scene file, opened or dropped,
-//! gets the command line's one-line error in the page; every preset is the
+//! gets the command line's one-line error in the page, and a good one
+//! dropped is rendered as natively; every preset is the
 //! native picture; no console error. Then not isolated: one thread, a note
 //! that says so, and the same picture. Needs Debian's rustc-web,
 //! rust-web-src, rust-web-llvm, lld, chromium, wasm-bindgen-cli and
@@ -241,6 +242,44 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
     assert!(png == lens, "Save PNG: the file is not the canvas");
 }
 
+/// Cross-origin isolated (`work/dist` served with COOP/COEP): one thread a
+/// core; cubes, W, the lens key, saving; the bad file opened and dropped,
+/// a good one dropped; every preset; each picture the native one.
+fn assert_isolated_page(root: &Path, work: &Path, query: &str) {
+    let bad = work.join("bad.toml");
+    std::fs::write(&bad, "[camera]\nposition = [0, 1, 5]\nfov = \"wide\"\n").unwrap();
+    let (out, names) = (work.join("page"), presets(root));
+    let good = root.join("scenes/focal-spot.toml");
+    let (bad_arg, good_arg) = (bad.to_str().unwrap(), good.to_str().unwrap());
+    let presets = (names.join(","), PRESETS.query());
+    let args = ["--query", query, "--bad", bad_arg, "--good", good_arg];
+    let more = ["--presets", &presets.0, "--preset-query", &presets.1];
+    let report = drive(root, &work.join("dist"), &out, &[&args[..], &more[..]].concat());
+    assert!(report.contains("\"cross_origin_isolated\": true"), "{report}");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    assert_eq!(page_threads(&report), cores, "threads: one a core");
+    let cubes = root.join("scenes/cubes.toml");
+    let first = std::fs::read(out.join("first.rgba")).unwrap();
+    assert_same_picture(&first, &native_rgb(&cubes, &work.join("first.png"), CUBES), "cubes");
+    assert_keys_give_native(work, &out);
+    for name in &names {
+        let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();
+        let scene = root.join("scenes").join(format!("{name}.toml"));
+        let native = native_rgb(&scene, &work.join(format!("{name}.png")), PRESETS);
+        assert_same_picture(&page, &native, name);
+    }
+    let dropped = std::fs::read(out.join("good.rgba")).unwrap();
+    let native = native_rgb(&good, &work.join("good.png"), CUBES);
+    assert_same_picture(&dropped, &native, "focal-spot.toml dropped on the page");
+    let cli = cli_error(work);
+    for file in ["error.txt", "dropped.txt"] {
+        let page = std::fs::read_to_string(out.join(file)).unwrap();
+        assert!(page.starts_with("error: bad.toml:"), "{file}: {page}");
+        let why = format!("{file}: the page's error line is not the command line's");
+        assert_eq!(page.trim_end(), cli, "{why}");
+    }
+}
+
 #[test]
 fn the_page_renders_what_the_native_renderer_renders() {
     let missing = missing_tools();
@@ -262,42 +301,8 @@ fn the_page_renders_what_the_native_renderer_renders() {
     );
     eprintln!("web/build.sh: {:.1} s", t.elapsed().as_secs_f64());
 
-    // Cross-origin isolated: threads, keys, saving, bad files, presets.
-    let bad = work.join("bad.toml");
-    std::fs::write(&bad, "[camera]\nposition = [0, 1, 5]\nfov = \"wide\"\n").unwrap();
-    let out = work.join("page");
-    let (query, names) = (format!("scene=cubes&{}", CUBES.query()), presets(&root));
-    let bad_arg = bad.to_str().unwrap();
-    let args = ["--query", &query, "--bad", bad_arg, "--presets", &names.join(",")];
-    let report = drive(
-        &root,
-        &dist,
-        &out,
-        &[&args[..], &["--preset-query", &PRESETS.query()]].concat(),
-    );
-    assert!(report.contains("\"cross_origin_isolated\": true"), "{report}");
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
-    assert_eq!(page_threads(&report), cores, "threads: one a core");
-    let cubes = root.join("scenes/cubes.toml");
-    let first = std::fs::read(out.join("first.rgba")).unwrap();
-    assert_same_picture(&first, &native_rgb(&cubes, &work.join("first.png"), CUBES), "cubes");
-    assert_keys_give_native(&work, &out);
-    for name in &names {
-        let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();
-        let scene = root.join("scenes").join(format!("{name}.toml"));
-        let native = native_rgb(&scene, &work.join(format!("{name}.png")), PRESETS);
-        assert_same_picture(&page, &native, name);
-    }
-    let cli = cli_error(&work);
-    for file in ["error.txt", "dropped.txt"] {
-        let page = std::fs::read_to_string(out.join(file)).unwrap();
-        assert!(page.starts_with("error: bad.toml:"), "{file}: {page}");
-        assert_eq!(
-            page.trim_end(),
-            cli,
-            "{file}: the page's error line is not the command line's"
-        );
-    }
+    let query = format!("scene=cubes&{}", CUBES.query());
+    assert_isolated_page(&root, &work, &query);
 
     // Not isolated: one thread, a note that says so, the same picture.
     let out = work.join("plain");
@@ -308,6 +313,7 @@ fn the_page_renders_what_the_native_renderer_renders() {
         report.contains("\"note\": \"one thread: serve with COOP/COEP for threads\""),
         "{report}"
     );
+    let cubes = root.join("scenes/cubes.toml");
     let plain = std::fs::read(out.join("first.rgba")).unwrap();
     assert_same_picture(
         &plain,

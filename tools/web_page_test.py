@@ -12,6 +12,7 @@ writes what it saw into OUT:
   saved.toml/.png  what the page's Save buttons downloaded then
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
+  good.rgba        the canvas after dropping GOOD on the page then
   preset-NAME.rgba each preset of --presets opened with ?scene=NAME&PRESET_QUERY
   report.json      times, sizes, threads and every console error or exception
 --measure: only the first picture (no key, no file). Exits 0 when the page
@@ -176,24 +177,36 @@ def downloads(page, a, out, report):
 
 
 def bad_files(page, a, out):
-    """The bad scene file through the file input, then dropped on the page
-    (a drop event carrying it, as the browser sends one)."""
+    """The bad scene file through the file input, then dropped on the page;
+    then the good one (--good) dropped."""
     doc = page.call("DOM.getDocument")
     node = page.call("DOM.querySelector", nodeId=doc["root"]["nodeId"], selector="#file")["nodeId"]
     page.call("DOM.setFileInputFiles", nodeId=node, files=[os.path.abspath(a.bad)])
     page.wait("window.lensview.error !== ''", "an error line for the bad file", a.timeout)
     save(out, "error.txt", page.eval("document.getElementById('error').textContent"))
     page.eval("window.lensview.error = ''; document.getElementById('error').textContent = ''")
-    with open(a.bad) as f:
+    drop(page, a.bad)
+    page.wait("window.lensview.error !== ''", "an error line for the dropped file", a.timeout)
+    save(out, "dropped.txt", page.eval("document.getElementById('error').textContent"))
+    if a.good:
+        # A good one dropped: it replaces the scene and clears the error.
+        drop(page, a.good)
+        page.wait("window.lensview.renders >= 4 && window.lensview.done && window.lensview.error === ''",
+                  "the picture of the dropped good file", a.timeout)
+        save(out, "good.rgba", page.canvas())
+
+
+def drop(page, path):
+    """Drops the file at `path` on the page: a drop event carrying it, as
+    the browser sends one."""
+    with open(path) as f:
         text = json.dumps(f.read())
-    name = json.dumps(os.path.basename(a.bad))
+    name = json.dumps(os.path.basename(path))
     page.eval(f"""(() => {{
         const dt = new DataTransfer();
         dt.items.add(new File([{text}], {name}));
         document.body.dispatchEvent(new DragEvent('drop', {{ dataTransfer: dt, bubbles: true, cancelable: true }}));
     }})()""")
-    page.wait("window.lensview.error !== ''", "an error line for the dropped file", a.timeout)
-    save(out, "dropped.txt", page.eval("document.getElementById('error').textContent"))
 
 
 def run(page, url, a, out, report):
@@ -221,6 +234,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--query", required=True, help="the page's URL parameters, e.g. scene=cubes&w=160&h=120&spp=4")
     ap.add_argument("--bad", help="a scene file the page must refuse")
+    ap.add_argument("--good", help="a scene file to drop on the page after the bad one")
     ap.add_argument("--measure", action="store_true")
     ap.add_argument("--no-isolation", action="store_true", help="serve without COOP/COEP (one thread)")
     ap.add_argument("--presets", default="", help="presets to open after the first page, comma-separated")
