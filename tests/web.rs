@@ -1,22 +1,53 @@
 //! Issue #34: lensview in the browser. Builds the page (web/build.sh: the
-//! library for wasm32 and wasm-bindgen), serves it on 127.0.0.1 and opens it
-//! in headless Chromium (tools/web_page_test.py, which stops both), then:
-//! the page's picture of cubes is the native renderer's bit for bit at the
-//! same size, spp, seed and the portable kernel; W moves the camera and the
-//! new picture is again the native one of the page's own scene file; a bad
-//! scene file gets the command line's one-line error in the page; no
-//! console error; two more presets (dispersion, a lens camera) are the
-//! native pictures too. Needs Debian's rustc-web, rust-web-src, rust-web-llvm,
-//! lld, chromium, wasm-bindgen-cli and Python's websocket-client (`.ci/run`
-//! installs them); fails, naming what is missing, without them.
+//! library for wasm32 with threads, and wasm-bindgen), serves it on
+//! 127.0.0.1 and opens it in headless Chromium (tools/web_page_test.py,
+//! which stops both), then, cross-origin isolated (threads): the page's
+//! picture of cubes is the native renderer's bit for bit at the same size,
+//! spp, seed and the portable kernel; W moves the camera and the lens key 2
+//! edits the lens as the desktop does, and each new picture is again the
+//! native one of the page's own scene file; Save scene and Save PNG
+//! download that file and the canvas; a bad scene file, opened or dropped,
+//! gets the command line's one-line error in the page, and a good one
+//! dropped is rendered as natively; every preset is the
+//! native picture; no console error. Then not isolated: one thread, a note
+//! that says so, and the same picture. Needs Debian's rustc-web,
+//! rust-web-src, rust-web-llvm, lld, chromium, wasm-bindgen-cli and
+//! Python's websocket-client (`.ci/run` installs them); fails, naming what
+//! is missing, without them.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-const SIZE: (u32, u32) = (160, 120);
-const SPP: u32 = 4;
-const SEED: u64 = 7;
+/// Size, spp and seed of the cubes page; of each preset's page.
+const CUBES: Shot = Shot {
+    size: (160, 120),
+    spp: 4,
+    seed: 7,
+};
+const PRESETS: Shot = Shot {
+    size: (64, 48),
+    spp: 2,
+    seed: 3,
+};
+
+#[derive(Clone, Copy)]
+struct Shot {
+    size: (u32, u32),
+    spp: u32,
+    seed: u64,
+}
+
+impl Shot {
+    fn query(&self) -> String {
+        let Shot {
+            size: (w, h),
+            spp,
+            seed,
+        } = self;
+        format!("w={w}&h={h}&spp={spp}&seed={seed}")
+    }
+}
 
 /// The tools the test needs, each with how to get it.
 fn missing_tools() -> Vec<&'static str> {
@@ -76,27 +107,35 @@ fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, Strin
 }
 
 /// The native picture of `scene` (portable kernel) as RGB bytes.
-fn native_rgb(scene: &Path, png: &Path) -> Vec<u8> {
+fn native_rgb(scene: &Path, png: &Path, shot: Shot) -> Vec<u8> {
     let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
         .env("LENSVIEW_ISA", "portable")
         .arg("render")
         .arg(scene)
-        .args(["--width", &SIZE.0.to_string(), "--height", &SIZE.1.to_string()])
-        .args(["--spp", &SPP.to_string(), "--seed", &SEED.to_string(), "-o"])
+        .args([
+            "--width",
+            &shot.size.0.to_string(),
+            "--height",
+            &shot.size.1.to_string(),
+        ])
+        .args(["--spp", &shot.spp.to_string(), "--seed", &shot.seed.to_string(), "-o"])
         .arg(png)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(png).unwrap()));
+    let (size, colour, pixels) = read_png(png);
+    assert_eq!((size, colour), (shot.size, png::ColorType::Rgb));
+    pixels
+}
+
+/// A PNG's size, colour type and pixels.
+fn read_png(path: &Path) -> ((u32, u32), png::ColorType, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size().unwrap()];
     let info = reader.next_frame(&mut buf).unwrap();
-    assert_eq!(
-        (info.width, info.height, info.color_type),
-        (SIZE.0, SIZE.1, png::ColorType::Rgb)
-    );
     buf.truncate(info.buffer_size());
-    buf
+    ((info.width, info.height), info.color_type, buf)
 }
 
 /// The canvas's RGBA against the native RGB: every byte, alpha opaque.
@@ -120,30 +159,125 @@ fn assert_same_picture(canvas: &[u8], native: &[u8], what: &str) {
     );
 }
 
-/// The page's picture of preset `scene` (as `scenes/SCENE.toml`) is the
-/// native one.
-fn assert_preset_is_native(root: &Path, work: &Path, scene: &str) {
-    let out = work.join(scene);
-    let query = format!("scene={scene}.toml&w={}&h={}&spp={SPP}&seed={SEED}", SIZE.0, SIZE.1);
+/// Runs the page driver with `args` into `out`; its report (JSON text),
+/// checked for console errors.
+fn drive(root: &Path, dist: &Path, out: &Path, args: &[&str]) -> String {
+    let t = Instant::now();
     let mut driver = Command::new("python3");
-    driver
-        .arg(root.join("tools/web_page_test.py"))
-        .arg("--dist")
-        .arg(work.join("dist"));
-    driver.arg("--out").arg(&out).args(["--query", &query, "--measure"]);
-    run_bounded(&mut driver, Duration::from_secs(300), scene);
+    driver.arg(root.join("tools/web_page_test.py")).arg("--dist").arg(dist);
+    driver.arg("--out").arg(out).args(args);
+    run_bounded(
+        &mut driver,
+        Duration::from_secs(300),
+        "the page test (tools/web_page_test.py)",
+    );
     let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    eprintln!("the page in Chromium: {:.1} s; {report}", t.elapsed().as_secs_f64());
     assert!(
         report.contains("\"console_errors\": []"),
-        "{scene}: the page logged errors: {report}"
+        "the page logged errors: {report}"
     );
-    let page = std::fs::read(out.join("first.rgba")).unwrap();
-    let scene_file = root.join("scenes").join(format!("{scene}.toml"));
-    assert_same_picture(
-        &page,
-        &native_rgb(&scene_file, &work.join(format!("{scene}.png"))),
-        scene,
+    report
+}
+
+/// The names of the presets (`scenes/*.toml`), sorted.
+fn presets(root: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(root.join("scenes"))
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            name.strip_suffix(".toml").map(str::to_string)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// The threads the page reported, from the report's JSON.
+fn page_threads(report: &str) -> u32 {
+    let at = report.find("\"threads\": ").expect("the page reports its threads") + 11;
+    let digits: String = report[at..].chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().unwrap()
+}
+
+/// The command line's refusal of `bad.toml` in `work`.
+fn cli_error(work: &Path) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
+        .current_dir(work)
+        .args(["render", "bad.toml", "-o", "bad.png"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    String::from_utf8_lossy(&o.stderr).trim_end().to_string()
+}
+
+/// The cubes page after W and the lens key 2: each picture is the native
+/// one of the page's scene file, and the key made the desktop's edit
+/// (`edit::apply` of the library's lens key table) of the scene before.
+fn assert_keys_give_native(work: &Path, out: &Path) {
+    let first = std::fs::read(out.join("first.rgba")).unwrap();
+    let moved = std::fs::read(out.join("moved.rgba")).unwrap();
+    assert_ne!(first, moved, "W changed nothing on the page");
+    let native_moved = native_rgb(&out.join("moved.toml"), &work.join("moved.png"), CUBES);
+    assert_same_picture(&moved, &native_moved, "cubes after W");
+    let lens = std::fs::read(out.join("lens.rgba")).unwrap();
+    assert_ne!(moved, lens, "the lens key changed nothing on the page");
+    let native_lens = native_rgb(&out.join("lens.toml"), &work.join("lens.png"), CUBES);
+    assert_same_picture(&lens, &native_lens, "cubes after the lens key 2");
+    let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
+    let (mut want, _) = lensview::scene::Scene::parse("moved", &text("moved.toml")).unwrap();
+    let edit = lensview::edit::lens_key("Digit2").unwrap();
+    lensview::edit::apply(&mut want, edit);
+    let (got, _) = lensview::scene::Scene::parse("lens", &text("lens.toml")).unwrap();
+    assert!(
+        got == want,
+        "the page's lens key is not the desktop's edit: lenses {:?}, want {:?}",
+        got.lenses,
+        want.lenses
     );
+    // Save scene and Save PNG: the page's scene file and its canvas.
+    assert_eq!(text("saved.toml"), text("lens.toml"), "Save scene");
+    let (size, colour, png) = read_png(&out.join("saved.png"));
+    assert_eq!((size, colour), (CUBES.size, png::ColorType::Rgba), "Save PNG");
+    assert!(png == lens, "Save PNG: the file is not the canvas");
+}
+
+/// Cross-origin isolated (`work/dist` served with COOP/COEP): one thread a
+/// core; cubes, W, the lens key, saving; the bad file opened and dropped,
+/// a good one dropped; every preset; each picture the native one.
+fn assert_isolated_page(root: &Path, work: &Path, query: &str) {
+    let bad = work.join("bad.toml");
+    std::fs::write(&bad, "[camera]\nposition = [0, 1, 5]\nfov = \"wide\"\n").unwrap();
+    let (out, names) = (work.join("page"), presets(root));
+    let good = root.join("scenes/focal-spot.toml");
+    let (bad_arg, good_arg) = (bad.to_str().unwrap(), good.to_str().unwrap());
+    let presets = (names.join(","), PRESETS.query());
+    let args = ["--query", query, "--bad", bad_arg, "--good", good_arg];
+    let more = ["--presets", &presets.0, "--preset-query", &presets.1];
+    let report = drive(root, &work.join("dist"), &out, &[&args[..], &more[..]].concat());
+    assert!(report.contains("\"cross_origin_isolated\": true"), "{report}");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    assert_eq!(page_threads(&report), cores, "threads: one a core");
+    let cubes = root.join("scenes/cubes.toml");
+    let first = std::fs::read(out.join("first.rgba")).unwrap();
+    assert_same_picture(&first, &native_rgb(&cubes, &work.join("first.png"), CUBES), "cubes");
+    assert_keys_give_native(work, &out);
+    for name in &names {
+        let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();
+        let scene = root.join("scenes").join(format!("{name}.toml"));
+        let native = native_rgb(&scene, &work.join(format!("{name}.png")), PRESETS);
+        assert_same_picture(&page, &native, name);
+    }
+    let dropped = std::fs::read(out.join("good.rgba")).unwrap();
+    let native = native_rgb(&good, &work.join("good.png"), CUBES);
+    assert_same_picture(&dropped, &native, "focal-spot.toml dropped on the page");
+    let cli = cli_error(work);
+    for file in ["error.txt", "dropped.txt"] {
+        let page = std::fs::read_to_string(out.join(file)).unwrap();
+        assert!(page.starts_with("error: bad.toml:"), "{file}: {page}");
+        let why = format!("{file}: the page's error line is not the command line's");
+        assert_eq!(page.trim_end(), cli, "{why}");
+    }
 }
 
 #[test]
@@ -167,61 +301,23 @@ fn the_page_renders_what_the_native_renderer_renders() {
     );
     eprintln!("web/build.sh: {:.1} s", t.elapsed().as_secs_f64());
 
-    let bad = work.join("bad.toml");
-    std::fs::write(&bad, "[camera]\nposition = [0, 1, 5]\nfov = \"wide\"\n").unwrap();
-    let out = work.join("page");
-    let query = format!("scene=cubes&w={}&h={}&spp={SPP}&seed={SEED}", SIZE.0, SIZE.1);
-    let t = Instant::now();
-    let mut driver = Command::new("python3");
-    driver
-        .arg(root.join("tools/web_page_test.py"))
-        .arg("--dist")
-        .arg(&dist)
-        .arg("--out")
-        .arg(&out);
-    driver.args(["--query", &query]).arg("--bad").arg(&bad);
-    let (report, _) = run_bounded(
-        &mut driver,
-        Duration::from_secs(300),
-        "the page test (tools/web_page_test.py)",
-    );
-    eprintln!("the page in Chromium: {:.1} s; {report}", t.elapsed().as_secs_f64());
-    let report: String = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let query = format!("scene=cubes&{}", CUBES.query());
+    assert_isolated_page(&root, &work, &query);
+
+    // Not isolated: one thread, a note that says so, the same picture.
+    let out = work.join("plain");
+    let report = drive(&root, &dist, &out, &["--query", &query, "--measure", "--no-isolation"]);
+    assert!(report.contains("\"cross_origin_isolated\": false"), "{report}");
+    assert_eq!(page_threads(&report), 1, "{report}");
     assert!(
-        report.contains("\"console_errors\": []"),
-        "the page logged errors: {report}"
+        report.contains("\"note\": \"one thread: serve with COOP/COEP for threads\""),
+        "{report}"
     );
-
-    let first = std::fs::read(out.join("first.rgba")).unwrap();
+    let cubes = root.join("scenes/cubes.toml");
+    let plain = std::fs::read(out.join("first.rgba")).unwrap();
     assert_same_picture(
-        &first,
-        &native_rgb(&root.join("scenes/cubes.toml"), &work.join("first.png")),
-        "cubes",
-    );
-    let moved = std::fs::read(out.join("moved.rgba")).unwrap();
-    assert_ne!(first, moved, "W changed nothing on the page");
-    let native_moved = native_rgb(&out.join("moved.toml"), &work.join("moved.png"));
-    assert_same_picture(&moved, &native_moved, "cubes after W");
-
-    // Two more presets, each by another path: dispersion (primitives) and a
-    // lens camera, whose rays are traced one by one (camera-dgauss).
-    for scene in ["primitives", "camera-dgauss"] {
-        assert_preset_is_native(&root, &work, scene);
-    }
-
-    // The command line's refusal of the same file, named the same way.
-    let o = Command::new(env!("CARGO_BIN_EXE_lensview"))
-        .current_dir(&work)
-        .args(["render", "bad.toml", "-o", "bad.png"])
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    let cli = String::from_utf8_lossy(&o.stderr);
-    let page = std::fs::read_to_string(out.join("error.txt")).unwrap();
-    assert!(page.starts_with("error: bad.toml:"), "{page}");
-    assert_eq!(
-        page.trim_end(),
-        cli.trim_end(),
-        "the page's error line is not the command line's"
+        &plain,
+        &native_rgb(&cubes, &work.join("plain.png"), CUBES),
+        "cubes, one thread",
     );
 }

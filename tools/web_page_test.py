@@ -2,13 +2,19 @@
 """Drives lensview's web page in headless Chromium over the DevTools
 protocol, for tests/web.rs (and the figures of docs/web.md).
 
-Serves DIST on 127.0.0.1 (a thread of this process, web/serve.py's server),
-starts Chromium with a new profile, opens the page with QUERY, waits for the
-finished picture and writes what it saw into OUT:
+Serves DIST on 127.0.0.1 (a thread of this process, web/serve.py's server;
+with the COOP/COEP headers unless --no-isolation), starts Chromium with a
+new profile, opens the page with QUERY, waits for the finished picture and
+writes what it saw into OUT:
   first.rgba       the canvas's RGBA bytes
   moved.rgba/.toml after pressing W: the canvas, and the page's scene file
+  lens.rgba/.toml  then after the lens key 2 (lens d +): the same
+  saved.toml/.png  what the page's Save buttons downloaded then
   error.txt        the page's error line after opening BAD with its file input
-  report.json      times, sizes and every console error or exception
+  dropped.txt      the same after dropping BAD on the page
+  good.rgba        the canvas after dropping GOOD on the page then
+  preset-NAME.rgba each preset of --presets opened with ?scene=NAME&PRESET_QUERY
+  report.json      times, sizes, threads and every console error or exception
 --measure: only the first picture (no key, no file). Exits 0 when the page
 ran; the caller judges the pictures. Chromium and the server are stopped
 on every exit (and the caller kills the process group on a timeout)."""
@@ -125,36 +131,101 @@ def page_target(port):
     raise RuntimeError("chromium shows no page")
 
 
-def run(page, url, a, out, report):
+STATE = "JSON.stringify(window.lensview)"
+
+
+def open_page(page, url, a):
+    """Opens `url` and waits for its finished first picture (or an error);
+    returns the page's state and the wall time it took."""
     t0 = time.monotonic()
     page.call("Page.navigate", url=url)
     page.wait("window.lensview && (window.lensview.done || window.lensview.error !== '')", "its first picture", a.timeout)
-    state = page.eval("JSON.stringify(window.lensview)")
-    report["first"] = json.loads(state)
-    report["first_wall_s"] = time.monotonic() - t0
-    with open(os.path.join(out, "first.rgba"), "wb") as f:
-        f.write(page.canvas())
-    if a.measure:
-        return
-    # W, as a user presses it, on the focused canvas.
+    return json.loads(page.eval(STATE)), time.monotonic() - t0
+
+
+def save(out, name, data):
+    with open(os.path.join(out, name), "wb" if isinstance(data, bytes) else "w") as f:
+        f.write(data)
+
+
+def press(page, a, code, key, vk, renders, what):
+    """Presses a key on the focused canvas as a user does; waits for the
+    finished picture it starts (the page's `renders`-th)."""
     page.eval("document.getElementById('view').focus()")
     for kind in ("keyDown", "keyUp"):
-        page.call("Input.dispatchKeyEvent", type=kind, code="KeyW", key="w", windowsVirtualKeyCode=87,
-                  **({"text": "w"} if kind == "keyDown" else {}))
-    page.wait("window.lensview.renders >= 2 && window.lensview.done", "the picture after W", a.timeout)
-    report["moved"] = json.loads(page.eval("JSON.stringify(window.lensview)"))
-    with open(os.path.join(out, "moved.rgba"), "wb") as f:
-        f.write(page.canvas())
-    with open(os.path.join(out, "moved.toml"), "w") as f:
-        f.write(page.eval("window.lensview.sceneToml()"))
-    # A bad scene file through the file input.
+        page.call("Input.dispatchKeyEvent", type=kind, code=code, key=key, windowsVirtualKeyCode=vk,
+                  **({"text": key} if kind == "keyDown" else {}))
+    page.wait(f"window.lensview.renders >= {renders} && window.lensview.done", what, a.timeout)
+    return json.loads(page.eval(STATE))
+
+
+def downloads(page, a, out, report):
+    """Clicks Save scene and Save PNG; keeps the files the browser saved."""
+    folder = os.path.join(out, "downloads")
+    os.makedirs(folder, exist_ok=True)
+    page.call("Browser.setDownloadBehavior", behavior="allow", downloadPath=os.path.abspath(folder))
+    for button, ext in (("save-scene", "toml"), ("save-png", "png")):
+        page.eval(f"document.getElementById('{button}').click()")
+        path = os.path.join(folder, f"cubes.{ext}")
+        end = time.monotonic() + a.timeout
+        while not os.path.exists(path) and time.monotonic() < end:
+            time.sleep(0.05)
+        if not os.path.exists(path):
+            raise TimeoutError(f"{button}: no download in {folder}: {os.listdir(folder)}")
+        shutil.copy(path, os.path.join(out, f"saved.{ext}"))
+    report["downloads"] = sorted(os.listdir(folder))
+
+
+def bad_files(page, a, out):
+    """The bad scene file through the file input, then dropped on the page;
+    then the good one (--good) dropped."""
     doc = page.call("DOM.getDocument")
     node = page.call("DOM.querySelector", nodeId=doc["root"]["nodeId"], selector="#file")["nodeId"]
     page.call("DOM.setFileInputFiles", nodeId=node, files=[os.path.abspath(a.bad)])
     page.wait("window.lensview.error !== ''", "an error line for the bad file", a.timeout)
-    shown = page.eval("document.getElementById('error').textContent")
-    with open(os.path.join(out, "error.txt"), "w") as f:
-        f.write(shown)
+    save(out, "error.txt", page.eval("document.getElementById('error').textContent"))
+    page.eval("window.lensview.error = ''; document.getElementById('error').textContent = ''")
+    drop(page, a.bad)
+    page.wait("window.lensview.error !== ''", "an error line for the dropped file", a.timeout)
+    save(out, "dropped.txt", page.eval("document.getElementById('error').textContent"))
+    if a.good:
+        # A good one dropped: it replaces the scene and clears the error.
+        drop(page, a.good)
+        page.wait("window.lensview.renders >= 4 && window.lensview.done && window.lensview.error === ''",
+                  "the picture of the dropped good file", a.timeout)
+        save(out, "good.rgba", page.canvas())
+
+
+def drop(page, path):
+    """Drops the file at `path` on the page: a drop event carrying it, as
+    the browser sends one."""
+    with open(path) as f:
+        text = json.dumps(f.read())
+    name = json.dumps(os.path.basename(path))
+    page.eval(f"""(() => {{
+        const dt = new DataTransfer();
+        dt.items.add(new File([{text}], {name}));
+        document.body.dispatchEvent(new DragEvent('drop', {{ dataTransfer: dt, bubbles: true, cancelable: true }}));
+    }})()""")
+
+
+def run(page, url, a, out, report):
+    report["first"], report["first_wall_s"] = open_page(page, url, a)
+    report["note"] = page.eval("document.getElementById('note').textContent")
+    save(out, "first.rgba", page.canvas())
+    if not a.measure:
+        report["moved"] = press(page, a, "KeyW", "w", 87, 2, "the picture after W")
+        save(out, "moved.rgba", page.canvas())
+        save(out, "moved.toml", page.eval("window.lensview.sceneToml()"))
+        report["lens"] = press(page, a, "Digit2", "2", 50, 3, "the picture after the lens key 2")
+        save(out, "lens.rgba", page.canvas())
+        save(out, "lens.toml", page.eval("window.lensview.sceneToml()"))
+        downloads(page, a, out, report)
+        bad_files(page, a, out)
+    for name in filter(None, a.presets.split(",")):
+        base = url.split("?")[0]
+        report[f"preset-{name}"], _ = open_page(page, f"{base}?scene={name}&{a.preset_query}", a)
+        save(out, f"preset-{name}.rgba", page.canvas())
 
 
 def main():
@@ -163,13 +234,17 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--query", required=True, help="the page's URL parameters, e.g. scene=cubes&w=160&h=120&spp=4")
     ap.add_argument("--bad", help="a scene file the page must refuse")
+    ap.add_argument("--good", help="a scene file to drop on the page after the bad one")
     ap.add_argument("--measure", action="store_true")
+    ap.add_argument("--no-isolation", action="store_true", help="serve without COOP/COEP (one thread)")
+    ap.add_argument("--presets", default="", help="presets to open after the first page, comma-separated")
+    ap.add_argument("--preset-query", default="w=64&h=48&spp=2&seed=3")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit("error: terminated"))
     os.makedirs(a.out, exist_ok=True)
-    httpd = serve.server(a.dist, 0)
+    httpd = serve.server(a.dist, 0, not a.no_isolation)
     threading.Thread(target=httpd.serve_forever, daemon=True).start()
     profile = tempfile.mkdtemp(prefix="lensview-chromium-")
     chromium = None

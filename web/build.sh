@@ -4,7 +4,8 @@
 # toolchain has no wasm32 std; build-std builds it), then wasm-bindgen.
 # Installs what is missing first (apt as root; wasm-bindgen-cli with the
 # rustup cargo at Cargo.lock's wasm-bindgen version). Recipe and figures:
-# docs/web.md. Cold build on 2 cores: about 7 minutes; after a change, seconds.
+# docs/web.md. Threads and SIMD128: web/.cargo/config.toml. Cold build on 2
+# busy cores: about 8.5-10 minutes; after a change to web/, seconds.
 set -euo pipefail
 web="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$web")"
@@ -44,5 +45,5 @@ rm -rf "$out"
 mkdir -p "$out"
 wasm-bindgen --target web --no-typescript --remove-name-section --out-dir "$out/pkg" \
     target/wasm32-unknown-unknown/release/lensview_web.wasm
-cp www/index.html www/main.js "$out/"
+cp www/index.html www/main.js www/worker.js "$out/"
 echo "built $out ($(du -b "$out/pkg/lensview_web_bg.wasm" | cut -f1) bytes of wasm); serve it with web/serve.sh"

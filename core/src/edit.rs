@@ -82,6 +82,36 @@ impl Edit {
     }
 }
 
+/// The lens keys, the desktop viewer's and the web page's: each key's
+/// code (the name of winit's `KeyCode`, which is also the DOM's
+/// `KeyboardEvent.code`) and the edit it makes to the first lens (or the
+/// selected system) through [`apply`].
+pub const LENS_KEYS: [(&str, Edit); 18] = [
+    ("KeyZ", Edit::LensAlongAxis(-0.1)),
+    ("KeyX", Edit::LensAlongAxis(0.1)),
+    ("KeyV", Edit::LensMove(DVec3::new(-0.1, 0.0, 0.0))),
+    ("KeyB", Edit::LensMove(DVec3::new(0.1, 0.0, 0.0))),
+    ("KeyN", Edit::LensMove(DVec3::new(0.0, -0.1, 0.0))),
+    ("KeyM", Edit::LensMove(DVec3::new(0.0, 0.1, 0.0))),
+    ("Digit9", Edit::LensTurn { yaw: -5.0, pitch: 0.0 }),
+    ("Digit0", Edit::LensTurn { yaw: 5.0, pitch: 0.0 }),
+    ("Minus", Edit::LensTurn { yaw: 0.0, pitch: -5.0 }),
+    ("Equal", Edit::LensTurn { yaw: 0.0, pitch: 5.0 }),
+    ("Digit1", Edit::LensDiameter(-0.1)),
+    ("Digit2", Edit::LensDiameter(0.1)),
+    ("Digit3", Edit::LensR1(-0.25)),
+    ("Digit4", Edit::LensR1(0.25)),
+    ("Digit5", Edit::LensR2(-0.25)),
+    ("Digit6", Edit::LensR2(0.25)),
+    ("Digit7", Edit::LensIndex(-0.02)),
+    ("Digit8", Edit::LensIndex(0.02)),
+];
+
+/// The edit of lens key `code` ([`LENS_KEYS`]).
+pub fn lens_key(code: &str) -> Option<Edit> {
+    LENS_KEYS.iter().find(|k| k.0 == code).map(|k| k.1)
+}
+
 fn first_light(sf: &mut SceneFile) -> Option<&mut LightFile> {
     let i = sf.lights.iter().position(|l| l.kind == LightKind::Point).unwrap_or(0);
     sf.lights.get_mut(i)

@@ -109,15 +109,7 @@ impl Viewer {
                 ui.temperature = k.clamp(1000.0, 40000.0);
                 Edit::LightTemperature(ui.temperature)
             }
-            Action::LensAlongAxis(d) => Edit::LensAlongAxis(d),
-            Action::LensSideways(d) => Edit::LensMove(DVec3::X * d),
-            Action::LensVertical(d) => Edit::LensMove(DVec3::Y * d),
-            Action::LensYaw(d) => Edit::LensTurn { yaw: d, pitch: 0.0 },
-            Action::LensPitch(d) => Edit::LensTurn { yaw: 0.0, pitch: d },
-            Action::LensD(d) => Edit::LensDiameter(d),
-            Action::LensR1(d) => Edit::LensR1(d),
-            Action::LensR2(d) => Edit::LensR2(d),
-            Action::LensN(d) => Edit::LensIndex(d),
+            Action::LensKey(code) => return lensview::edit::lens_key(code),
             _ => return None,
         })
     }

@@ -26,15 +26,9 @@ pub enum Action {
     LightPreset,
     LightWarmer,
     LightCooler,
-    LensAlongAxis(f64),
-    LensSideways(f64),
-    LensVertical(f64),
-    LensYaw(f64),
-    LensPitch(f64),
-    LensD(f64),
-    LensR1(f64),
-    LensR2(f64),
-    LensN(f64),
+    /// A lens key: its code in the library's table (`edit::LENS_KEYS`),
+    /// which holds the edit.
+    LensKey(&'static str),
     ResetView,
     Reload,
     // Pressed: the lens camera (issue #32).
@@ -156,26 +150,31 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (
         KeyCode::KeyZ,
         "Z/X",
-        Action::LensAlongAxis(-0.1),
+        Action::LensKey("KeyZ"),
         "lens (or selected system) along its axis -/+",
     ),
-    (KeyCode::KeyX, "", Action::LensAlongAxis(0.1), ""),
-    (KeyCode::KeyV, "V/B", Action::LensSideways(-0.1), "lens x -/+"),
-    (KeyCode::KeyB, "", Action::LensSideways(0.1), ""),
-    (KeyCode::KeyN, "N/M", Action::LensVertical(-0.1), "lens y -/+"),
-    (KeyCode::KeyM, "", Action::LensVertical(0.1), ""),
-    (KeyCode::Digit9, "9/0", Action::LensYaw(-5.0), "lens yaw -/+ 5 deg"),
-    (KeyCode::Digit0, "", Action::LensYaw(5.0), ""),
-    (KeyCode::Minus, "- / =", Action::LensPitch(-5.0), "lens pitch -/+ 5 deg"),
-    (KeyCode::Equal, "", Action::LensPitch(5.0), ""),
-    (KeyCode::Digit1, "1/2", Action::LensD(-0.1), "lens diameter d -/+"),
-    (KeyCode::Digit2, "", Action::LensD(0.1), ""),
-    (KeyCode::Digit3, "3/4", Action::LensR1(-0.25), "lens r1 -/+"),
-    (KeyCode::Digit4, "", Action::LensR1(0.25), ""),
-    (KeyCode::Digit5, "5/6", Action::LensR2(-0.25), "lens r2 -/+"),
-    (KeyCode::Digit6, "", Action::LensR2(0.25), ""),
-    (KeyCode::Digit7, "7/8", Action::LensN(-0.02), "lens index n -/+"),
-    (KeyCode::Digit8, "", Action::LensN(0.02), ""),
+    (KeyCode::KeyX, "", Action::LensKey("KeyX"), ""),
+    (KeyCode::KeyV, "V/B", Action::LensKey("KeyV"), "lens x -/+"),
+    (KeyCode::KeyB, "", Action::LensKey("KeyB"), ""),
+    (KeyCode::KeyN, "N/M", Action::LensKey("KeyN"), "lens y -/+"),
+    (KeyCode::KeyM, "", Action::LensKey("KeyM"), ""),
+    (KeyCode::Digit9, "9/0", Action::LensKey("Digit9"), "lens yaw -/+ 5 deg"),
+    (KeyCode::Digit0, "", Action::LensKey("Digit0"), ""),
+    (
+        KeyCode::Minus,
+        "- / =",
+        Action::LensKey("Minus"),
+        "lens pitch -/+ 5 deg",
+    ),
+    (KeyCode::Equal, "", Action::LensKey("Equal"), ""),
+    (KeyCode::Digit1, "1/2", Action::LensKey("Digit1"), "lens diameter d -/+"),
+    (KeyCode::Digit2, "", Action::LensKey("Digit2"), ""),
+    (KeyCode::Digit3, "3/4", Action::LensKey("Digit3"), "lens r1 -/+"),
+    (KeyCode::Digit4, "", Action::LensKey("Digit4"), ""),
+    (KeyCode::Digit5, "5/6", Action::LensKey("Digit5"), "lens r2 -/+"),
+    (KeyCode::Digit6, "", Action::LensKey("Digit6"), ""),
+    (KeyCode::Digit7, "7/8", Action::LensKey("Digit7"), "lens index n -/+"),
+    (KeyCode::Digit8, "", Action::LensKey("Digit8"), ""),
     (
         KeyCode::F9,
         "F9",
@@ -343,18 +342,33 @@ mod tests {
         assert_eq!(action_for(KeyCode::KeyW, false, false), Some(Action::Forward));
         assert_eq!(action_for(KeyCode::KeyW, false, true), Some(Action::Forward));
         assert_eq!(action_for(KeyCode::KeyS, true, false), Some(Action::Save));
-        assert_eq!(
-            action_for(KeyCode::KeyZ, false, false),
-            Some(Action::LensAlongAxis(-0.1))
-        );
+        assert_eq!(action_for(KeyCode::KeyZ, false, false), Some(Action::LensKey("KeyZ")));
         assert_eq!(action_for(KeyCode::KeyZ, true, false), Some(Action::Undo));
         assert_eq!(action_for(KeyCode::KeyZ, true, true), Some(Action::Redo));
         assert_eq!(action_for(KeyCode::KeyW, true, false), None);
         assert_eq!(label_of(Action::Redo), "Ctrl+Shift+Z");
         assert_eq!(label_of(Action::TogglePanel), "F4");
         assert!(help_rows().iter().any(|r| r.0 == "Ctrl+Z" && r.1 == "undo"));
-        assert!(!Action::ToggleOverlay.restarts() && Action::LensD(0.1).restarts());
+        assert!(!Action::ToggleOverlay.restarts() && Action::LensKey("Digit2").restarts());
         assert_eq!(action_for(KeyCode::F9, false, false), Some(Action::ToggleLensCamera));
         assert!(!Action::ToggleLensCamera.restarts() && Action::FNumber(1.0).restarts());
+    }
+
+    /// Every lens key's row names its own key in the library's table, and
+    /// every key of the table has its row.
+    #[test]
+    fn lens_keys_are_the_librarys() {
+        let rows: Vec<_> = BINDINGS
+            .iter()
+            .filter_map(|b| match b.2 {
+                Action::LensKey(code) => Some((format!("{:?}", b.0), code)),
+                _ => None,
+            })
+            .collect();
+        for (key, code) in &rows {
+            assert_eq!(key, code);
+            assert!(lensview::edit::lens_key(code).is_some(), "{code}");
+        }
+        assert_eq!(rows.len(), lensview::edit::LENS_KEYS.len());
     }
 }

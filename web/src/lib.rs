@@ -1,11 +1,15 @@
 //! lensview in the browser: [`App`] hands the page's [`view::View`] to
-//! JavaScript (`www/main.js` draws its pixels on a canvas and feeds it keys
-//! and files). One thread: the page calls [`App::step`] in small slices
-//! between frames.
+//! JavaScript. `www/worker.js` holds it in a Web Worker, calls
+//! [`App::step`] in slices and posts the pixels to `www/main.js`, which
+//! draws them on a canvas and forwards keys and files. Threads: the
+//! worker calls `initThreadPool` (wasm-bindgen-rayon) when the page is
+//! cross-origin isolated, and rayon's loops of the library run on them;
+//! otherwise rayon runs on the worker's own thread.
 
 pub mod view;
 
 use wasm_bindgen::prelude::*;
+pub use wasm_bindgen_rayon::init_thread_pool;
 
 #[wasm_bindgen]
 pub struct App(view::View);
@@ -21,16 +25,26 @@ impl App {
             .map_err(|e| JsValue::from_str(&e))
     }
 
-    /// Renders up to `bands` bands; returns whether any work was done.
+    /// Draws the next block preview, or renders up to `bands` bands of
+    /// the next sample (in parallel on the pool's threads); returns
+    /// whether any work was done.
     pub fn step(&mut self, bands: u32) -> bool {
-        let mut any = false;
-        for _ in 0..bands {
-            if !self.0.step() {
-                break;
-            }
-            any = true;
-        }
-        any
+        self.0.step(bands as usize)
+    }
+
+    /// The threads rayon runs on (1 without a pool).
+    pub fn threads() -> u32 {
+        rayon::current_num_threads() as u32
+    }
+
+    /// What the picture shows: "8×8 blocks", "3 spp".
+    pub fn stage(&self) -> String {
+        self.0.stage()
+    }
+
+    /// What the last key did.
+    pub fn message(&self) -> String {
+        self.0.message().into()
     }
 
     pub fn done(&self) -> bool {
@@ -59,7 +73,8 @@ impl App {
         self.0.rgba().to_vec()
     }
 
-    /// A `KeyboardEvent.code`; whether it moved the camera.
+    /// A `KeyboardEvent.code`; whether it changed the scene (the camera
+    /// or the lens).
     pub fn key(&mut self, code: &str) -> bool {
         self.0.key(code)
     }

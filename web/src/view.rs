@@ -1,16 +1,21 @@
 //! The page's state without the browser: a scene document, the picture
-//! being rendered step by step ([`Steps`]) and its RGBA pixels, and the
-//! keys that fly the camera. Plain Rust, tested natively below;
+//! being rendered step by step and its RGBA pixels, and the keys that fly
+//! the camera and edit the lens. A new picture starts with the desktop
+//! viewer's block previews ([`schedule`]'s block stages, drawn by
+//! [`Progressive`]), then adds full samples band by band ([`Steps`]: the
+//! finished picture is `render`'s). Plain Rust, tested natively below;
 //! `lib.rs` only hands it to JavaScript.
 
 use glam::DVec3;
 use lensview::camera::Camera;
 use lensview::color::to_srgb8_toned;
 use lensview::edit::document::{Document, Source, to_toml};
+use lensview::edit::lens_key;
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
 use lensview::render::RenderSettings;
 use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
+use lensview::render::progressive::{Progressive, Sampling, Stage, schedule};
 use lensview::render::steps::Steps;
 use lensview::scene::{Scene, escape_controls};
 
@@ -27,8 +32,16 @@ pub struct View {
     spp: u32,
     seed: u64,
     map: Option<PhotonMap>,
+    /// The block previews left to draw (the last first), and what draws
+    /// them.
+    previews: Vec<Stage>,
+    progressive: Progressive,
+    /// The block preview drawn last, until the first band of samples.
+    shown: Option<Stage>,
     steps: Steps,
     rgba: Vec<u8>,
+    /// What the last key did, for the page's message line.
+    message: String,
 }
 
 /// A scene that parsed but failed validation as a document (not expected:
@@ -44,11 +57,16 @@ pub fn error_line(e: &impl std::fmt::Display) -> String {
 }
 
 impl View {
-    /// The preset `scene` (a name or file name of `scenes/`), or the
+    /// The preset `scene` (a name or file name of `scenes/`, with or
+    /// without `.toml`), or the
     /// embedded default scene when `None`.
     pub fn new(scene: Option<&str>, size: (u32, u32), spp: u32, seed: u64) -> Result<View, String> {
         let doc = match scene {
-            Some(name) => Document::preset(name).map_err(|e| error_line(&e))?,
+            // A preset's menu name, file name, or file name without
+            // `.toml` (`?scene=focal-spot`).
+            Some(name) => Document::preset(name)
+                .or_else(|e| Document::preset(&format!("{name}.toml")).map_err(|_| e))
+                .map_err(|e| error_line(&e))?,
             None => {
                 let (sf, _) = Scene::default_scene();
                 Document::new(sf, Source::Default).map_err(|e| rejected(&e))?
@@ -66,24 +84,39 @@ impl View {
             spp,
             seed,
             map: None,
+            previews: Vec::new(),
+            progressive: Progressive::new(size.0, size.1, seed).with_sampling(Sampling::UNIFORM),
+            shown: None,
             steps: Steps::new(settings),
             rgba: vec![0; size.0 as usize * size.1 as usize * 4],
+            message: String::new(),
         };
-        view.restart();
+        view.restart(true);
         Ok(view)
     }
 
     /// Starts the picture over for the document's scene: the caustics'
-    /// photons as `lensview render` traces them, then sample by sample.
-    fn restart(&mut self) {
+    /// photons as `lensview render` traces them (`light`: when anything but
+    /// the camera changed; the photon map does not depend on the camera),
+    /// the block previews, then sample by sample.
+    fn restart(&mut self, light: bool) {
         let scene = self.doc.built();
         let spp = if self.spp == 0 { scene.spp } else { self.spp };
-        let photons = CausticSettings {
-            seed: self.seed,
-            ..CausticSettings::default()
-        };
-        let (passes, _) = render_photons(scene, self.size, spp, photons);
-        self.map = caustic_map(scene, passes, photons);
+        if light {
+            let photons = CausticSettings {
+                seed: self.seed,
+                ..CausticSettings::default()
+            };
+            let (passes, _) = render_photons(scene, self.size, spp, photons);
+            self.map = caustic_map(scene, passes, photons);
+        }
+        self.previews = schedule(spp)
+            .into_iter()
+            .take_while(|s| matches!(s, Stage::Blocks(_)))
+            .collect();
+        self.previews.reverse();
+        self.shown = None;
+        self.progressive.reset(self.size.0, self.size.1, self.seed);
         self.steps = Steps::new(RenderSettings {
             width: self.size.0,
             height: self.size.1,
@@ -92,14 +125,22 @@ impl View {
         });
     }
 
-    /// Renders the next band of the next sample into the RGBA pixels;
-    /// `false` when the picture was already finished.
-    pub fn step(&mut self) -> bool {
+    /// Draws the next block preview, or renders the next `bands` bands of
+    /// the next sample (in parallel where the page has threads) into the
+    /// RGBA pixels; `false` when the picture was already finished.
+    pub fn step(&mut self, bands: usize) -> bool {
         let scene = self.doc.built();
         let lit = Lit::new(scene, self.map.as_ref());
-        let Some((y0, y1)) = self.steps.step(&lit) else {
+        if let Some(stage) = self.previews.pop() {
+            self.progressive.run(lit, stage, &|| false);
+            self.progressive.write_rgba8(&mut self.rgba, scene.tone);
+            self.shown = Some(stage);
+            return true;
+        }
+        let Some((y0, y1)) = self.steps.step_bands(&lit, bands) else {
             return false;
         };
+        self.shown = None;
         let tone = scene.tone;
         let w = self.size.0;
         for y in y0..y1 {
@@ -111,6 +152,14 @@ impl View {
             }
         }
         true
+    }
+
+    /// What the picture shows now: a block preview, or full samples.
+    pub fn stage(&self) -> String {
+        match self.shown {
+            Some(stage) => stage.label(),
+            None => format!("{} spp", self.steps.samples_done()),
+        }
     }
 
     pub fn done(&self) -> bool {
@@ -131,10 +180,36 @@ impl View {
         self.size
     }
 
-    /// A key (a DOM `KeyboardEvent.code`): W/S forward and back, A/D left
-    /// and right, R/F up and down, the arrows turn. Returns whether it
-    /// moved the camera (the picture starts over).
+    /// A key (a DOM `KeyboardEvent.code`): a flight key ([`Self::fly`])
+    /// or a lens key of the desktop viewer (`edit::LENS_KEYS`, applied to
+    /// the first lens by the document's `apply_edit`). Returns whether it
+    /// changed the scene (the picture starts over); [`Self::message`] says
+    /// what it did.
     pub fn key(&mut self, code: &str) -> bool {
+        let Some(edit) = lens_key(code) else {
+            return self.fly(code);
+        };
+        match self.doc.apply_edit(edit) {
+            Ok((msg, _)) => {
+                self.message = msg;
+                self.restart(true);
+                true
+            }
+            Err(e) => {
+                self.message = format!("not applied: {e}");
+                false
+            }
+        }
+    }
+
+    /// The line the last key left: what the edit did, or why not.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    /// W/S forward and back, A/D left and right, R/F up and down, the
+    /// arrows turn; whether it moved the camera.
+    fn fly(&mut self, code: &str) -> bool {
         let (mut pos, mut rot) = self.doc.camera_pose();
         let cam = Camera::new(pos, rot, 45.0);
         let (f, r) = (cam.forward(), cam.right());
@@ -154,7 +229,7 @@ impl View {
         if self.doc.fly_camera(pos, rot).is_err() {
             return false;
         }
-        self.restart();
+        self.restart(false);
         true
     }
 
@@ -164,7 +239,7 @@ impl View {
     pub fn open(&mut self, name: &str, bytes: &[u8]) -> Result<(), String> {
         let (sf, _) = Scene::from_bytes(name, bytes).map_err(|e| error_line(&e))?;
         self.doc = Document::new(sf, Source::File(name.into())).map_err(|e| rejected(&e))?;
-        self.restart();
+        self.restart(true);
         Ok(())
     }
 
@@ -180,47 +255,84 @@ mod tests {
     use lensview::render::render;
 
     fn finish(v: &mut View) {
-        while v.step() {}
+        while v.step(3) {}
         assert!(v.done());
     }
 
+    /// `render`'s picture of `scene` with its caustics, converted as the
+    /// PNG is (RGB).
+    fn renders(scene: &Scene, (width, height): (u32, u32), spp: u32, seed: u64) -> Vec<u8> {
+        let s = RenderSettings {
+            width,
+            height,
+            spp,
+            seed,
+        };
+        let photons = CausticSettings {
+            seed,
+            ..CausticSettings::default()
+        };
+        let (passes, _) = render_photons(scene, (width, height), spp, photons);
+        let map = caustic_map(scene, passes, photons);
+        render(Lit::new(scene, map.as_ref()), &s, None).to_srgb8_toned(scene.tone)
+    }
+
+    fn rgb(v: &View) -> Vec<u8> {
+        v.rgba().chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+    }
+
+    /// The page's scene now, as `lensview render` would read its file.
+    fn scene_of(v: &View) -> Scene {
+        Scene::parse("page.toml", &v.scene_toml().unwrap()).unwrap().1
+    }
+
     /// The finished picture is `render`'s at the same size, spp and seed,
-    /// converted as the PNG is.
+    /// converted as the PNG is; it starts with the block previews.
     #[test]
     fn the_picture_is_renders() {
         let mut v = View::new(Some("cubes"), (24, 20), 2, 3).unwrap();
+        assert_eq!(v.stage(), "0 spp");
+        assert!(v.step(1));
+        assert_eq!(v.stage(), "8×8 blocks");
+        assert!(
+            v.rgba()[..32].chunks(4).all(|p| p == &v.rgba()[..4]),
+            "one colour a block"
+        );
         finish(&mut v);
-        assert_eq!(v.samples(), (2, 2));
-        let (_, scene) = Scene::default_scene();
-        let s = RenderSettings {
-            width: 24,
-            height: 20,
-            spp: 2,
-            seed: 3,
-        };
-        let photons = CausticSettings {
-            seed: 3,
-            ..CausticSettings::default()
-        };
-        let (passes, _) = render_photons(&scene, (24, 20), 2, photons);
-        let map = caustic_map(&scene, passes, photons);
-        let img = render(Lit::new(&scene, map.as_ref()), &s, None);
-        let png: Vec<u8> = img.to_srgb8_toned(scene.tone);
-        let rgb: Vec<u8> = v.rgba().chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        assert_eq!(rgb, png);
+        assert_eq!((v.samples(), v.stage().as_str()), ((2, 2), "2 spp"));
+        assert_eq!(rgb(&v), renders(&Scene::default_scene().1, (24, 20), 2, 3));
     }
 
+    /// W keeps the photon map (it does not depend on the camera): the new
+    /// picture is still `render`'s of the moved scene.
     #[test]
     fn w_moves_the_camera_and_restarts() {
-        let mut v = View::new(None, (16, 12), 1, 0).unwrap();
+        let mut v = View::new(None, (16, 12), 2, 1).unwrap();
         finish(&mut v);
         let before = v.rgba().to_vec();
         assert!(v.key("KeyW"));
         assert!(!v.done());
         finish(&mut v);
         assert_ne!(v.rgba(), &before[..]);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 2, 1));
         assert!(!v.key("KeyQ"));
         assert!(v.scene_toml().unwrap().contains("[camera]"));
+    }
+
+    /// A lens key makes the desktop's edit (`edit::apply` of its
+    /// `LENS_KEYS` entry) on the first lens, and the picture is `render`'s
+    /// of the edited scene.
+    #[test]
+    fn a_lens_key_edits_the_first_lens_as_the_desktop_does() {
+        let mut v = View::new(Some("cubes"), (16, 12), 1, 2).unwrap();
+        let mut want = v.doc.scene().clone();
+        lensview::edit::apply(&mut want, lens_key("Digit2").unwrap());
+        assert!(v.key("Digit2"));
+        assert!(v.message().starts_with("lens d = "), "{}", v.message());
+        assert_eq!(v.doc.scene().lenses[0].d, want.lenses[0].d);
+        assert_ne!(v.doc.scene().lenses[0].d, Scene::default_scene().0.lenses[0].d);
+        finish(&mut v);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 1, 2));
     }
 
     #[test]
@@ -229,7 +341,13 @@ mod tests {
         let e = v.open("bad.toml", b"[camera]\nfov = \"wide\"\n").unwrap_err();
         assert!(e.starts_with("error: bad.toml"), "{e}");
         assert!(!e.contains('\n'));
-        assert!(v.done() || v.step());
-        assert!(View::new(Some("no such"), (4, 4), 1, 0).is_err());
+        assert!(v.done() || v.step(1));
+        let e = View::new(Some("no such"), (4, 4), 1, 0).err().unwrap();
+        assert_eq!(e, "error: no such:1:1: (document): no such preset");
+        for p in lensview::edit::presets::PRESETS {
+            for name in [p.name, p.file, p.file.trim_end_matches(".toml")] {
+                assert!(View::new(Some(name), (4, 4), 1, 0).is_ok(), "{name}");
+            }
+        }
     }
 }

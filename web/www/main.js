@@ -1,9 +1,8 @@
-// lensview's page: the wasm App renders in slices between frames and this
-// draws its RGBA pixels on a 2D canvas. URL parameters: scene (a preset's
-// name, e.g. ?scene=cubes), w, h, spp (0: the scene's), seed.
-// window.lensview holds the state the browser test reads.
-import init, { App } from "./pkg/lensview_web.js";
-
+// lensview's page: a render worker (worker.js, holding the wasm App) posts
+// pictures and this draws them on a 2D canvas, forwards keys and scene files
+// (file input or drop) and saves the scene and the picture. URL parameters:
+// scene (a preset's name, e.g. ?scene=cubes), w, h, spp (0: the scene's),
+// seed. window.lensview holds the state the browser test reads.
 const params = new URLSearchParams(location.search);
 const num = (k, d) => (params.has(k) ? Number(params.get(k)) : d);
 const [width, height] = [num("w", 640), num("h", 480)];
@@ -11,92 +10,145 @@ const canvas = document.getElementById("view");
 const ctx = canvas.getContext("2d");
 const statusLine = document.getElementById("status");
 const errorLine = document.getElementById("error");
-const state = (window.lensview = { ready: false, done: false, renders: 0, error: "", firstPictureMs: null });
+const messageLine = document.getElementById("message");
+const state = (window.lensview = {
+  ready: false,
+  done: false,
+  renders: 0,
+  error: "",
+  message: "",
+  firstPictureMs: null,
+  isolated: self.crossOriginIsolated,
+});
 
-let app = null;
-let started = 0;
-
-function restart() {
-  state.done = false;
-  started = performance.now();
-  state.stepMs = 0;
+// Threads need cross-origin isolation (SharedArrayBuffer); say so without.
+const threads = self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1;
+if (!self.crossOriginIsolated) {
+  document.getElementById("note").textContent = "one thread: serve with COOP/COEP for threads";
 }
 
-function draw() {
-  const pixels = new Uint8ClampedArray(app.rgba());
-  ctx.putImageData(new ImageData(pixels, app.width(), app.height()), 0, 0);
+const worker = new Worker("worker.js", { type: "module" });
+let picture = 0; // the picture the worker renders now (its generation)
+let lastDone = 0; // the last picture seen finished
+let shownPicture = 0; // the picture the last frame drawn showed
+let sceneName = params.get("scene") || "scene";
+const replies = new Map(); // sceneToml requests by id
+let nextId = 0;
+
+function showError(text) {
+  errorLine.textContent = text;
+  state.error = text;
 }
 
-// Renders bands for about 30 ms, draws, and comes back next frame.
-function frame() {
-  if (!app.done()) {
-    const t0 = performance.now();
-    while (app.step(1) && performance.now() - t0 < 30) {}
-    state.stepMs += performance.now() - t0;
-    draw();
-    if (state.firstPictureMs === null && app.samplesDone() >= 1) {
-      state.firstPictureMs = performance.now();
-    }
-    if (app.done()) {
-      state.renderMs = performance.now() - started;
-      state.renders += 1;
-      state.done = true;
-    }
-    statusLine.textContent = `${app.width()}×${app.height()}, ${app.samplesDone()}/${app.spp()} samples` +
-      (app.done() ? `, ${(state.renderMs / 1000).toFixed(3)} s` : "…");
+function drawFrame(f) {
+  if (f.generation < picture) return; // posted before the last change
+  ctx.putImageData(new ImageData(new Uint8ClampedArray(f.rgba.buffer), f.width, f.height), 0, 0);
+  if (f.generation !== shownPicture) {
+    // The first frame of a new picture: the time from the change (a key,
+    // a file, the start) to it.
+    shownPicture = f.generation;
+    state.reactMs = f.renderMs;
   }
-  requestAnimationFrame(frame);
+  if (state.firstFrameMs === undefined) state.firstFrameMs = performance.now();
+  if (state.firstPictureMs === null && f.samplesDone >= 1) {
+    state.firstPictureMs = performance.now();
+  }
+  state.stage = f.stage;
+  if (f.done && f.generation !== lastDone) {
+    lastDone = f.generation;
+    state.renders += 1;
+    [state.renderMs, state.previewMs, state.samplesMs] = [f.renderMs, f.previewMs, f.samplesMs];
+  }
+  state.done = f.done;
+  statusLine.textContent =
+    `${f.width}×${f.height}, ${f.stage} of ${f.spp} spp` +
+    (f.done ? `, ${(f.renderMs / 1000).toFixed(3)} s` : "…") +
+    `, ${state.threads} thread${state.threads === 1 ? "" : "s"}`;
 }
+
+worker.onmessage = ({ data: d }) => {
+  if (d.type === "frame") {
+    drawFrame(d);
+  } else if (d.type === "ready") {
+    canvas.width = d.width;
+    canvas.height = d.height;
+    canvas.focus();
+    picture = 1;
+    state.threads = d.threads;
+    state.ready = true;
+  } else if (d.type === "key") {
+    if (d.changed) {
+      picture += 1;
+      state.done = false;
+    }
+    messageLine.textContent = d.message;
+    state.message = d.message;
+  } else if (d.type === "opened") {
+    picture += 1;
+    state.done = false;
+    sceneName = d.name.replace(/\.toml$/, "");
+    showError("");
+  } else if (d.type === "error") {
+    showError(d.text);
+    if (!state.ready) statusLine.textContent = "";
+  } else if (d.type === "toml") {
+    replies.get(d.id)(d.text);
+    replies.delete(d.id);
+  }
+};
+worker.onerror = (e) => showError(`error: the render worker failed: ${e.message}`);
+
+// The scene now (camera and lens edits included) as a scene file.
+state.sceneToml = () =>
+  new Promise((resolve) => {
+    nextId += 1;
+    replies.set(nextId, resolve);
+    worker.postMessage({ type: "toml", id: nextId });
+  });
 
 document.addEventListener("keydown", (e) => {
-  if (!app || e.target.tagName === "INPUT") return;
-  restartIf(() => app.key(e.code));
+  if (!state.ready || e.target.tagName === "INPUT" || e.ctrlKey || e.metaKey || e.altKey) return;
+  worker.postMessage({ type: "key", code: e.code });
 });
 
-// Runs `change`; when it starts the picture over, the clocks start over
-// (stepMs: time in Rust, the photons of the change included).
-function restartIf(change) {
-  const t = performance.now();
-  if (change()) {
-    started = t;
-    state.stepMs = performance.now() - t;
-    state.done = false;
-  }
-}
-
-document.getElementById("file").addEventListener("change", async (e) => {
-  const file = e.target.files[0];
-  if (!file) return;
+async function open(file) {
   const bytes = new Uint8Array(await file.arrayBuffer());
-  try {
-    restartIf(() => (app.open(file.name, bytes), true));
-    errorLine.textContent = "";
-    state.error = "";
-  } catch (err) {
-    errorLine.textContent = String(err);
-    state.error = String(err);
-  }
-  e.target.value = "";
-});
-
-async function main() {
-  await init();
-  restart();
-  try {
-    app = new App(params.get("scene"), width, height, num("spp", 0), num("seed", 0));
-    state.stepMs = performance.now() - started;
-  } catch (err) {
-    errorLine.textContent = String(err);
-    state.error = String(err);
-    statusLine.textContent = "";
-    return;
-  }
-  canvas.width = app.width();
-  canvas.height = app.height();
-  canvas.focus();
-  state.ready = true;
-  state.sceneToml = () => app.sceneToml();
-  requestAnimationFrame(frame);
+  worker.postMessage({ type: "open", name: file.name, bytes }, [bytes.buffer]);
 }
 
-main();
+const fileInput = document.getElementById("file");
+fileInput.addEventListener("change", async () => {
+  if (fileInput.files[0]) await open(fileInput.files[0]);
+  fileInput.value = "";
+});
+document.addEventListener("dragover", (e) => e.preventDefault());
+document.addEventListener("drop", async (e) => {
+  e.preventDefault();
+  const file = e.dataTransfer.files[0];
+  if (file) await open(file);
+});
+
+function download(name, blob) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+}
+document.getElementById("save-scene").addEventListener("click", async () => {
+  const text = await state.sceneToml();
+  download(`${sceneName}.toml`, new Blob([text], { type: "application/toml" }));
+});
+document.getElementById("save-png").addEventListener("click", () => {
+  canvas.toBlob((png) => download(`${sceneName}.png`, png), "image/png");
+});
+
+worker.postMessage({
+  type: "start",
+  scene: params.get("scene"),
+  width,
+  height,
+  spp: num("spp", 0),
+  seed: num("seed", 0),
+  threads,
+});

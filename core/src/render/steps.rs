@@ -10,6 +10,7 @@ use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::sampling::Pattern;
 use crate::trace::TILE;
+use rayon::prelude::*;
 
 /// An image being rendered step by step ([`Steps::step`]).
 pub struct Steps {
@@ -55,23 +56,41 @@ impl Steps {
     /// Adds the next band's next sample; returns the rows it wrote (as
     /// `first..end`), or `None` when the image was already done.
     pub fn step(&mut self, scene: &Lit) -> Option<(u32, u32)> {
+        self.step_bands(scene, 1)
+    }
+
+    /// [`Steps::step`] for up to `bands` bands at once (the next ones of
+    /// the same sample), in parallel with rayon: each pixel gets the same
+    /// samples in the same order whatever `bands` and the thread count, so
+    /// the same bits. Returns the rows written.
+    pub fn step_bands(&mut self, scene: &Lit, bands: usize) -> Option<(u32, u32)> {
         if self.done() {
             return None;
         }
         let (w, h) = (self.settings.width as usize, self.settings.height as usize);
+        let end = (self.band + bands.max(1)).min(self.bands());
         let y0 = self.band * TILE;
-        let y1 = (y0 + TILE).min(h);
+        let y1 = (end * TILE).min(h);
         let rows = &mut self.sums.pixels[y0 * w..y1 * w];
         let (i, s) = (self.sample, &self.settings);
-        add_band_samples(scene, y0 as u32, (i, Pattern::R2), s, &mut self.memory, rows);
-        let spp = s.spp.max(1);
-        if i + 1 == spp && s.spp > 1 {
-            // `render`'s division, as it does it.
-            for px in rows.iter_mut() {
-                *px /= s.spp as f64;
+        let last = i + 1 == s.spp.max(1) && s.spp > 1;
+        let band = |memory: &mut BandMemory, (k, rows): (usize, &mut [Rgb])| {
+            add_band_samples(scene, (y0 + k * TILE) as u32, (i, Pattern::R2), s, memory, rows);
+            if last {
+                // `render`'s division, as it does it.
+                for px in rows.iter_mut() {
+                    *px /= s.spp as f64;
+                }
             }
+        };
+        if end - self.band == 1 {
+            band(&mut self.memory, (0, rows));
+        } else {
+            rows.par_chunks_mut(w * TILE)
+                .enumerate()
+                .for_each_init(BandMemory::default, band);
         }
-        self.band += 1;
+        self.band = end;
         if self.band == self.bands() {
             self.band = 0;
             self.sample += 1;
@@ -142,6 +161,9 @@ mod tests {
             let direct = render(Lit::new(&scene, map.as_ref()), &s, None);
             assert_eq!(steps.image(), Some(&direct));
             assert_eq!(steps.pixel(3, 37), Some(direct.get(3, 37)));
+            let mut par = Steps::new(s);
+            while par.step_bands(&lit, 2).is_some() {}
+            assert_eq!(par.image(), Some(&direct), "two bands at a time");
         }
     }
 }

@@ -1,0 +1,110 @@
+// lensview's render worker: holds the wasm App, renders in slices and posts
+// each new picture (RGBA, transferred) to the page (main.js). Threads: when
+// the page is cross-origin isolated, initThreadPool starts wasm-bindgen-rayon's
+// pool (one worker per core) and the library's rayon loops run on it; rayon
+// blocks this worker while they do, which the page's main thread may not.
+import init, { App, initThreadPool } from "./pkg/lensview_web.js";
+
+let app = null;
+let threads = 1;
+let generation = 0; // pictures started; a frame says which one it shows
+let started = 0; // when the picture of `generation` started
+let [previewMs, samplesMs] = [0, 0]; // its time in block previews and in samples
+const wake = new MessageChannel();
+let awake = false;
+
+function frame() {
+  const rgba = app.rgba();
+  postMessage(
+    {
+      type: "frame",
+      rgba,
+      width: app.width(),
+      height: app.height(),
+      samplesDone: app.samplesDone(),
+      spp: app.spp(),
+      stage: app.stage(),
+      done: app.done(),
+      generation,
+      renderMs: performance.now() - started,
+      previewMs,
+      samplesMs,
+    },
+    [rgba.buffer],
+  );
+}
+
+// Renders for about 30 ms (at least one step), posts the picture, and comes
+// back after the messages that arrived meanwhile (keys, files).
+function work() {
+  awake = false;
+  if (!app || app.done()) return;
+  const t0 = performance.now();
+  for (let t = t0; ; ) {
+    const more = app.step(threads);
+    const now = performance.now();
+    if (app.stage().endsWith("blocks")) previewMs += now - t;
+    else samplesMs += now - t;
+    t = now;
+    if (!more || now - t0 >= 30) break;
+  }
+  frame();
+  schedule();
+}
+
+function schedule() {
+  if (!awake && app && !app.done()) {
+    awake = true;
+    wake.port2.postMessage(0);
+  }
+}
+wake.port1.onmessage = work;
+
+function restart() {
+  generation += 1;
+  [previewMs, samplesMs] = [0, 0];
+  started = performance.now();
+  schedule();
+}
+
+async function start(d) {
+  await init();
+  if (self.crossOriginIsolated && d.threads > 1) {
+    await initThreadPool(d.threads);
+  }
+  threads = App.threads();
+  const t = performance.now();
+  try {
+    app = new App(d.scene, d.width, d.height, d.spp, d.seed);
+  } catch (err) {
+    postMessage({ type: "error", text: String(err) });
+    return;
+  }
+  postMessage({ type: "ready", threads, width: app.width(), height: app.height() });
+  restart();
+  started = t;
+}
+
+onmessage = async ({ data: d }) => {
+  if (d.type === "start") return start(d);
+  if (!app) return;
+  if (d.type === "key") {
+    const t = performance.now();
+    const changed = app.key(d.code);
+    postMessage({ type: "key", changed, message: app.message() });
+    if (changed) {
+      restart();
+      started = t;
+    }
+  } else if (d.type === "open") {
+    try {
+      app.open(d.name, d.bytes);
+      postMessage({ type: "opened", name: d.name });
+      restart();
+    } catch (err) {
+      postMessage({ type: "error", text: String(err) });
+    }
+  } else if (d.type === "toml") {
+    postMessage({ type: "toml", id: d.id, text: app.sceneToml() });
+  }
+};
