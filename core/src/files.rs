@@ -175,11 +175,12 @@ pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Re
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// A folder of its own for test `name`, removed when dropped.
-    struct Dir(tempfile::TempDir);
+    /// A folder of its own for a test, removed when dropped (this module's
+    /// tests and `output`'s use it).
+    pub(crate) struct Dir(tempfile::TempDir);
 
     impl std::ops::Deref for Dir {
         type Target = Path;
@@ -188,9 +189,10 @@ mod tests {
         }
     }
 
-    fn dir(name: &str) -> Dir {
+    /// [`Dir`] for test `name`.
+    pub(crate) fn dir(name: &str) -> Dir {
         Dir(tempfile::Builder::new()
-            .prefix(&format!("lensview-files-{name}-"))
+            .prefix(&format!("lensview-test-{name}-"))
             .tempdir()
             .unwrap())
     }

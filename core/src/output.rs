@@ -310,22 +310,7 @@ pub fn remove_temp_files_on_interrupt() {
 mod tests {
     use super::*;
 
-    /// A folder of its own for test `name`, removed when dropped.
-    struct Dir(tempfile::TempDir);
-
-    impl std::ops::Deref for Dir {
-        type Target = Path;
-        fn deref(&self) -> &Path {
-            self.0.path()
-        }
-    }
-
-    fn dir(name: &str) -> Dir {
-        Dir(tempfile::Builder::new()
-            .prefix(&format!("lensview-output-{name}-"))
-            .tempdir()
-            .unwrap())
-    }
+    use crate::files::tests::dir;
 
     fn names(d: &Path) -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(d)

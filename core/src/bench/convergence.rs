@@ -65,11 +65,25 @@ pub fn psnr(rmse: f64) -> f64 {
     }
 }
 
+/// The row of `p`'s picture after `stage`: its error against `reference`.
+fn row(p: &Progressive, stage: Stage, (stage_ms, elapsed_ms): (f64, f64), reference: &Image) -> ConvergeRow {
+    let pixels = (reference.width as f64 * reference.height as f64).max(1.0);
+    let e = rmse(&p.image(), reference);
+    ConvergeRow {
+        stage: stage.label(),
+        spp: p.spp,
+        samples_per_pixel: p.samples_cast as f64 / pixels,
+        stage_ms,
+        elapsed_ms,
+        rmse: e,
+        psnr_db: psnr(e),
+    }
+}
+
 /// Runs the progressive schedule headless with `sampling` and measures
 /// each stage's time and its error against `reference`.
 pub fn converge(scene: &Scene, reference: &Image, max_spp: u32, sampling: Sampling) -> Vec<ConvergeRow> {
     let mut p = Progressive::new(reference.width, reference.height, 0).with_sampling(sampling);
-    let pixels = (reference.width as f64 * reference.height as f64).max(1.0);
     // Elapsed time counts rendering only, not the error measurement.
     let mut elapsed_ms = 0.0;
     let mut rows = Vec::new();
@@ -78,16 +92,7 @@ pub fn converge(scene: &Scene, reference: &Image, max_spp: u32, sampling: Sampli
         p.run(scene, stage, &|| false);
         let stage_ms = t0.elapsed().as_secs_f64() * 1e3;
         elapsed_ms += stage_ms;
-        let e = rmse(&p.image(), reference);
-        rows.push(ConvergeRow {
-            stage: stage.label(),
-            spp: p.spp,
-            samples_per_pixel: p.samples_cast as f64 / pixels,
-            stage_ms,
-            elapsed_ms,
-            rmse: e,
-            psnr_db: psnr(e),
-        });
+        rows.push(row(&p, stage, (stage_ms, elapsed_ms), reference));
     }
     rows
 }
@@ -136,7 +141,6 @@ pub fn converge_step(
     p.reproject(after, before, |_| block);
     let cold = p.reprojection;
     refined(&mut p);
-    let pixels = (w as f64 * h as f64).max(1.0);
     let mut rows = Vec::new();
     let t0 = web_time::Instant::now();
     p.reproject(after, before, |_| block);
@@ -152,16 +156,7 @@ pub fn converge_step(
         l = r.level,
     );
     let mut push = |p: &Progressive, stage: Stage, stage_ms: f64, elapsed_ms: f64| {
-        let e = rmse(&p.image(), reference);
-        rows.push(ConvergeRow {
-            stage: stage.label(),
-            spp: p.spp,
-            samples_per_pixel: p.samples_cast as f64 / pixels,
-            stage_ms,
-            elapsed_ms,
-            rmse: e,
-            psnr_db: psnr(e),
-        });
+        rows.push(row(p, stage, (stage_ms, elapsed_ms), reference));
     };
     push(&p, Stage::Reprojected, elapsed_ms, elapsed_ms);
     for stage in schedule(max_spp).into_iter().filter(|s| matches!(s, Stage::Samples(_))) {
