@@ -16,6 +16,9 @@
 //! where nothing is ahead. The lane loops (`for l in 0..LANES` over
 //! arrays) are built for AVX2 and AVX-512 ([`with_avx2!`]).
 
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
 use super::LensSystem;
 use super::pieces::{Nearest, Piece, PieceKind};
 use crate::simd::{LANES, Lanes, lane, mask, set_lane, with_avx2};
