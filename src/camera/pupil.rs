@@ -17,23 +17,15 @@
 //! aberration, vignetting), the radius is tripled (twice), then the
 //! square is searched.
 
-use crate::geometry::{LensSystem, Passed};
+use crate::geometry::LensSystem;
 use crate::sampling::radical_inverse;
-use crate::simd::{LANES, Lanes, mask, set_lane};
 use glam::DVec3;
-
-/// Whether a camera ray passed the system toward the scene (`−z`).
-#[inline]
-fn passed(p: Passed) -> bool {
-    p.is_some_and(|(_, u)| u.z < 0.0)
-}
 
 /// Intervals of sensor radius, from the centre to the half diagonal.
 pub const INTERVALS: usize = 64;
 
 /// Rays traced per pass of one interval.
 const SAMPLES: u32 = 4096;
-const _: () = assert!(SAMPLES as usize % LANES == 0, "a scan is whole packets");
 
 /// An axis-aligned box on the rear plane; empty when `lo > hi`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -113,48 +105,19 @@ impl Planes<'_> {
     /// Whether the ray from the sensor point `(x, y)` to the rear plane's
     /// point `p` passes the system.
     pub fn passes(&self, (x, y): (f64, f64), p: (f64, f64)) -> bool {
-        let (film, d) = self.ray((x, y), p);
-        passed(self.system.pass(film, d, self.media))
-    }
-
-    /// The ray from the sensor point `(x, y)` toward the rear plane's
-    /// point `p`: its origin and (not unit) direction.
-    #[inline]
-    fn ray(&self, (x, y): (f64, f64), p: (f64, f64)) -> (DVec3, DVec3) {
         let film = DVec3::new(x, y, self.sensor_z);
-        (film, DVec3::new(p.0, p.1, self.rear_z) - film)
+        let d = DVec3::new(p.0, p.1, self.rear_z) - film;
+        self.system.pass(film, d, self.media).is_some_and(|(_, u)| u.z < 0.0)
     }
 
-    /// One pass over `area` for sensor points on `[r0, r1]` of the `+x` axis:
-    /// the box of the rear points whose rays pass. A point already in the
-    /// box is not traced (it adds nothing); the others are traced eight at
-    /// a time ([`LensSystem::pass_lanes`]) and added in order, each only if
-    /// the box does not hold it by then, as one by one.
+    /// One pass over `area` for sensor points on `[r0, r1]` of the `+x` axis.
     fn scan(&self, area: &PupilBox, (r0, r1): (f64, f64)) -> PupilBox {
         let mut found = PupilBox::EMPTY;
-        for i0 in (0..SAMPLES).step_by(LANES) {
-            let points: Lanes<(f64, (f64, f64))> = std::array::from_fn(|l| {
-                let i = i0 + l as u32;
-                let x = r0 + (i as f64 + 0.5) / SAMPLES as f64 * (r1 - r0);
-                (x, area.lerp((radical_inverse(i, 2), radical_inverse(i, 3))))
-            });
-            // The box only grows: a point it holds now, it holds at the
-            // point's turn.
-            let live = points.map(|(_, p)| !found.contains(p));
-            if mask(&live) == 0 {
-                continue;
-            }
-            let (mut film, mut d) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
-            for (l, &(x, p)) in points.iter().enumerate() {
-                let (o, v) = self.ray((x, 0.0), p);
-                set_lane(&mut film, l, o);
-                set_lane(&mut d, l, v);
-            }
-            let out = self.system.pass_lanes(&film, &d, live, self.media);
-            for (l, &(_, p)) in points.iter().enumerate() {
-                if live[l] && passed(out[l]) && !found.contains(p) {
-                    found.add(p);
-                }
+        for i in 0..SAMPLES {
+            let x = r0 + (i as f64 + 0.5) / SAMPLES as f64 * (r1 - r0);
+            let p = area.lerp((radical_inverse(i, 2), radical_inverse(i, 3)));
+            if !found.contains(p) && self.passes((x, 0.0), p) {
+                found.add(p);
             }
         }
         found
