@@ -25,10 +25,11 @@
 
 use super::Camera;
 use super::pupil::{INTERVALS, Planes, PupilBox};
-use crate::geometry::{LensSystem, Paraxial, SurfaceSpec};
+use crate::geometry::{LensSystem, Paraxial, Passed, SurfaceSpec};
 use crate::math::Ray;
 use crate::optics::{RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::sampling::radical_inverse;
+use crate::simd::{LANES, Lanes, set_lane};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -337,6 +338,25 @@ pub struct LocalRay {
     pub weight: f64,
 }
 
+impl LocalRay {
+    /// The ray in the world of the pinhole `cam`'s pose, and its weight.
+    fn to_world(&self, cam: &Camera) -> (Ray, f64) {
+        (
+            Ray::new(cam.position + cam.to_world(self.origin), cam.to_world(self.dir)),
+            self.weight,
+        )
+    }
+}
+
+/// A sensor ray before the system: the sensor point, the direction to the
+/// pupil point (not unit) and the area of the pupil's box.
+#[derive(Clone, Copy)]
+struct Aim {
+    film: DVec3,
+    d: DVec3,
+    area: f64,
+}
+
 impl LensCamera {
     /// The pupil boxes and the exposure, found once for each lens, sensor
     /// and focus ([`SAMPLINGS`]; [`super::pupil`]).
@@ -422,39 +442,75 @@ impl LensCamera {
         ((r / self.half_diagonal * INTERVALS as f64) as usize).min(INTERVALS - 1)
     }
 
-    /// The camera ray of continuous pixel position `(x, y)` of a `width ×
-    /// height` picture through the exit pupil's point `u` ∈ [0, 1)² of its
-    /// box, at the wavelength `channel` of [`RGB_WAVELENGTHS_UM`] (1: the d
-    /// line), in camera space; `None` where the system stops it.
-    pub fn local_ray(
-        &self,
-        (x, y): (f64, f64),
-        (width, height): (u32, u32),
-        u: (f64, f64),
-        channel: usize,
-    ) -> Option<LocalRay> {
+    /// The sensor ray of continuous pixel position `(x, y)` of a `width ×
+    /// height` picture toward the exit pupil's point `u` ∈ [0, 1)² of its
+    /// box, in camera space: before the system ([`LensCamera::local_ray`]).
+    /// `None` where the box is empty.
+    fn aim(&self, (x, y): (f64, f64), (width, height): (u32, u32), u: (f64, f64)) -> Option<Aim> {
         let (pw, ph) = self.picture(width, height);
         let sx = (x / width as f64 - 0.5) * pw;
         let sy = (0.5 - y / height as f64) * ph;
         // The sensor point opposite the upright one: the lens inverts.
         let film = DVec3::new(-sx, -sy, self.sensor_z);
         let r = sx.hypot(sy);
-        let sampling = self.sampling();
-        let b = &sampling.pupil[self.interval(r)];
+        let b = &self.sampling().pupil[self.interval(r)];
         if b.is_empty() {
             return None;
         }
         let (px, py) = b.lerp(u);
         let (c, s) = if r > 0.0 { (film.x / r, film.y / r) } else { (1.0, 0.0) };
         let rear = DVec3::new(c * px - s * py, s * px + c * py, self.rear_z);
-        let d = rear - film;
-        let (origin, dir) = self.system.pass(film, d, &self.media[channel])?;
+        Some(Aim {
+            film,
+            d: rear - film,
+            area: b.area(),
+        })
+    }
+
+    /// The camera ray of `aim` after the system ([`LensSystem::pass`]
+    /// gave `passed`), with its weight.
+    fn finish(&self, aim: &Aim, passed: Option<(DVec3, DVec3)>) -> Option<LocalRay> {
+        let (origin, dir) = passed?;
         if dir.z >= 0.0 {
             return None;
         }
-        let z = self.sensor_z - self.rear_z;
-        let weight = cos4(d.x.hypot(d.y), z) * b.area() / (z * z) * sampling.exposure;
+        let (d, z) = (aim.d, self.sensor_z - self.rear_z);
+        let weight = cos4(d.x.hypot(d.y), z) * aim.area / (z * z) * self.sampling().exposure;
         Some(LocalRay { origin, dir, weight })
+    }
+
+    /// The camera ray of continuous pixel position `(x, y)` of a `width ×
+    /// height` picture through the exit pupil's point `u` ∈ [0, 1)² of its
+    /// box, at the wavelength `channel` of [`RGB_WAVELENGTHS_UM`] (1: the d
+    /// line), in camera space; `None` where the system stops it.
+    pub fn local_ray(&self, at: (f64, f64), size: (u32, u32), u: (f64, f64), channel: usize) -> Option<LocalRay> {
+        let aim = self.aim(at, size, u)?;
+        let passed = self.system.pass(aim.film, aim.d, &self.media[channel]);
+        self.finish(&aim, passed)
+    }
+
+    /// [`LensCamera::local_ray`] of the lanes `l < n` (others: `None`),
+    /// their sensor rays through the system together
+    /// ([`LensSystem::pass_lanes`]): lane for lane the same bits.
+    pub fn local_rays(
+        &self,
+        at: &Lanes<(f64, f64)>,
+        size: (u32, u32),
+        u: &Lanes<(f64, f64)>,
+        n: usize,
+        channel: usize,
+    ) -> Lanes<Option<LocalRay>> {
+        let aims: Lanes<Option<Aim>> = std::array::from_fn(|l| if l < n { self.aim(at[l], size, u[l]) } else { None });
+        let (mut film, mut d) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+        for (l, a) in aims.iter().enumerate() {
+            if let Some(a) = a {
+                set_lane(&mut film, l, a.film);
+                set_lane(&mut d, l, a.d);
+            }
+        }
+        let live = aims.map(|a| a.is_some());
+        let passed: Lanes<Passed> = self.system.pass_lanes(&film, &d, live, &self.media[channel]);
+        std::array::from_fn(|l| aims[l].as_ref().and_then(|a| self.finish(a, passed[l])))
     }
 
     /// [`LensCamera::local_ray`] in the world of the pinhole `cam`'s pose.
@@ -466,11 +522,21 @@ impl LensCamera {
         u: (f64, f64),
         channel: usize,
     ) -> Option<(Ray, f64)> {
-        let r = self.local_ray(at, size, u, channel)?;
-        Some((
-            Ray::new(cam.position + cam.to_world(r.origin), cam.to_world(r.dir)),
-            r.weight,
-        ))
+        self.local_ray(at, size, u, channel).map(|r| r.to_world(cam))
+    }
+
+    /// [`LensCamera::ray`] of the lanes `l < n` ([`LensCamera::local_rays`]).
+    pub fn rays(
+        &self,
+        cam: &Camera,
+        at: &Lanes<(f64, f64)>,
+        size: (u32, u32),
+        u: &Lanes<(f64, f64)>,
+        n: usize,
+        channel: usize,
+    ) -> Lanes<Option<(Ray, f64)>> {
+        self.local_rays(at, size, u, n, channel)
+            .map(|r| r.map(|r| r.to_world(cam)))
     }
 
     /// The share of camera rays that pass the system over a `width ×
@@ -486,11 +552,17 @@ impl LensCamera {
                     ((i / gx) as f64 + 0.5) / gy as f64 * height as f64,
                 );
                 (0..k)
-                    .filter(|&j| {
-                        let u = (radical_inverse(j, 2), radical_inverse(j, 3));
-                        self.local_ray(at, (width, height), u, 1).is_some()
+                    .step_by(LANES)
+                    .map(|j0| {
+                        let u = std::array::from_fn(|l| {
+                            let j = j0 + l as u32;
+                            (radical_inverse(j, 2), radical_inverse(j, 3))
+                        });
+                        let n = (k - j0).min(LANES as u32) as usize;
+                        let rays = self.local_rays(&[at; LANES], (width, height), &u, n, 1);
+                        rays.iter().filter(|r| r.is_some()).count() as u32
                     })
-                    .count() as u32
+                    .sum::<u32>()
             })
             .sum();
         passed as f64 / (gx * gy * k) as f64

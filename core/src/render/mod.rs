@@ -82,12 +82,52 @@ pub fn lens_sample(scene: &Lit, lens: &LensCamera, at: (f64, f64), size: (u32, u
 /// pinhole's [`sample`], or through the scene's lens camera at its pupil
 /// point [`lens_point`] (both keyed by the seed, the pixel and `i` alone).
 pub fn pixel_sample(scene: &Lit, (px, py): (u32, u32), (i, pattern): (u32, Pattern), s: &RenderSettings) -> Rgb {
+    let (at, u) = sample_point((px, py), (i, pattern), s);
+    match &scene.lens {
+        Some(lens) => lens_sample(scene, lens, at, (s.width, s.height), u),
+        None => sample(scene, at.0, at.1, s.width, s.height),
+    }
+}
+
+/// Sample `i` of pixel `(px, py)`: its continuous position and its pupil
+/// point ([`pixel_sample`]).
+#[inline]
+fn sample_point((px, py): (u32, u32), (i, pattern): (u32, Pattern), s: &RenderSettings) -> ((f64, f64), (f64, f64)) {
     let pixel = py as u64 * s.width as u64 + px as u64;
     let (jx, jy) = pixel_offset(pattern, s.seed, pixel, i);
-    let at = (px as f64 + jx, py as f64 + jy);
-    match &scene.lens {
-        Some(lens) => lens_sample(scene, lens, at, (s.width, s.height), lens_point(s.seed, pixel, i)),
-        None => sample(scene, at.0, at.1, s.width, s.height),
+    ((px as f64 + jx, py as f64 + jy), lens_point(s.seed, pixel, i))
+}
+
+/// [`pixel_sample`] through the lens camera `lens` of the pixels
+/// `pixels[l]`, `l < n` (others: black): their sensor rays cross the lens
+/// together ([`LensCamera::rays`]), each then traced alone; lane for lane
+/// the same bits.
+pub fn lens_pixel_samples(
+    scene: &Lit,
+    lens: &LensCamera,
+    pixels: &[(u32, u32); LANES],
+    n: usize,
+    (i, pattern): (u32, Pattern),
+    s: &RenderSettings,
+) -> [Rgb; LANES] {
+    let (mut at, mut u) = ([(0.0, 0.0); LANES], [(0.0, 0.0); LANES]);
+    for l in 0..n {
+        (at[l], u[l]) = sample_point(pixels[l], (i, pattern), s);
+    }
+    let trace = |channel: usize, lambda: f64| {
+        lens.rays(&scene.camera, &at, (s.width, s.height), &u, n, channel)
+            .map(|r| r.map_or(Rgb::ZERO, |(ray, weight)| radiance(scene, &ray, 0, lambda) * weight))
+    };
+    if scene.features.dispersion || lens.is_dispersive() {
+        let mut c = [Rgb::ZERO; LANES];
+        for (ch, &lambda) in RGB_WAVELENGTHS_UM.iter().enumerate() {
+            for (c, v) in c.iter_mut().zip(trace(ch, lambda)) {
+                c[ch] = v[ch];
+            }
+        }
+        c
+    } else {
+        trace(1, WAVELENGTH_D_UM)
     }
 }
 
@@ -166,11 +206,18 @@ pub fn add_band_samples(
     let Some((w, count)) = band_shape(rows.len(), s) else {
         return;
     };
-    if scene.lens.is_some() {
-        // A lens camera's rays start apart: traced one by one.
-        for (k, px) in rows.iter_mut().enumerate() {
-            let v = pixel_sample(scene, ((k % w) as u32, y0 + (k / w) as u32), (i, pattern), s);
-            *px = if i == 0 { v } else { *px + v };
+    if let Some(lens) = &scene.lens {
+        // A lens camera's rays start apart: eight at a time through the
+        // lens, then each alone into the scene.
+        for (c, chunk) in rows.chunks_mut(LANES).enumerate() {
+            let pixels = std::array::from_fn(|l| {
+                let k = c * LANES + l;
+                ((k % w) as u32, y0 + (k / w) as u32)
+            });
+            let v = lens_pixel_samples(scene, lens, &pixels, chunk.len(), (i, pattern), s);
+            for (px, v) in chunk.iter_mut().zip(v) {
+                *px = if i == 0 { v } else { *px + v };
+            }
         }
         return;
     }

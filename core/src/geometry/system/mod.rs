@@ -19,12 +19,15 @@
 //!
 //! Files: `pieces.rs` the boundary pieces and the nearest crossing,
 //! `walk.rs` the real ray (`lens trace`) and the Whitted tree of a pass
-//! (every ray out, Fresnel-weighted), `paraxial.rs` the y–nu trace.
+//! (every ray out, Fresnel-weighted), `lanes.rs` the walk of `pass` for
+//! eight rays at once (the lens camera's), `paraxial.rs` the y–nu trace.
 
+mod lanes;
 mod paraxial;
 mod pieces;
 mod walk;
 
+pub use lanes::Passed;
 pub use paraxial::{Paraxial, Pupil};
 pub use pieces::{Piece, PieceKind};
 pub use walk::{Event, EventKind, RayStatus, RealRay, SystemBranch};

@@ -76,18 +76,43 @@ fn roots(a: f64, b: f64, c: f64) -> [f64; 2] {
     [c / q, q / a]
 }
 
-/// The nearest crossing found so far on `(t_lo, t_hi)`.
-struct Nearest {
-    best: Option<Crossing>,
-    t_lo: f64,
-    t_hi: f64,
+/// The nearest crossing found so far on `(t_lo, t_hi)`: `t` starts at
+/// `t_hi` (none found), so that a crossing is taken where `t_lo < t < t`
+/// (a lane's search keeps one a lane, [`super::lanes`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Nearest {
+    pub t: f64,
+    pub piece: Piece,
+    pub x: DVec3,
+    pub t_lo: f64,
 }
 
 impl Nearest {
+    /// None found yet on `(t_lo, t_hi)`.
     #[inline(always)]
-    fn take(&mut self, t: f64, piece: Piece, x: DVec3) {
-        if t > self.t_lo && t < self.t_hi && self.best.is_none_or(|b| t < b.t) {
-            self.best = Some(Crossing { t, piece, x });
+    pub fn new(t_lo: f64, t_hi: f64) -> Nearest {
+        Nearest {
+            t: t_hi,
+            piece: Piece {
+                surface: 0,
+                kind: PieceKind::Cap,
+            },
+            x: DVec3::ZERO,
+            t_lo,
+        }
+    }
+
+    /// Whether a crossing was taken (every one taken lies below `t_hi`).
+    #[inline(always)]
+    pub fn found(&self, t_hi: f64) -> bool {
+        self.t < t_hi
+    }
+
+    /// Takes the crossing at `t` if it is one (`ok`) and the nearest so far.
+    #[inline(always)]
+    fn take(&mut self, ok: bool, t: f64, piece: Piece, x: DVec3) {
+        if ok && t > self.t_lo && t < self.t {
+            (self.t, self.piece, self.x) = (t, piece, x);
         }
     }
 }
@@ -121,6 +146,18 @@ pub(super) struct Face {
 }
 
 impl Face {
+    /// Whether a ray starting at `z = start` and walking toward `+z`
+    /// (`forward`) or `−z` has every piece of this surface (and of those
+    /// before it, in its direction) behind it.
+    #[inline(always)]
+    pub(super) fn skipped(&self, start: f64, forward: bool) -> bool {
+        if forward {
+            self.reach.1 < start
+        } else {
+            self.reach.0 > start
+        }
+    }
+
     /// The extent along the axis of the edge after the surface.
     #[inline(always)]
     fn edge_span(&self) -> (f64, f64) {
@@ -140,15 +177,15 @@ impl Face {
 }
 
 /// Whether a ray from `p` along `u` covers, over `t` in `(t_lo, bound)`,
-/// some `z` of the extent `(lo, hi)`.
+/// some `z` of the extent `(lo, hi)`. Without branches (`&`, `|` and
+/// selects), so that the lanes' loop over it is vectorised.
 #[inline(always)]
 fn covers(p: DVec3, u: DVec3, t_lo: f64, bound: f64, (lo, hi): (f64, f64)) -> bool {
-    if u.z == 0.0 {
-        return p.z >= lo && p.z <= hi;
-    }
+    let flat = (p.z >= lo) & (p.z <= hi);
     let (a, b) = (p.z + t_lo * u.z, p.z + bound * u.z);
     let (a, b) = if a <= b { (a, b) } else { (b, a) };
-    !(hi < a || lo > b)
+    let through = !((hi < a) | (lo > b));
+    if u.z == 0.0 { flat } else { through }
 }
 
 impl LensSystem {
@@ -174,7 +211,7 @@ impl LensSystem {
     /// on: its root at the start is not a crossing (of its two roots, the
     /// one nearer 0 is left out; a plane has only that one).
     pub fn next_crossing(&self, p: DVec3, u: DVec3, from: Option<usize>, t_lo: f64, t_hi: f64) -> Option<Crossing> {
-        let mut best = Nearest { best: None, t_lo, t_hi };
+        let mut best = Nearest::new(t_lo, t_hi);
         let faces = &self.faces[..];
         // Surfaces are walked in the ray's direction along z. Those whose
         // every piece lies behind the start are skipped at once: each would
@@ -184,64 +221,116 @@ impl LensSystem {
         let start = p.z + t_lo * u.z;
         let forward = u.z >= 0.0;
         let skip = if forward {
-            faces.iter().take_while(|f| f.reach.1 < start).count()
+            faces.iter().take_while(|f| f.skipped(start, true)).count()
         } else {
-            faces.iter().rev().take_while(|f| f.reach.0 > start).count()
+            faces.iter().rev().take_while(|f| f.skipped(start, false)).count()
         };
         for i in skip..faces.len() {
             let k = if forward { i } else { faces.len() - 1 - i };
-            let f = &faces[k];
-            // The stretch of z the ray covers on (t_lo, nearest so far):
-            // a surface (or edge) wholly outside it is not tested. Exact:
-            // each piece lies within its span.
-            let bound = match best.best {
-                Some(b) => {
-                    // Every piece still to test lies beyond the nearest
-                    // crossing so far: none can be nearer. Not asked
-                    // before a crossing is found: up to `t_hi` none is
-                    // taken anyway, and a singlet's ray met its first
-                    // surface without one (the test cost 4 % of its walk).
-                    let far = p.z + b.t * u.z;
-                    if (u.z > 0.0 && f.reach.0 > far) || (u.z < 0.0 && f.reach.1 < far) {
-                        break;
-                    }
-                    b.t
-                }
-                None => t_hi,
-            };
-            if covers(p, u, t_lo, bound, f.span) {
-                Self::cap_and_ring(k, f, p, u, from, &mut best);
-            }
-            if f.rim > 0.0 && covers(p, u, t_lo, bound, f.edge_span()) {
-                Self::edge(k, f, p, u, &mut best);
+            if Self::face_step(k, &faces[k], (p, u), from, t_hi, &mut best) {
+                break;
             }
         }
-        best.best
+        best.found(t_hi).then_some(Crossing {
+            t: best.t,
+            piece: best.piece,
+            x: best.x,
+        })
+    }
+
+    /// [`LensSystem::next_crossing`]'s step at face `k` (`f`) of the walk,
+    /// for the ray `(p, u)` and the crossing found so far, `best`: tests
+    /// its cap and ring and the edge after it where
+    /// [`LensSystem::face_gates`] would open them; true where the walk
+    /// stops.
+    #[inline(always)]
+    fn face_step(
+        k: usize,
+        f: &Face,
+        (p, u): (DVec3, DVec3),
+        from: Option<usize>,
+        t_hi: f64,
+        best: &mut Nearest,
+    ) -> bool {
+        // The branches of [`LensSystem::face_gates`]: the scalar walk
+        // computes what they open only (the lanes compute every gate).
+        if Self::stops_at(f, (p, u), t_hi, best) {
+            return true;
+        }
+        let bound = best.t;
+        if covers(p, u, best.t_lo, bound, f.span) {
+            Self::cap_and_ring(k, f, (p, u), from == Some(k), true, best);
+        }
+        if f.rim > 0.0 && covers(p, u, best.t_lo, bound, f.edge_span()) {
+            Self::edge(k, f, (p, u), true, best);
+        }
+        false
+    }
+
+    /// What the walk does at face `f` for the ray `(p, u)` at this face of
+    /// its walk (`on`) with the crossing found so far `best`: whether it
+    /// goes on ([`LensSystem::stops_at`]), tests the cap and ring, and
+    /// tests the edge after it. A piece is tested only where the stretch
+    /// of `z` the ray covers on `(t_lo, best)` reaches its span (exact:
+    /// each piece lies within its span; up to a crossing, `best.t` is
+    /// `t_hi`). The scalar walk and the lanes' ([`super::lanes`]) ask it.
+    #[inline(always)]
+    pub(super) fn face_gates(
+        f: &Face,
+        (p, u): (DVec3, DVec3),
+        on: bool,
+        t_hi: f64,
+        best: &Nearest,
+    ) -> (bool, bool, bool) {
+        // `&` and `|` rather than `&&` and `||`: no branches (the lanes'
+        // loop is vectorised); the values are the same.
+        let go = on & !Self::stops_at(f, (p, u), t_hi, best);
+        let bound = best.t;
+        let cap = go & covers(p, u, best.t_lo, bound, f.span);
+        let edge = go & (f.rim > 0.0) & covers(p, u, best.t_lo, bound, f.edge_span());
+        (go, cap, edge)
+    }
+
+    /// Whether the walk stops at face `f`: a crossing is found (below
+    /// `t_hi`) and every piece still to test lies beyond it, so none can
+    /// be nearer. Not asked before a crossing is found: up to `t_hi` none
+    /// is taken anyway, and a singlet's ray met its first surface without
+    /// one (the test cost 4 % of its walk).
+    #[inline(always)]
+    fn stops_at(f: &Face, (p, u): (DVec3, DVec3), t_hi: f64, best: &Nearest) -> bool {
+        let far = p.z + best.t * u.z;
+        best.found(t_hi) & (((u.z > 0.0) & (f.reach.0 > far)) | ((u.z < 0.0) & (f.reach.1 < far)))
     }
 
     /// [`LensSystem::next_crossing`]'s test of cap `k` (face `f`) and its
-    /// ring.
+    /// ring; `starts_here`: the ray starts on this cap; nothing is taken
+    /// unless `gate`.
     #[inline(always)]
-    fn cap_and_ring(k: usize, f: &Face, p: DVec3, u: DVec3, from: Option<usize>, best: &mut Nearest) {
+    pub(super) fn cap_and_ring(
+        k: usize,
+        f: &Face,
+        (p, u): (DVec3, DVec3),
+        starts_here: bool,
+        gate: bool,
+        best: &mut Nearest,
+    ) {
         if f.boundary {
             let mut ts = Self::cap_roots(f, p, u);
-            if from == Some(k) {
-                // The root at the start is the smaller in magnitude.
-                let own = if !(ts[1].abs() >= ts[0].abs()) { 1 } else { 0 };
-                ts[own] = f64::NAN;
+            // The root at the start is the smaller in magnitude.
+            let second = !(ts[1].abs() >= ts[0].abs());
+            if starts_here && second {
+                ts[1] = f64::NAN;
+            }
+            if starts_here && !second {
+                ts[0] = f64::NAN;
             }
             for t in ts {
                 let x = p + t * u;
-                if Self::on_cap(f, x) {
-                    best.take(
-                        t,
-                        Piece {
-                            surface: k,
-                            kind: PieceKind::Cap,
-                        },
-                        x,
-                    );
-                }
+                let piece = Piece {
+                    surface: k,
+                    kind: PieceKind::Cap,
+                };
+                best.take(gate && Self::on_cap(f, x), t, piece, x);
             }
         }
         if f.ring_outer > f.a {
@@ -249,35 +338,31 @@ impl LensSystem {
             let x = p + t * u;
             let r2 = x.x * x.x + x.y * x.y;
             let (a, o) = (f.a, f.ring_outer);
-            if r2 > a * a && r2 <= o * o {
-                best.take(
-                    t,
-                    Piece {
-                        surface: k,
-                        kind: PieceKind::Ring,
-                    },
-                    DVec3::new(x.x, x.y, f.ring_z),
-                );
-            }
+            let piece = Piece {
+                surface: k,
+                kind: PieceKind::Ring,
+            };
+            best.take(
+                gate && r2 > a * a && r2 <= o * o,
+                t,
+                piece,
+                DVec3::new(x.x, x.y, f.ring_z),
+            );
         }
     }
 
-    /// [`LensSystem::next_crossing`]'s test of the edge after surface `k`.
+    /// [`LensSystem::next_crossing`]'s test of the edge after surface `k`;
+    /// nothing is taken unless `gate`.
     #[inline(always)]
-    fn edge(k: usize, f: &Face, p: DVec3, u: DVec3, best: &mut Nearest) {
+    pub(super) fn edge(k: usize, f: &Face, (p, u): (DVec3, DVec3), gate: bool, best: &mut Nearest) {
         let (z0, z1) = f.edge;
         for t in Self::edge_roots(f.rim, p, u) {
             let x = p + t * u;
-            if x.z >= z0 && x.z <= z1 {
-                best.take(
-                    t,
-                    Piece {
-                        surface: k,
-                        kind: PieceKind::Edge,
-                    },
-                    x,
-                );
-            }
+            let piece = Piece {
+                surface: k,
+                kind: PieceKind::Edge,
+            };
+            best.take(gate && x.z >= z0 && x.z <= z1, t, piece, x);
         }
     }
 

@@ -119,7 +119,7 @@ impl LensSystem {
     /// The step at a cap: which way the ray crosses cap `k` at the local
     /// point `x` (the cap's normal points to the side before it), from which
     /// medium into which (`media`: [`LensSystem::media`]).
-    #[inline]
+    #[inline(always)]
     pub fn interface(&self, k: usize, x: DVec3, u: DVec3, media: &[f64]) -> Interface {
         let g = self.cap_normal(k, x);
         let (before, after) = (media[k], media[k + 1]);
