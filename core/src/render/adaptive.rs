@@ -10,7 +10,7 @@
 //! is the same on any number of threads.
 
 use super::sparse::{Batch, FirstHit};
-use super::{RenderSettings, pixel_sample};
+use super::{LensBatch, RenderSettings};
 use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::sampling::{Pattern, pixel_offset};
@@ -176,6 +176,7 @@ impl Adaptive {
                     count[d] += 1;
                 };
                 let mut batch = Batch::default();
+                let mut lens_batch = LensBatch::default();
                 let mut cast = 0u64;
                 let y0 = b * TILE;
                 let rows = (h - y0).min(TILE);
@@ -188,11 +189,13 @@ impl Adaptive {
                             let pixel = (y * w + x) as u64;
                             let dst = ((y - y0) * w + x) as u32;
                             for i in old.count[pixel as usize]..target {
-                                if scene.lens.is_some() {
-                                    // A lens camera's rays one by one, as
-                                    // the whole-picture stages cast them.
-                                    let c = pixel_sample(scene, (x as u32, y as u32), (i, pattern), &settings);
-                                    sink(dst, c, &|| FirstHit::UNKNOWN);
+                                if let Some(lens) = &scene.lens {
+                                    // A lens camera's samples, eight at a
+                                    // time, as the whole-picture stages
+                                    // cast them (the same bits).
+                                    let at = ((x as u32, y as u32), i, pattern);
+                                    let mut to = |d: u32, c: Rgb| sink(d, c, &|| FirstHit::UNKNOWN);
+                                    lens_batch.push(scene, lens, at, &settings, dst, &mut to);
                                 } else {
                                     let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
                                     batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
@@ -203,6 +206,9 @@ impl Adaptive {
                     }
                 }
                 batch.flush(scene, size, &mut sink);
+                if let Some(lens) = &scene.lens {
+                    lens_batch.flush(scene, lens, size, &mut |d, c| sink(d, c, &|| FirstHit::UNKNOWN));
+                }
                 Some(cast)
             })
             .try_reduce(|| 0, |a, b| Some(a + b))

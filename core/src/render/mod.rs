@@ -26,7 +26,7 @@ use crate::integrator::{PacketPaths, PacketScratch, radiance, radiance_packet, r
 use crate::optics::WAVELENGTH_D_UM;
 use crate::sampling::{Pattern, lens_point, pixel_offset};
 use crate::scene::Scene;
-use crate::simd::LANES;
+use crate::simd::{LANES, Lanes};
 use crate::trace::{CameraTile, Packet, PacketHits, TILE, camera_hits, camera_tile_hits};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -114,8 +114,67 @@ pub fn lens_pixel_samples(
     for l in 0..n {
         (at[l], u[l]) = sample_point(pixels[l], (i, pattern), s);
     }
+    lens_samples(scene, lens, (&at, &u), n, (s.width, s.height))
+}
+
+/// Sensor positions (or pupil points) of a packet's lanes.
+type Points = Lanes<(f64, f64)>;
+
+/// Lens-camera samples gathered eight at a time ([`lens_samples`]), each
+/// with where it goes: what the adaptive waves cast through a lens camera.
+#[derive(Default)]
+pub(crate) struct LensBatch {
+    at: Points,
+    u: Points,
+    dst: [u32; LANES],
+    n: usize,
+}
+
+impl LensBatch {
+    /// Adds sample `i` of pixel `px` (going to `dst`); a full batch is
+    /// traced and handed to `sink` in the order pushed.
+    pub(crate) fn push(
+        &mut self,
+        scene: &Lit,
+        lens: &LensCamera,
+        (px, i, pattern): ((u32, u32), u32, Pattern),
+        s: &RenderSettings,
+        dst: u32,
+        sink: &mut impl FnMut(u32, Rgb),
+    ) {
+        (self.at[self.n], self.u[self.n]) = sample_point(px, (i, pattern), s);
+        self.dst[self.n] = dst;
+        self.n += 1;
+        if self.n == LANES {
+            self.flush(scene, lens, (s.width, s.height), sink);
+        }
+    }
+
+    /// Traces what is gathered and hands it to `sink`.
+    pub(crate) fn flush(&mut self, scene: &Lit, lens: &LensCamera, size: (u32, u32), sink: &mut impl FnMut(u32, Rgb)) {
+        if self.n > 0 {
+            let c = lens_samples(scene, lens, (&self.at, &self.u), self.n, size);
+            for (&d, c) in self.dst.iter().zip(c).take(self.n) {
+                sink(d, c);
+            }
+            self.n = 0;
+        }
+    }
+}
+
+/// [`lens_sample`] of the lanes `l < n` (others: black), at the sensor
+/// positions `at[l]` and pupil points `u[l]`: their sensor rays cross the
+/// lens together ([`LensCamera::rays`]), each then traced alone; lane for
+/// lane the same bits.
+fn lens_samples(
+    scene: &Lit,
+    lens: &LensCamera,
+    (at, u): (&Points, &Points),
+    n: usize,
+    size: (u32, u32),
+) -> [Rgb; LANES] {
     let trace = |channel: usize, lambda: f64| {
-        lens.rays(&scene.camera, &at, (s.width, s.height), &u, n, channel)
+        lens.rays(&scene.camera, at, size, u, n, channel)
             .map(|r| r.map_or(Rgb::ZERO, |(ray, weight)| radiance(scene, &ray, 0, lambda) * weight))
     };
     if scene.features.dispersion || lens.is_dispersive() {
@@ -133,7 +192,8 @@ pub fn lens_pixel_samples(
 
 /// Camera samples at the continuous pixel positions `(xs[l], ys[l])` for
 /// `l < n` (1 ..= [`LANES`]), traced as one packet: lane `l` is exactly
-/// [`sample`] at its position (through a lens camera, one by one). `scratch` is working memory, kept from
+/// [`sample`] at its position (through a lens camera, [`lens_sample`]; their
+/// sensor rays cross the lens together). `scratch` is working memory, kept from
 /// call to call.
 #[inline]
 pub fn sample_packet(
@@ -146,14 +206,14 @@ pub fn sample_packet(
     scratch: &mut PacketScratch,
 ) -> [Rgb; LANES] {
     if let Some(lens) = &scene.lens {
-        // A lens camera's rays one by one: each position's pixel's first
-        // pupil point (a block preview's or an adaptive sample's).
-        let mut out = [Rgb::ZERO; LANES];
-        for (l, o) in out.iter_mut().enumerate().take(n) {
+        // Through a lens camera, at each position's pixel's first pupil
+        // point (a block preview's or an adaptive sample's).
+        let (mut at, mut u) = ([(0.0, 0.0); LANES], [(0.0, 0.0); LANES]);
+        for l in 0..n {
             let pixel = ys[l] as u64 * width as u64 + xs[l] as u64;
-            *o = lens_sample(scene, lens, (xs[l], ys[l]), (width, height), lens_point(0, pixel, 0));
+            (at[l], u[l]) = ((xs[l], ys[l]), lens_point(0, pixel, 0));
         }
-        return out;
+        return lens_samples(scene, lens, (&at, &u), n, (width, height));
     }
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
     let mut out = [Rgb::ZERO; LANES];
@@ -384,6 +444,55 @@ pub fn render_into<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A block preview's packet through a lens camera (its sensor rays
+    /// crossing the lens together) is, lane for lane and bit for bit, each
+    /// position's [`lens_sample`] at its pixel's first pupil point; lanes
+    /// past `n` are black. Dispersive glass too (a sample per channel).
+    #[test]
+    fn a_lens_cameras_packet_is_its_samples_one_by_one() {
+        let text = |f: &str| {
+            format!(
+                "[camera]\nposition = [0, 0.5, 4]\nlens = {{ preset = \"{f}\", scale = 0.01 }}\n\
+                 focus_distance = 1.5\nf_number = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                 [[objects]]\ntype = \"cuboid\"\nposition = [0, 0.5, 0]\nsize = [1, 1, 1]\n"
+            )
+        };
+        let (w, h) = (37u32, 23u32);
+        for preset in ["double-gauss-50mm", "cooke-triplet-100mm"] {
+            let (_, s) = Scene::parse("lens", &text(preset)).unwrap();
+            let lit = Lit::from(&s);
+            let lens = s.lens.as_deref().unwrap();
+            let mut scratch = PacketScratch::default();
+            let mut k = 0.0;
+            for n in [LANES, 5, 1] {
+                for _ in 0..12 {
+                    let (mut xs, mut ys) = ([0.0; LANES], [0.0; LANES]);
+                    for l in 0..n {
+                        k += 1.0;
+                        (xs[l], ys[l]) = ((k * 7.31) % w as f64, (k * 3.17) % h as f64);
+                    }
+                    let got = sample_packet(&lit, &xs, &ys, n, w, h, &mut scratch);
+                    for l in 0..LANES {
+                        let want = if l < n {
+                            let pixel = ys[l] as u64 * w as u64 + xs[l] as u64;
+                            lens_sample(&lit, lens, (xs[l], ys[l]), (w, h), lens_point(0, pixel, 0))
+                        } else {
+                            Rgb::ZERO
+                        };
+                        let bits = |c: Rgb| c.to_array().map(f64::to_bits);
+                        assert_eq!(
+                            bits(got[l]),
+                            bits(want),
+                            "{preset}: lane {l} of {n} at {}, {}",
+                            xs[l],
+                            ys[l]
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     /// A kept buffer's old contents (here NaN, from a larger frame) never
     /// reach the image: `render_into` writes every pixel.
