@@ -18,6 +18,7 @@
 //!    tap fits — at their centres, or per block of a coarser level when
 //!    the caller's budget says so.
 
+use super::progressive::mean;
 mod fill;
 
 pub use fill::fill;
@@ -133,14 +134,13 @@ pub struct Source<'a> {
 }
 
 impl Source<'_> {
-    /// Old pixel `i`'s colour, in `f32` (a warp's picture is a preview:
-    /// the first sample stage replaces it).
+    /// Old pixel `i`'s colour ([`mean`] of its sums), in `f32` as the
+    /// look back weighs it.
     #[inline(always)]
     fn colour(&self, i: usize) -> Vec3 {
-        let c = self.colour[i].as_vec3();
         match self.count {
-            Some(count) => c * (1.0 / count[i].max(1) as f32),
-            None => c,
+            Some(count) => mean(self.colour[i], count[i]).as_vec3(),
+            None => self.colour[i].as_vec3(),
         }
     }
 }
@@ -294,51 +294,31 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
     // The old pixels' centre rays, scaled to depth 1 in the old view.
     let from_old = Projector::new(src.camera, src.size);
     let old_w = src.size.0 as usize;
-    src.first.par_chunks(old_w.max(1)).enumerate().for_each(|(y, firsts)| {
-        let to = Splat {
-            splat,
-            to_new: &to_new,
-            shift,
-            size: (w, h),
-        };
-        splat_row(&to, from_old.row_rays(y), firsts);
-    });
-}
-
-/// What step 1 writes into, and how.
-struct Splat<'a> {
-    splat: &'a [AtomicU32],
-    to_new: &'a Projector,
-    /// The old camera's position less the new one's.
-    shift: Vec3,
-    size: (u32, u32),
-}
-
-/// Step 1 for one row of old pixels (`rays`: [`Projector::row_rays`]).
-fn splat_row(to: &Splat, (row0, dx): (Vec3, Vec3), firsts: &[FirstHit]) {
-    let (w, h) = to.size;
     let (wf, hf) = (w as f32, h as f32);
-    for (x, f) in firsts.iter().enumerate() {
-        let dir = row0 + dx * x as f32;
-        let z = f.depth();
-        let (class, v) = match f.seen() {
-            Seen::Unknown => continue,
-            Seen::Sky => (SKY, dir),
-            Seen::Surface => (SURFACE, dir * z + to.shift),
-            Seen::Specular => (SPECULAR, dir * z + to.shift),
-        };
-        let Some((x, y, z)) = to.to_new.project(v) else {
-            continue;
-        };
-        if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
-            continue;
+    src.first.par_chunks(old_w.max(1)).enumerate().for_each(|(y, firsts)| {
+        let (row0, dx) = from_old.row_rays(y);
+        for (x, f) in firsts.iter().enumerate() {
+            let dir = row0 + dx * x as f32;
+            let z = f.depth();
+            let (class, v) = match f.seen() {
+                Seen::Unknown => continue,
+                Seen::Sky => (SKY, dir),
+                Seen::Surface => (SURFACE, dir * z + shift),
+                Seen::Specular => (SPECULAR, dir * z + shift),
+            };
+            let Some((x, y, z)) = to_new.project(v) else {
+                continue;
+            };
+            if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
+                continue;
+            }
+            let k = key(if class == SKY { f32::MAX } else { z }, class);
+            let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
+            if k < cell.load(Ordering::Relaxed) {
+                cell.fetch_min(k, Ordering::Relaxed);
+            }
         }
-        let k = key(if class == SKY { f32::MAX } else { z }, class);
-        let cell = &to.splat[(y as i32 * w as i32 + x as i32) as usize];
-        if k < cell.load(Ordering::Relaxed) {
-            cell.fetch_min(k, Ordering::Relaxed);
-        }
-    }
+    });
 }
 
 /// For row `y`: per column `x` (at `x + 1`; the ends stay [`EMPTY`]) the
