@@ -98,30 +98,12 @@ fn sample_point((px, py): (u32, u32), (i, pattern): (u32, Pattern), s: &RenderSe
     ((px as f64 + jx, py as f64 + jy), lens_point(s.seed, pixel, i))
 }
 
-/// [`pixel_sample`] through the lens camera `lens` of the pixels
-/// `pixels[l]`, `l < n` (others: black): their sensor rays cross the lens
-/// together ([`LensCamera::rays`]), each then traced alone; lane for lane
-/// the same bits.
-pub fn lens_pixel_samples(
-    scene: &Lit,
-    lens: &LensCamera,
-    pixels: &[(u32, u32); LANES],
-    n: usize,
-    (i, pattern): (u32, Pattern),
-    s: &RenderSettings,
-) -> [Rgb; LANES] {
-    let (mut at, mut u) = ([(0.0, 0.0); LANES], [(0.0, 0.0); LANES]);
-    for l in 0..n {
-        (at[l], u[l]) = sample_point(pixels[l], (i, pattern), s);
-    }
-    lens_samples(scene, lens, (&at, &u), n, (s.width, s.height))
-}
-
 /// Sensor positions (or pupil points) of a packet's lanes.
 type Points = Lanes<(f64, f64)>;
 
 /// Lens-camera samples gathered eight at a time ([`lens_samples`]), each
-/// with where it goes: what the adaptive waves cast through a lens camera.
+/// with where it goes: what a band's sample, and an adaptive wave, cast
+/// through a lens camera.
 #[derive(Default)]
 pub(crate) struct LensBatch {
     at: Points,
@@ -269,16 +251,16 @@ pub fn add_band_samples(
     if let Some(lens) = &scene.lens {
         // A lens camera's rays start apart: eight at a time through the
         // lens, then each alone into the scene.
-        for (c, chunk) in rows.chunks_mut(LANES).enumerate() {
-            let pixels = std::array::from_fn(|l| {
-                let k = c * LANES + l;
-                ((k % w) as u32, y0 + (k / w) as u32)
-            });
-            let v = lens_pixel_samples(scene, lens, &pixels, chunk.len(), (i, pattern), s);
-            for (px, v) in chunk.iter_mut().zip(v) {
-                *px = if i == 0 { v } else { *px + v };
-            }
+        let mut batch = LensBatch::default();
+        let mut add = |k: u32, v: Rgb| {
+            let px = &mut rows[k as usize];
+            *px = if i == 0 { v } else { *px + v };
+        };
+        for k in 0..(w * count) as u32 {
+            let pixel = (k % w as u32, y0 + k / w as u32);
+            batch.push(scene, lens, (pixel, i, pattern), s, k, &mut add);
         }
+        batch.flush(scene, lens, (s.width, s.height), &mut add);
         return;
     }
     for x0 in (0..w).step_by(LANES) {
