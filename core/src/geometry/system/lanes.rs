@@ -114,7 +114,7 @@ fn pass_lanes_impl(
         set_lane(&mut w.u, l, u);
         w.lo[l] = -t0;
     }
-    let boundaries = (0..system.len()).filter(|&k| system.cap_is_boundary(k)).count();
+    let boundaries = system.boundary_caps();
     let mut out = [None; LANES];
     while mask(&w.live) != 0 {
         let found = system.lane_crossings(&w);
@@ -223,18 +223,10 @@ impl LensSystem {
                 }
                 continue;
             }
-            let k = near.piece.surface;
-            let last = w.from[l];
-            let s = if last == NONE { 0 } else { k as i64 - last as i64 };
-            let step = w.step[l];
-            let in_order = !near.piece.is_opaque()
-                && self.cap_is_boundary(k)
-                && (step == 0 || s.signum() == step.signum())
-                && (s != 0 || last == NONE);
-            if last != NONE {
-                w.step[l] = s;
-            }
-            w.live[l] = in_order;
+            let last = (w.from[l] != NONE).then_some(w.from[l]);
+            let ok;
+            (ok, w.step[l]) = self.order_step(last, w.step[l], near.piece.surface);
+            w.live[l] = !near.piece.is_opaque() && ok;
         }
     }
 

@@ -175,18 +175,31 @@ impl LensSystem {
         let (mut last, mut step, mut count, mut in_order) = (None::<usize>, 0i64, 0, true);
         let (status, x, u) = self.walk_real(origin, dir, media, &mut |piece, kind, _, _| {
             let k = piece.surface;
-            let s = last.map_or(0, |l| k as i64 - l as i64);
-            in_order &=
-                kind == EventKind::Refract && self.cap_is_boundary(k) && (step == 0 || s.signum() == step.signum());
-            if last.is_some() {
-                step = s;
-            }
-            in_order &= s != 0 || last.is_none();
+            let ok;
+            (ok, step) = self.order_step(last, step, k);
+            in_order &= kind == EventKind::Refract && ok;
             last = Some(k);
             count += 1;
         });
-        let whole = count == (0..self.len()).filter(|&k| self.cap_is_boundary(k)).count();
+        let whole = count == self.boundary_caps();
         (status == RayStatus::Transmitted && in_order && whole).then(|| (self.world_point(x), self.world_dir(u)))
+    }
+
+    /// Whether a pass that crossed cap `last` (`None`: none yet), with
+    /// `step` between its last two caps (0: fewer than two), stays in
+    /// order crossing cap `k` (a boundary, the same way along the system,
+    /// not the same cap again); and the step it keeps then. The rule of
+    /// [`LensSystem::pass`] and its lanes.
+    #[inline(always)]
+    pub(super) fn order_step(&self, last: Option<usize>, step: i64, k: usize) -> (bool, i64) {
+        let s = last.map_or(0, |l| k as i64 - l as i64);
+        let ok = self.cap_is_boundary(k) && (step == 0 || s.signum() == step.signum()) && (s != 0 || last.is_none());
+        (ok, if last.is_some() { s } else { step })
+    }
+
+    /// How many caps a pass crosses: those that are boundaries.
+    pub(super) fn boundary_caps(&self) -> usize {
+        (0..self.len()).filter(|&k| self.cap_is_boundary(k)).count()
     }
 
     /// The walk of a real ray: each event (the piece, what happened, the
