@@ -187,7 +187,16 @@ fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sample
 /// mirrored, then goes on by reflection or refraction with their Fresnel
 /// shares (Russian roulette), until it leaves the scene, is absorbed, or
 /// `max_depth` is used up.
-fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &mut Sampler, out: &mut Vec<Photon>) {
+///
+/// `branches` is scratch room for the rays out of a lens (kept from photon
+/// to photon, so that a photon through glass allocates nothing).
+fn trace_photon(
+    scene: &Scene,
+    (mut ray, mut power): (Ray, Rgb),
+    lambda: f64,
+    rng: &mut Sampler,
+    (out, branches): (&mut Vec<Photon>, &mut Vec<Transmitted>),
+) {
     let (mut skip, mut depth, mut bounced) = (usize::MAX, 0u32, false);
     while depth < scene.max_depth.max(1) {
         let Some((i, h)) = closest_hit_skip(scene, &ray, f64::INFINITY, skip) else {
@@ -223,8 +232,8 @@ fn trace_photon(scene: &Scene, mut ray: Ray, mut power: Rgb, lambda: f64, rng: &
         } else {
             let pick = rng.next_f64();
             let tr = match system {
-                Some(sys) => system_branch(s.object, sys, &ray, lambda, pick),
-                None => one_branch(s.object, s.p, s.nf, s.entering, &ray, ior, pick),
+                Some(sys) => system_branch(s.object, sys, &ray, lambda, pick, branches),
+                None => one_branch((s.object, s.p, s.nf, s.entering), &ray, ior, pick, branches),
             };
             let Some(tr) = tr else {
                 return;
@@ -251,31 +260,44 @@ const PHOTON_BRANCH_MIN: f64 = 1e-4;
 /// uniform in [0, 1)) and carries the factor `W = Σ w_i`, so the expected
 /// power out is `Σ w_i` — every ghost and rim reflection the renderer
 /// follows, without splitting the photon.
-fn one_branch(obj: &Object, p: DVec3, nf: DVec3, entering: bool, ray: &Ray, ior: f64, u: f64) -> Option<Transmitted> {
+fn one_branch(
+    (obj, p, nf, entering): (&Object, DVec3, DVec3, bool),
+    ray: &Ray,
+    ior: f64,
+    u: f64,
+    out: &mut Vec<Transmitted>,
+) -> Option<Transmitted> {
     let prune = Pruning {
         scale: 1.0,
         min: PHOTON_BRANCH_MIN,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
         roulette: 0.0,
     };
-    let mut out: Vec<Transmitted> = Vec::new();
+    out.clear();
     transmitted_rays(obj, p, nf, entering, ray, ior, &prune, &mut |t| out.push(t));
-    pick_branch(&out, u)
+    pick_branch(out, u)
 }
 
 /// [`one_branch`] for a lens system: one ray of its tree
 /// ([`system_rays`]), drawn by weight; its factor the tree's total weight
 /// (what the rings, edges and diaphragm absorb is lost).
-fn system_branch(obj: &Object, sys: &LensSystem, ray: &Ray, lambda: f64, u: f64) -> Option<Transmitted> {
+fn system_branch(
+    obj: &Object,
+    sys: &LensSystem,
+    ray: &Ray,
+    lambda: f64,
+    u: f64,
+    out: &mut Vec<Transmitted>,
+) -> Option<Transmitted> {
     let prune = Pruning {
         scale: 1.0,
         min: PHOTON_BRANCH_MIN,
         max_reflections: MAX_INTERNAL_REFLECTIONS,
         roulette: super::shade::GHOST_ROULETTE,
     };
-    let mut out: Vec<Transmitted> = Vec::new();
+    out.clear();
     system_rays(obj, sys, ray, lambda, &prune, |t| out.push(t));
-    pick_branch(&out, u)
+    pick_branch(out, u)
 }
 
 /// One of the rays `out`, drawn by its factor with `u` in [0, 1); its
@@ -322,13 +344,14 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let mut out = Vec::new();
+            let (mut out, mut branches) = (Vec::new(), Vec::new());
             for i in c * CHUNK..((c + 1) * CHUNK).min(total) {
                 let mut rng = Sampler::new(seed, i as u64, pass as u64);
                 let light = &scene.lights[i / per_light];
                 let (lambda, tint) = colour_of(scene, i % per_light, t);
                 let (ray, power) = emit(light, targets, i % per_light, per_light, &mut rng);
-                trace_photon(scene, ray, power * tint, lambda, &mut rng, &mut out);
+                let io = (&mut out, &mut branches);
+                trace_photon(scene, (ray, power * tint), lambda, &mut rng, io);
             }
             out
         })

@@ -64,15 +64,19 @@ impl Grid {
         }
     }
 
-    /// Adds photons, each after those already in its cell and in the order
-    /// given (so a cell's blocks are what inserting them one by one gives).
-    pub(super) fn add(&mut self, new: &[Entry]) {
+    /// Adds photons to the cells of side `cell`. A cell's photons, old and
+    /// new, are then laid out in Morton order of their place in the cell
+    /// (ties in the order they came: the old ones, then the new ones as
+    /// given), so that a block's eight photons lie close together and its
+    /// bounds ([`Block::lo`], [`Block::hi`]) let a query pass it by.
+    pub(super) fn add(&mut self, new: &[Entry], cell: f32) {
         let mut order: Vec<u32> = (0..new.len() as u32).collect();
         order.sort_unstable_by_key(|&i| (new[i as usize].key, i));
         let mut old: Vec<Slot> = self.table.iter().filter(|s| s.len > 0).copied().collect();
         old.sort_unstable_by_key(|s| s.key);
         let mut blocks = Vec::with_capacity(self.blocks.len() + new.len() / 2 + 1);
         let mut cells = Vec::with_capacity(old.len() + new.len() / 4 + 1);
+        let (mut here, mut fresh): (Vec<Entry>, Vec<Entry>) = (Vec::new(), Vec::new());
         let (mut a, mut b) = (0, 0);
         while a < old.len() || b < order.len() {
             let from_old = old.get(a).map(|s| s.key);
@@ -81,21 +85,32 @@ impl Grid {
                 (Some(x), Some(y)) => x.min(y),
                 (x, y) => x.or(y).unwrap_or_default(),
             };
-            let start = blocks.len();
+            here.clear();
             if from_old == Some(key) {
                 let s = old[a];
-                blocks.extend_from_slice(&self.blocks[s.start as usize..(s.start + s.len) as usize]);
+                for bl in &self.blocks[s.start as usize..(s.start + s.len) as usize] {
+                    here.extend((0..bl.len).map(|l| bl.entry(key, l)));
+                }
                 a += 1;
             }
+            fresh.clear();
             while let Some(e) = order.get(b).map(|&i| &new[i as usize]).filter(|e| e.key == key) {
-                push_lane(&mut blocks, start, e);
+                fresh.push(*e);
                 b += 1;
             }
-            let len = (blocks.len() - start) as u32;
+            // The old photons are in Morton order already: a stable sort of
+            // the new ones and a merge (old first on ties) give what a
+            // stable sort of them all would.
+            fresh.sort_by_cached_key(|e| morton(e.rel, cell));
+            merge_by_morton(&mut here, &fresh, cell);
+            let start = blocks.len();
+            for chunk in here.chunks(BLOCK) {
+                blocks.push(Block::of(chunk));
+            }
             cells.push(Slot {
                 key,
                 start: start as u32,
-                len,
+                len: (blocks.len() - start) as u32,
             });
         }
         self.blocks = blocks;
@@ -103,22 +118,33 @@ impl Grid {
     }
 }
 
-/// Puts `e` in the last block of the cell whose blocks start at `start`,
-/// or in a new block when that one is full (or the cell has none yet).
-fn push_lane(blocks: &mut Vec<Block>, start: usize, e: &Entry) {
-    if blocks.len() == start || blocks.last().is_some_and(|b| b.len == BLOCK) {
-        blocks.push(Block::EMPTY);
+/// Merges `fresh` (in Morton order) into `here` (in Morton order): an
+/// entry of `here` goes before one of `fresh` with the same code.
+fn merge_by_morton(here: &mut Vec<Entry>, fresh: &[Entry], cell: f32) {
+    if fresh.is_empty() {
+        return;
     }
-    // ok: a block was pushed above when the cell had none with room.
-    let b = blocks.last_mut().expect("a block with room");
-    let l = b.len;
-    for c in 0..3 {
-        Block::set(&mut b.p[c], l, e.rel[c]);
-        Block::set(&mut b.dir[c], l, e.dir[c]);
-        Block::set(&mut b.power[c], l, e.power[c]);
+    let old = std::mem::take(here);
+    here.reserve(old.len() + fresh.len());
+    let (mut i, mut j) = (0, 0);
+    while i < old.len() || j < fresh.len() {
+        let take_old = j == fresh.len() || (i < old.len() && morton(old[i].rel, cell) <= morton(fresh[j].rel, cell));
+        if take_old {
+            here.push(old[i]);
+            i += 1;
+        } else {
+            here.push(fresh[j]);
+            j += 1;
+        }
     }
-    Block::set(&mut b.r2, l, e.r2);
-    b.len += 1;
+}
+
+/// Sixteen steps a side of a cell: the Morton code (12 bits) of the step
+/// that holds the point `rel` from the cell's low corner.
+fn morton(rel: [f32; 3], cell: f32) -> u32 {
+    let step = |v: f32| ((v / cell * 16.0) as u32).min(15);
+    let spread = |v: u32| (0..4).fold(0, |m, i| m | ((v >> i) & 1) << (3 * i));
+    spread(step(rel[0])) | spread(step(rel[1])) << 1 | spread(step(rel[2])) << 2
 }
 
 /// The open-addressed table of `cells` (linear probing, at most half full).
