@@ -57,28 +57,69 @@ pub fn transmitted_rays(
     prune: &Pruning,
     mut emit: impl FnMut(Transmitted),
 ) {
+    match refracted_in(obj, p, nf, entering, ray, ior) {
+        Some(Refracted::Lens(lens, start)) => {
+            lens.branch_chain(start, ior, prune, &mut |b| emit(out_of(lens, &b)));
+        }
+        Some(Refracted::On(t)) => emit(t),
+        None => {}
+    }
+}
+
+/// Where the light refracted at a hit goes: into a lens (its chain starts
+/// from the light just inside), or on as one ray (any other glass).
+enum Refracted<'a> {
+    Lens(&'a Lens, Inside),
+    On(Transmitted),
+}
+
+/// The refraction at a hit of [`transmitted_rays`]: `None` when the light
+/// is totally reflected.
+#[inline(always)]
+fn refracted_in<'a>(
+    obj: &'a Object,
+    p: DVec3,
+    nf: DVec3,
+    entering: bool,
+    ray: &Ray,
+    ior: f64,
+) -> Option<Refracted<'a>> {
     let (n1, n2) = if entering { (1.0, ior) } else { (ior, 1.0) };
     let lens = obj.lens().filter(|_| entering);
     let entry = lens.map(|l| l.entry_of_hit(ray, p, nf));
     let (dir, normal) = entry.map_or((ray.dir, nf), |e| (e.dir, e.normal));
-    let Some(t) = optics::refract(dir, normal, n1, n2) else {
-        return;
-    };
-    match (lens, entry) {
-        (Some(lens), Some(e)) => {
-            let start = Inside {
+    let t = optics::refract(dir, normal, n1, n2)?;
+    Some(match (lens, entry) {
+        (Some(lens), Some(e)) => Refracted::Lens(
+            lens,
+            Inside {
                 x: e.local,
                 u: t,
                 weight: 1.0,
                 reflections: 0,
-            };
-            lens.branch_chain(start, ior, prune, &mut |b| emit(out_of(lens, &b)));
-        }
-        _ => emit(Transmitted {
+            },
+        ),
+        _ => Refracted::On(Transmitted {
             ray: spawn_ray(p, nf, t, obj.scale),
             bounces: 1,
             factor: 1.0,
         }),
+    })
+}
+
+/// One ray out of the refraction at a hit, as a photon travels: through a
+/// lens, one ray of its chain drawn by its weight ([`Lens::walk_chain`],
+/// `draw()` uniform in [0, 1)), carrying the factor 1; through other glass
+/// the one ray on. `None` when the light is totally reflected or lost.
+pub fn transmitted_one(
+    (obj, p, nf, entering): (&Object, DVec3, DVec3, bool),
+    ray: &Ray,
+    ior: f64,
+    draw: impl FnMut() -> f64,
+) -> Option<Transmitted> {
+    match refracted_in(obj, p, nf, entering, ray, ior)? {
+        Refracted::Lens(lens, start) => lens.walk_chain(start, ior, draw).map(|b| out_of(lens, &b)),
+        Refracted::On(t) => Some(t),
     }
 }
 

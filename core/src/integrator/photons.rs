@@ -1,14 +1,15 @@
 //! Caustic photons: shot from each light toward the glass and mirrors only
-//! ([`Targets`]), carried through lenses by the renderer's own pass
-//! ([`transmitted_rays`]: the lens's exact tracer and its Whitted tree, one
-//! branch drawn by its Fresnel weight, [`one_branch`]), through other glass and
-//! off mirrors by Russian roulette on the Fresnel split, and recorded where
+//! ([`Targets`]), carried through lenses by the renderer's own exact tracer
+//! (one ray out of a lens's chain, drawn by Russian roulette at each exit,
+//! `lens_pass::transmitted_one`; one ray of a lens system's tree, drawn by
+//! its weight, [`system_branch`]), through other glass and off mirrors by
+//! Russian roulette on the Fresnel split, and recorded where
 //! they land on a diffuse surface after at least one specular bounce
 //! ([`photon_pass`]). Every photon draws from `Sampler(seed, photon, pass)`
 //! and the pass keeps them in photon order, so a pass is the same on any
 //! number of threads.
 
-use super::lens_pass::{Transmitted, transmitted_rays};
+use super::lens_pass::{Transmitted, transmitted_one};
 use super::surface::{spawn_ray, surface};
 use super::system_pass::system_rays;
 use crate::color::Rgb;
@@ -230,10 +231,9 @@ fn trace_photon(
             skip = s.leaving(r);
             depth += 1;
         } else {
-            let pick = rng.next_f64();
             let tr = match system {
-                Some(sys) => system_branch(s.object, sys, &ray, lambda, pick, branches),
-                None => one_branch((s.object, s.p, s.nf, s.entering), &ray, ior, pick, branches),
+                Some(sys) => system_branch(s.object, sys, &ray, lambda, rng.next_f64(), branches),
+                None => transmitted_one((s.object, s.p, s.nf, s.entering), &ray, ior, || rng.next_f64()),
             };
             let Some(tr) = tr else {
                 return;
@@ -251,34 +251,7 @@ fn trace_photon(
     }
 }
 
-/// Branches lighter than this, relative to the photon, are not followed
-/// through a lens (the light they carry is dropped: at most this fraction).
-const PHOTON_BRANCH_MIN: f64 = 1e-4;
-
-/// One ray out of the refraction at a hit, for a photon: through a lens,
-/// branch `i` of its Whitted tree is drawn with probability `w_i / W` (`u`
-/// uniform in [0, 1)) and carries the factor `W = Σ w_i`, so the expected
-/// power out is `Σ w_i` — every ghost and rim reflection the renderer
-/// follows, without splitting the photon.
-fn one_branch(
-    (obj, p, nf, entering): (&Object, DVec3, DVec3, bool),
-    ray: &Ray,
-    ior: f64,
-    u: f64,
-    out: &mut Vec<Transmitted>,
-) -> Option<Transmitted> {
-    let prune = Pruning {
-        scale: 1.0,
-        min: PHOTON_BRANCH_MIN,
-        max_reflections: MAX_INTERNAL_REFLECTIONS,
-        roulette: 0.0,
-    };
-    out.clear();
-    transmitted_rays(obj, p, nf, entering, ray, ior, &prune, &mut |t| out.push(t));
-    pick_branch(out, u)
-}
-
-/// [`one_branch`] for a lens system: one ray of its tree
+/// One ray out of a lens system, for a photon: one ray of its tree
 /// ([`system_rays`]), drawn by weight; its factor the tree's total weight
 /// (what the rings, edges and diaphragm absorb is lost).
 fn system_branch(
@@ -299,6 +272,11 @@ fn system_branch(
     system_rays(obj, sys, ray, lambda, &prune, |t| out.push(t));
     pick_branch(out, u)
 }
+
+/// Branches lighter than this, relative to the photon, are not followed
+/// through a lens system (the light they carry is dropped: at most this
+/// fraction).
+const PHOTON_BRANCH_MIN: f64 = 1e-4;
 
 /// One of the rays `out`, drawn by its factor with `u` in [0, 1); its
 /// factor set to their sum.
