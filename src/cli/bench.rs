@@ -241,16 +241,19 @@ fn primary_only(scene: &Scene, width: u32, height: u32, runs: usize) {
 }
 
 fn frame_only(scene: &Scene, width: u32, height: u32, runs: usize) {
-    let sizes = [(400, 400), (width, height)];
+    // 400×400 once when it is also WIDTH×HEIGHT (benches/mitsuba_speed.py).
+    let mut sizes = vec![(400, 400), (width, height)];
+    sizes.dedup();
     let items: Vec<_> = sizes.iter().map(|&(w, h)| (scene, w, h)).collect();
     let times = interleaved_frame_samples(&items, runs);
     for ((w, h), v) in sizes.iter().zip(&times) {
         println!(
-            "frame {w}x{h} ({} threads, {} runs): fastest {:.2} ms, median {:.2} ms",
+            "frame {w}x{h} ({} threads, {} runs): fastest {:.2} ms, median {:.2} ms ({} lanes)",
             rayon::current_num_threads(),
             v.len(),
             v[0] * 1e3,
-            v[v.len() / 2] * 1e3
+            v[v.len() / 2] * 1e3,
+            lensview::simd::isa().name()
         );
     }
 }
