@@ -35,11 +35,16 @@ line counts one more).
 The two alternate for ROUNDS rounds, in one run (lensview first, after a
 pause): each round RUNS frames of each, its median. Every round is printed;
 the ratio reported (Mitsuba time / lensview time) is the median of the
-rounds' ratios, and the ratio of the fastest frames.
+rounds' ratios, and the ratio of the fastest frames. Also the CPU time a
+frame (the process's, every thread, spin-waits included): on a shared
+machine it moves less than wall time. Mitsuba's: `time.process_time`
+around its RUNS renders. lensview's: the CPU time of the bench process
+with RUNS frames less that of one with a single frame (each parses, builds
+and renders a warm-up frame), over RUNS − 1.
 
 Usage:
   benches/mitsuba_speed.py LENSVIEW_BINARY SCENE.toml [SCENE.toml ...]
-      [--width 400 --height 400 --rounds 5 --runs 5 --threads N]
+      [--width 400 --height 400 --rounds 5 --runs 10 --threads N]
       [--rings 64 --segments 256] [--mi-surface delta|diffuse]
       [--mi-max-depth scene|N] [--pause 1.0]
 """
@@ -47,6 +52,7 @@ Usage:
 import argparse
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -89,29 +95,45 @@ def supported(path, scene):
     return flat(scene)  # exits on a non-cuboid object
 
 
-def lensview_round(binary, toml, a):
-    """One round of lensview frames: (fastest, median) in seconds."""
+def lensview_frames(binary, toml, a, runs):
+    """`lensview bench --frame-only` with RUNS frames: (fastest s, median s,
+    the lane build, the process's CPU seconds, all threads)."""
     env = dict(os.environ, RAYON_NUM_THREADS=str(a.threads))
     cmd = [binary, "bench", toml, "--frame-only", "--width", str(a.width), "--height", str(a.height)]
-    out = subprocess.run(cmd + ["--runs", str(a.runs)], env=env, check=True, capture_output=True, text=True).stdout
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = subprocess.run(cmd + ["--runs", str(runs)], env=env, check=True, capture_output=True, text=True).stdout
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
     for ln in out.splitlines():
         m = FRAME.match(ln)
         if m and (int(m[1]), int(m[2])) == (a.width, a.height):
             if int(m[3]) != a.threads:
                 sys.exit(f"lensview ran {m[3]} threads, not {a.threads}")
-            return float(m[5]) / 1e3, float(m[6]) / 1e3, m[7].strip()
+            return float(m[5]) / 1e3, float(m[6]) / 1e3, m[7].strip(), cpu
     sys.exit(f"no {a.width}x{a.height} frame line in: {out}")
 
 
+def lensview_round(binary, toml, a):
+    """One round of lensview: (fastest, median, CPU a frame) in seconds, the
+    lane build. The CPU time a frame: that of a run of RUNS frames less that
+    of a run of one (both parse the scene, build its BVH and render a
+    warm-up frame), over RUNS − 1."""
+    fastest, median, lanes, cpu = lensview_frames(binary, toml, a, a.runs)
+    cpu1 = lensview_frames(binary, toml, a, 1)[3]
+    return fastest, median, (cpu - cpu1) / (a.runs - 1), lanes
+
+
 def mitsuba_round(mi, scene, a):
-    """One round of Mitsuba frames: (fastest, median) in seconds."""
-    times = []
+    """One round of Mitsuba frames: (fastest, median, mean CPU) in seconds
+    (CPU: the process's, all threads)."""
+    times, cpu = [], time.process_time()
     for _ in range(a.runs):
         t = time.perf_counter()
         mi.render(scene, spp=1)
         times.append(time.perf_counter() - t)
+    cpu = (time.process_time() - cpu) / a.runs
     times.sort()
-    return times[0], times[len(times) // 2]
+    return times[0], times[len(times) // 2], cpu
 
 
 def compare(mi, binary, path, a):
@@ -133,24 +155,29 @@ def compare(mi, binary, path, a):
             f"max_depth {depth}, surfaces {a.mi_surface}, lens {tris} triangles, scene loaded in {loaded:.2f} s",
             flush=True,
         )
-        print("round  load avg        lensview fastest/median ms   Mitsuba fastest/median ms   ratio (medians)")
-        ratios, lv_best, mi_best = [], float("inf"), float("inf")
+        print(
+            "round  load avg        lensview fastest / median (CPU) ms   Mitsuba fastest / median (CPU) ms"
+            "   ratio: medians (CPU)"
+        )
+        ratios, cpu_ratios, lv_best, mi_best = [], [], float("inf"), float("inf")
         for r in range(a.rounds):
             time.sleep(a.pause)
             before = load()
-            lf, lm, lanes = lensview_round(binary, toml, a)
+            lf, lm, lc, lanes = lensview_round(binary, toml, a)
             time.sleep(a.pause)
-            mf, mm = mitsuba_round(mi, mscene, a)
+            mf, mm, mc = mitsuba_round(mi, mscene, a)
             ratios.append(mm / lm)
+            cpu_ratios.append(mc / lc)
             lv_best, mi_best = min(lv_best, lf), min(mi_best, mf)
             print(
-                f"{r + 1:>5}  {before:<14}  {lf * 1e3:8.2f} / {lm * 1e3:8.2f}             "
-                f"{mf * 1e3:9.2f} / {mm * 1e3:9.2f}      {mm / lm:6.2f}×",
+                f"{r + 1:>5}  {before:<14}  {lf * 1e3:7.2f} / {lm * 1e3:7.2f} ({lc * 1e3:7.2f})           "
+                f"{mf * 1e3:7.2f} / {mm * 1e3:7.2f} ({mc * 1e3:7.2f})          {mm / lm:6.2f}× ({mc / lc:6.2f}×)",
                 flush=True,
             )
         print(
             f"{name}: lensview {lanes}; Mitsuba / lensview: median of the rounds' ratios {statistics.median(ratios):.2f}× "
-            f"(range {min(ratios):.2f}–{max(ratios):.2f}×); fastest frames {mi_best * 1e3:.2f} / "
+            f"(range {min(ratios):.2f}–{max(ratios):.2f}×), of CPU times {statistics.median(cpu_ratios):.2f}× "
+            f"(range {min(cpu_ratios):.2f}–{max(cpu_ratios):.2f}×); fastest frames {mi_best * 1e3:.2f} / "
             f"{lv_best * 1e3:.2f} ms = {mi_best / lv_best:.2f}×; load avg after: {load()}",
             flush=True,
         )
@@ -163,7 +190,7 @@ def main():
     ap.add_argument("--width", type=int, default=400)
     ap.add_argument("--height", type=int, default=400)
     ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--runs", type=int, default=5, help="frames of each renderer a round (its median)")
+    ap.add_argument("--runs", type=int, default=10, help="frames of each renderer a round (its median), at least 2")
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--rings", type=int, default=64)
     ap.add_argument("--segments", type=int, default=256)
@@ -171,6 +198,8 @@ def main():
     ap.add_argument("--mi-max-depth", default="scene", help='"scene" (the scene\'s max_depth + 1) or a number')
     ap.add_argument("--pause", type=float, default=1.0, help="seconds of pause before each side of a round")
     a = ap.parse_args()
+    if a.runs < 2:
+        ap.error("--runs: at least 2")
     import drjit as dr
     import mitsuba as mi
 
