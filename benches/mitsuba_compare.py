@@ -221,6 +221,17 @@ def mitsuba_depth(scene, arg):
 
 
 def mitsuba_image(mi, scene, w, h, spp, rings, segments, tmp, max_depth):
+    d, tris = mitsuba_scene(mi, scene, w, h, spp, rings, segments, tmp, max_depth)
+    img = mi.render(mi.load_dict(d), spp=spp)
+    return np.array(img)[:, :, :3], tris
+
+
+def mitsuba_scene(mi, scene, w, h, spp, rings, segments, tmp, max_depth, surface="diffuse"):
+    """Mitsuba's scene dictionary for a flat scene and its lens's triangle
+    count. `surface`: the BSDF under each object's emitter, "diffuse"
+    (black diffuse: the path integrator samples an emitter from each hit)
+    or "delta" (a black smooth conductor: no emitter sample, the path ends
+    at the surface, as lensview's flat shading does)."""
     T = mi.ScalarTransform4f
     pos, fwd, up = camera_basis(scene["camera"])
     bg = scene.get("render", {}).get("background", [0.0, 0.0, 0.0])
@@ -248,7 +259,7 @@ def mitsuba_image(mi, scene, w, h, spp, rings, segments, tmp, max_depth):
         d[f"obj{i}"] = {
             "type": "cube",
             "to_world": mi.ScalarTransform4f(m.tolist()),
-            "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}},
+            "bsdf": black_bsdf(surface),
             "emitter": {"type": "area", "radiance": {"type": "rgb", "value": col}},
         }
     tris = 0
@@ -271,8 +282,16 @@ def mitsuba_image(mi, scene, w, h, spp, rings, segments, tmp, max_depth):
                 "specular_transmittance": {"type": "rgb", "value": lens.get("tint", [1, 1, 1])},
             },
         }
-    img = mi.render(mi.load_dict(d), spp=spp)
-    return np.array(img)[:, :, :3], tris
+    return d, tris
+
+
+def black_bsdf(surface):
+    black = {"type": "rgb", "value": [0.0, 0.0, 0.0]}
+    if surface == "diffuse":
+        return {"type": "diffuse", "reflectance": black}
+    if surface == "delta":
+        return {"type": "conductor", "specular_reflectance": black}
+    raise ValueError(surface)
 
 
 def srgb8(lin):

@@ -240,17 +240,26 @@ fn primary_only(scene: &Scene, width: u32, height: u32, runs: usize) {
     );
 }
 
+/// The sizes `--frame-only` times: 400×400, then WIDTH×HEIGHT unless it
+/// is 400×400 too (benches/mitsuba_speed.py times that size alone).
+fn frame_sizes(width: u32, height: u32) -> Vec<(u32, u32)> {
+    let mut sizes = vec![(400, 400), (width, height)];
+    sizes.dedup();
+    sizes
+}
+
 fn frame_only(scene: &Scene, width: u32, height: u32, runs: usize) {
-    let sizes = [(400, 400), (width, height)];
+    let sizes = frame_sizes(width, height);
     let items: Vec<_> = sizes.iter().map(|&(w, h)| (scene, w, h)).collect();
     let times = interleaved_frame_samples(&items, runs);
     for ((w, h), v) in sizes.iter().zip(&times) {
         println!(
-            "frame {w}x{h} ({} threads, {} runs): fastest {:.2} ms, median {:.2} ms",
+            "frame {w}x{h} ({} threads, {} runs): fastest {:.2} ms, median {:.2} ms ({} lanes)",
             rayon::current_num_threads(),
             v.len(),
             v[0] * 1e3,
-            v[v.len() / 2] * 1e3
+            v[v.len() / 2] * 1e3,
+            lensview::simd::isa().name()
         );
     }
 }
@@ -489,5 +498,11 @@ mod tests {
         assert!(mode_of(&["--primary-only", "--frame-only"]).is_err());
         assert!(mode_of(&["--frame-only", "--unused-feature", "glass"]).is_err());
         assert!(mode_of(&["--unspecialised"]).is_err());
+    }
+
+    #[test]
+    fn frame_only_times_400_by_400_once() {
+        assert_eq!(frame_sizes(64, 36), [(400, 400), (64, 36)]);
+        assert_eq!(frame_sizes(400, 400), [(400, 400)]);
     }
 }
