@@ -70,13 +70,14 @@ impl Grid {
     /// given), so that a block's eight photons lie close together and its
     /// bounds ([`Block::lo`], [`Block::hi`]) let a query pass it by.
     pub(super) fn add(&mut self, new: &[Entry], cell: f32) {
+        let codes: Vec<u32> = new.iter().map(|e| morton(e.rel, cell)).collect();
         let mut order: Vec<u32> = (0..new.len() as u32).collect();
-        order.sort_unstable_by_key(|&i| (new[i as usize].key, i));
+        order.sort_unstable_by_key(|&i| (new[i as usize].key, codes[i as usize], i));
         let mut old: Vec<Slot> = self.table.iter().filter(|s| s.len > 0).copied().collect();
         old.sort_unstable_by_key(|s| s.key);
         let mut blocks = Vec::with_capacity(self.blocks.len() + new.len() / 2 + 1);
         let mut cells = Vec::with_capacity(old.len() + new.len() / 4 + 1);
-        let (mut here, mut fresh): (Vec<Entry>, Vec<Entry>) = (Vec::new(), Vec::new());
+        let mut here: Vec<(u32, Entry)> = Vec::new();
         let (mut a, mut b) = (0, 0);
         while a < old.len() || b < order.len() {
             let from_old = old.get(a).map(|s| s.key);
@@ -85,27 +86,34 @@ impl Grid {
                 (Some(x), Some(y)) => x.min(y),
                 (x, y) => x.or(y).unwrap_or_default(),
             };
-            here.clear();
-            if from_old == Some(key) {
-                let s = old[a];
-                for bl in &self.blocks[s.start as usize..(s.start + s.len) as usize] {
-                    here.extend((0..bl.len).map(|l| bl.entry(key, l)));
-                }
-                a += 1;
-            }
-            fresh.clear();
-            while let Some(e) = order.get(b).map(|&i| &new[i as usize]).filter(|e| e.key == key) {
-                fresh.push(*e);
-                b += 1;
-            }
-            // The old photons are in Morton order already: a stable sort of
-            // the new ones and a merge (old first on ties) give what a
-            // stable sort of them all would.
-            fresh.sort_by_cached_key(|e| morton(e.rel, cell));
-            merge_by_morton(&mut here, &fresh, cell);
             let start = blocks.len();
-            for chunk in here.chunks(BLOCK) {
-                blocks.push(Block::of(chunk));
+            let kept = if from_old == Some(key) {
+                a += 1;
+                let s = old[a - 1];
+                &self.blocks[s.start as usize..(s.start + s.len) as usize]
+            } else {
+                &[]
+            };
+            if from_new != Some(key) {
+                // No new photon here: the cell's blocks as they were.
+                blocks.extend_from_slice(kept);
+            } else {
+                // The old photons are in Morton order already, the new ones
+                // sorted by code then order: merged (old first on ties),
+                // they are what a stable sort of them all would give.
+                here.clear();
+                for bl in kept {
+                    here.extend((0..bl.len).map(|l| bl.entry(key, l)).map(|e| (morton(e.rel, cell), e)));
+                }
+                let split = here.len();
+                while let Some(&i) = order.get(b).filter(|&&i| new[i as usize].key == key) {
+                    here.push((codes[i as usize], new[i as usize]));
+                    b += 1;
+                }
+                merge_in_place(&mut here, split);
+                for chunk in here.chunks(BLOCK) {
+                    blocks.push(Block::of(chunk.iter().map(|c| c.1)));
+                }
             }
             cells.push(Slot {
                 key,
@@ -118,25 +126,25 @@ impl Grid {
     }
 }
 
-/// Merges `fresh` (in Morton order) into `here` (in Morton order): an
-/// entry of `here` goes before one of `fresh` with the same code.
-fn merge_by_morton(here: &mut Vec<Entry>, fresh: &[Entry], cell: f32) {
-    if fresh.is_empty() {
+/// Merges the two runs `v[..split]` and `v[split..]`, each in order of its
+/// codes, into one: on equal codes the first run's entry goes first.
+fn merge_in_place(v: &mut Vec<(u32, Entry)>, split: usize) {
+    if split == 0 || split == v.len() {
         return;
     }
-    let old = std::mem::take(here);
-    here.reserve(old.len() + fresh.len());
+    let (first, second) = v.split_at(split);
+    let mut out = Vec::with_capacity(v.len());
     let (mut i, mut j) = (0, 0);
-    while i < old.len() || j < fresh.len() {
-        let take_old = j == fresh.len() || (i < old.len() && morton(old[i].rel, cell) <= morton(fresh[j].rel, cell));
-        if take_old {
-            here.push(old[i]);
+    while i < first.len() || j < second.len() {
+        if j == second.len() || (i < first.len() && first[i].0 <= second[j].0) {
+            out.push(first[i]);
             i += 1;
         } else {
-            here.push(fresh[j]);
+            out.push(second[j]);
             j += 1;
         }
     }
+    *v = out;
 }
 
 /// Sixteen steps a side of a cell: the Morton code (12 bits) of the step

@@ -186,9 +186,9 @@ impl Block {
     };
 
     /// The block of up to [`BLOCK`] photons of one cell.
-    fn of(entries: &[grid::Entry]) -> Block {
+    fn of(entries: impl IntoIterator<Item = grid::Entry>) -> Block {
         let mut b = Block::EMPTY;
-        for (l, e) in entries.iter().take(BLOCK).enumerate() {
+        for (l, e) in entries.into_iter().take(BLOCK).enumerate() {
             for c in 0..3 {
                 Block::set(&mut b.p[c], l, e.rel[c]);
                 Block::set(&mut b.dir[c], l, e.dir[c]);
