@@ -80,6 +80,7 @@ impl Stats {
                 "reprojection": f.reprojection.map(|r| serde_json::json!({
                     "first_hits_ms": r.first_hits_s * 1e3,
                     "warp_ms": r.warp_s * 1e3,
+                    "splat_ms": r.splat_s * 1e3,
                     "fill_ms": r.fill_s * 1e3,
                     "holes": r.holes,
                     "level": r.level,

@@ -147,9 +147,11 @@ pub fn converge_step(
     let mut elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
     let r = p.reprojection;
     eprintln!(
-        "reprojection: first hits {:.1} ms, warp {:.1} ms (cold: {:.1} ms), {} pixels left traced at {l}×{l} in {:.1} ms",
+        "reprojection: first hits {:.1} ms, warp {:.1} ms (splat {:.1}, look back {:.1}; cold: {:.1} ms), {} pixels left traced at {l}×{l} in {:.1} ms",
         r.first_hits_s * 1e3,
         r.warp_s * 1e3,
+        r.splat_s * 1e3,
+        (r.warp_s - r.splat_s) * 1e3,
         cold.warp_s * 1e3,
         r.holes,
         r.fill_s * 1e3,

@@ -296,6 +296,7 @@ mod tests {
         let t = ReprojectTimes {
             first_hits_s: 0.001,
             warp_s: 0.003,
+            splat_s: 0.001,
             fill_s: 0.5,
             holes: 500,
             level: 2,

@@ -101,6 +101,8 @@ pub struct ReprojectTimes {
     pub first_hits_s: f64,
     /// Steps 1 and 2: the splat and the look back.
     pub warp_s: f64,
+    /// Of `warp_s`, step 1 (the splat).
+    pub splat_s: f64,
     /// Step 3: tracing what was left.
     pub fill_s: f64,
     /// Pixels left to step 3, and the block size they were traced at.
@@ -264,6 +266,7 @@ impl Progressive {
         self.reprojection = ReprojectTimes {
             first_hits_s: (t1 - t0).as_secs_f64(),
             warp_s: (t2 - t1).as_secs_f64(),
+            splat_s: self.splat.splat_s,
             fill_s: t2.elapsed().as_secs_f64(),
             holes,
             level,

@@ -18,7 +18,6 @@
 //!    tap fits — at their centres, or per block of a coarser level when
 //!    the caller's budget says so.
 
-use super::progressive::mean;
 mod fill;
 
 pub use fill::fill;
@@ -134,14 +133,24 @@ pub struct Source<'a> {
 }
 
 impl Source<'_> {
-    /// Old pixel `i`'s colour ([`mean`] of its sums), in `f32` as the
-    /// look back weighs it.
+    /// The mean colour of old pixels `taps` weighted `wt` (their sum
+    /// `weight`): each tap's colour times its weight over the weights'
+    /// sum and, with running sums, over its count, the four quotients in
+    /// one division (per tap, an f64 mean and then the division by the
+    /// weights' sum cost about a third of the look back).
     #[inline(always)]
-    fn colour(&self, i: usize) -> Vec3 {
-        match self.count {
-            Some(count) => mean(self.colour[i], count[i]).as_vec3(),
-            None => self.colour[i].as_vec3(),
+    fn blend(&self, taps: [usize; 4], wt: [f32; 4], weight: f32) -> Rgb {
+        let n = match self.count {
+            Some(count) => taps.map(|i| count[i].max(1) as f32 * weight),
+            None => [weight; 4],
+        };
+        let mut sum = Rgb::ZERO;
+        for (i, (wt, n)) in taps.into_iter().zip(wt.into_iter().zip(n)) {
+            if wt > 0.0 {
+                sum += self.colour[i] * (wt / n) as f64;
+            }
         }
+        sum
     }
 }
 
@@ -149,12 +158,18 @@ impl Source<'_> {
 #[derive(Debug, Default)]
 pub struct Scratch {
     /// Per new pixel, the nearest point splatted on it: [`key`].
-    splat: Vec<AtomicU32>,
+    /// Plain integers outside step 1 (so that step 2's reads of three rows
+    /// at a time run in SIMD registers: atomic loads do not).
+    splat: Vec<u32>,
+    /// Seconds the last warp's step 1 took (of its whole time, which the
+    /// caller measures).
+    pub splat_s: f64,
 }
 
 /// What a splat key says besides depth (its two low bits): the classes of
-/// [`FirstHit`]'s own two low bits, so the two packings stay one.
-const SURFACE: u32 = Seen::Surface as u32;
+/// [`FirstHit`]'s own two low bits, so the two packings stay one (a
+/// surface's is 0; an unknown first hit is splatted nowhere).
+const UNKNOWN: u32 = Seen::Unknown as u32;
 const SKY: u32 = Seen::Sky as u32;
 const SPECULAR: u32 = Seen::Specular as u32;
 /// No splat.
@@ -183,7 +198,9 @@ pub fn warp(
     out_first: &mut [FirstHit],
 ) -> usize {
     let (wu, hu) = (w as usize, h as usize);
+    let t = web_time::Instant::now();
     splat(src, cam, (w, h), scratch);
+    scratch.splat_s = t.elapsed().as_secs_f64();
     let splat = &scratch.splat[..wu * hu];
     let back = Back {
         splat,
@@ -213,7 +230,7 @@ pub fn warp(
 
 /// What step 2 reads.
 struct Back<'a> {
-    splat: &'a [AtomicU32],
+    splat: &'a [u32],
     src: &'a Source<'a>,
     size: (usize, usize),
     to_new: Projector,
@@ -236,11 +253,7 @@ impl Back<'_> {
             let mut k = [SPECULAR; LANES];
             for (l, k) in k.iter_mut().enumerate().take(m) {
                 let x = x0 + l;
-                *k = pick(
-                    self.splat[y * w + x].load(Ordering::Relaxed),
-                    &near[x..x + 3],
-                    &spec[x..x + 3],
-                );
+                *k = pick(self.splat[y * w + x], &near[x..x + 3], &spec[x..x + 3]);
             }
             // The points (less the new camera position) and where they lie
             // in the old view, lane by lane without branches.
@@ -283,12 +296,19 @@ impl Back<'_> {
 /// buffer of its own cost more than the look back's reads).
 fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) {
     let n = w as usize * h as usize;
-    const CHUNK: usize = 4096;
-    scratch.splat.resize_with(n, || AtomicU32::new(EMPTY));
-    scratch.splat[..n]
-        .par_chunks_mut(CHUNK)
-        .for_each(|c| c.iter_mut().for_each(|s| *s.get_mut() = EMPTY));
-    let splat = &scratch.splat[..n];
+    // The cells as atomics for the parallel splat, cleared, and back to
+    // plain integers after it (both in place: the allocation is kept).
+    let mut cells: Vec<AtomicU32> = std::mem::take(&mut scratch.splat)
+        .into_iter()
+        .map(|_| AtomicU32::new(EMPTY))
+        .collect();
+    cells.resize_with(n, || AtomicU32::new(EMPTY));
+    splat_into(src, cam, (w, h), &cells);
+    scratch.splat = cells.into_iter().map(AtomicU32::into_inner).collect();
+}
+
+/// [`splat`] into `splat`, cleared.
+fn splat_into(src: &Source, cam: &Camera, (w, h): (u32, u32), splat: &[AtomicU32]) {
     let to_new = Projector::new(cam, (w, h));
     let shift = (src.camera.position - cam.position).as_vec3();
     // The old pixels' centre rays, scaled to depth 1 in the old view.
@@ -297,25 +317,29 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
     let (wf, hf) = (w as f32, h as f32);
     src.first.par_chunks(old_w.max(1)).enumerate().for_each(|(y, firsts)| {
         let (row0, dx) = from_old.row_rays(y);
-        for (x, f) in firsts.iter().enumerate() {
-            let dir = row0 + dx * x as f32;
-            let z = f.depth();
-            let (class, v) = match f.seen() {
-                Seen::Unknown => continue,
-                Seen::Sky => (SKY, dir),
-                Seen::Surface => (SURFACE, dir * z + shift),
-                Seen::Specular => (SPECULAR, dir * z + shift),
-            };
-            let Some((x, y, z)) = to_new.project(v) else {
-                continue;
-            };
-            if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
-                continue;
+        for (c, firsts) in firsts.chunks(LANES).enumerate() {
+            let x0 = c * LANES;
+            // Where the points (the directions, for the background) land,
+            // lane by lane without branches (a lane past the row's end
+            // projects a point that is not used).
+            let (mut xs, mut ys, mut zs) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+            for l in 0..LANES {
+                let f = firsts.get(l).copied().unwrap_or(FirstHit::UNKNOWN);
+                let dir = row0 + dx * (x0 + l) as f32;
+                let sky = f.seen() == Seen::Sky;
+                (xs[l], ys[l], zs[l]) = to_new.project_any(if sky { dir } else { dir * f.depth() + shift });
             }
-            let k = key(if class == SKY { f32::MAX } else { z }, class);
-            let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
-            if k < cell.load(Ordering::Relaxed) {
-                cell.fetch_min(k, Ordering::Relaxed);
+            for (l, f) in firsts.iter().enumerate() {
+                // The class is the first hit's own two low bits.
+                let (class, x, y, z) = (f.seen() as u32, xs[l], ys[l], zs[l]);
+                if class == UNKNOWN || !(z > 0.0 && x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
+                    continue;
+                }
+                let k = key(if class == SKY { f32::MAX } else { z }, class);
+                let cell = &splat[(y as i32 * w as i32 + x as i32) as usize];
+                if k < cell.load(Ordering::Relaxed) {
+                    cell.fetch_min(k, Ordering::Relaxed);
+                }
             }
         }
     });
@@ -324,13 +348,12 @@ fn splat(src: &Source, cam: &Camera, (w, h): (u32, u32), scratch: &mut Scratch) 
 /// For row `y`: per column `x` (at `x + 1`; the ends stay [`EMPTY`]) the
 /// least key of rows `y − 1 ..= y + 1` into `near`, and the least of
 /// those that is glass or a mirror into `spec`.
-fn column_minima(splat: &[AtomicU32], (w, h): (usize, usize), y: usize, near: &mut [u32], spec: &mut [u32]) {
+fn column_minima(splat: &[u32], (w, h): (usize, usize), y: usize, near: &mut [u32], spec: &mut [u32]) {
     near[1..=w].fill(EMPTY);
     spec[1..=w].fill(EMPTY);
     for y2 in y.saturating_sub(1)..(y + 2).min(h) {
         let row = &splat[y2 * w..(y2 + 1) * w];
-        for ((k, n), s) in row.iter().zip(&mut near[1..=w]).zip(&mut spec[1..=w]) {
-            let k = k.load(Ordering::Relaxed);
+        for ((&k, n), s) in row.iter().zip(&mut near[1..=w]).zip(&mut spec[1..=w]) {
             *n = (*n).min(k);
             *s = (*s).min(if k & 3 == SPECULAR { k } else { EMPTY });
         }
@@ -372,23 +395,21 @@ fn taps(src: &Source, (u, v): (f32, f32), z: Option<f32>) -> Option<Rgb> {
     let wy = [if v0 >= 0 { 1.0 - fv } else { 0.0 }, if v0 + 1 < h { fv } else { 0.0 }];
     let xs = [u0.max(0), (u0 + 1).min(w - 1)];
     let ys = [v0.max(0), (v0 + 1).min(h - 1)];
-    let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
-    for (ty, wy) in ys.into_iter().zip(wy) {
-        for (tx, wx) in xs.into_iter().zip(wx) {
-            let i = (ty * w + tx) as usize;
-            let t = src.first[i];
-            let same = match z {
-                None => t.seen() == Seen::Sky,
-                Some(z) => t.seen() == Seen::Surface && (t.depth() - z).abs() <= DEPTH_TOLERANCE * z,
-            };
-            if same {
-                let wt = wx * wy;
-                sum += src.colour(i) * wt;
-                weight += wt;
-            }
+    let at = [(0, 0), (0, 1), (1, 0), (1, 1)];
+    let taps = at.map(|(j, i)| (ys[j] * w + xs[i]) as usize);
+    let mut wt = at.map(|(j, i)| wy[j] * wx[i]);
+    for (wt, i) in wt.iter_mut().zip(taps) {
+        let t = src.first[i];
+        let same = match z {
+            None => t.seen() == Seen::Sky,
+            Some(z) => t.seen() == Seen::Surface && (t.depth() - z).abs() <= DEPTH_TOLERANCE * z,
+        };
+        if !same {
+            *wt = 0.0;
         }
     }
-    (weight > 1e-3).then(|| (sum / weight).as_dvec3())
+    let weight: f32 = wt.iter().sum();
+    (weight > 1e-3).then(|| src.blend(taps, wt, weight))
 }
 
 #[cfg(test)]
