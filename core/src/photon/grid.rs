@@ -64,20 +64,15 @@ impl Grid {
         }
     }
 
-    /// Adds photons to the cells of side `cell`. A cell's photons, old and
-    /// new, are then laid out in Morton order of their place in the cell
-    /// (ties in the order they came: the old ones, then the new ones as
-    /// given), so that a block's eight photons lie close together and its
-    /// bounds ([`Block::lo`], [`Block::hi`]) let a query pass it by.
-    pub(super) fn add(&mut self, new: &[Entry], cell: f32) {
-        let codes: Vec<u32> = new.iter().map(|e| morton(e.rel, cell)).collect();
+    /// Adds photons, each after those already in its cell and in the order
+    /// given (so a cell's blocks are what inserting them one by one gives).
+    pub(super) fn add(&mut self, new: &[Entry]) {
         let mut order: Vec<u32> = (0..new.len() as u32).collect();
-        order.sort_unstable_by_key(|&i| (new[i as usize].key, codes[i as usize], i));
+        order.sort_unstable_by_key(|&i| (new[i as usize].key, i));
         let mut old: Vec<Slot> = self.table.iter().filter(|s| s.len > 0).copied().collect();
         old.sort_unstable_by_key(|s| s.key);
         let mut blocks = Vec::with_capacity(self.blocks.len() + new.len() / 2 + 1);
         let mut cells = Vec::with_capacity(old.len() + new.len() / 4 + 1);
-        let mut here: Vec<(u32, Entry)> = Vec::new();
         let (mut a, mut b) = (0, 0);
         while a < old.len() || b < order.len() {
             let from_old = old.get(a).map(|s| s.key);
@@ -87,38 +82,20 @@ impl Grid {
                 (x, y) => x.or(y).unwrap_or_default(),
             };
             let start = blocks.len();
-            let kept = if from_old == Some(key) {
+            if from_old == Some(key) {
+                let s = old[a];
+                blocks.extend_from_slice(&self.blocks[s.start as usize..(s.start + s.len) as usize]);
                 a += 1;
-                let s = old[a - 1];
-                &self.blocks[s.start as usize..(s.start + s.len) as usize]
-            } else {
-                &[]
-            };
-            if from_new != Some(key) {
-                // No new photon here: the cell's blocks as they were.
-                blocks.extend_from_slice(kept);
-            } else {
-                // The old photons are in Morton order already, the new ones
-                // sorted by code then order: merged (old first on ties),
-                // they are what a stable sort of them all would give.
-                here.clear();
-                for bl in kept {
-                    here.extend((0..bl.len).map(|l| bl.entry(key, l)).map(|e| (morton(e.rel, cell), e)));
-                }
-                let split = here.len();
-                while let Some(&i) = order.get(b).filter(|&&i| new[i as usize].key == key) {
-                    here.push((codes[i as usize], new[i as usize]));
-                    b += 1;
-                }
-                merge_in_place(&mut here, split);
-                for chunk in here.chunks(BLOCK) {
-                    blocks.push(Block::of(chunk.iter().map(|c| c.1)));
-                }
             }
+            while let Some(e) = order.get(b).map(|&i| &new[i as usize]).filter(|e| e.key == key) {
+                push_lane(&mut blocks, start, e);
+                b += 1;
+            }
+            let len = (blocks.len() - start) as u32;
             cells.push(Slot {
                 key,
                 start: start as u32,
-                len: (blocks.len() - start) as u32,
+                len,
             });
         }
         self.blocks = blocks;
@@ -126,33 +103,22 @@ impl Grid {
     }
 }
 
-/// Merges the two runs `v[..split]` and `v[split..]`, each in order of its
-/// codes, into one: on equal codes the first run's entry goes first.
-fn merge_in_place(v: &mut Vec<(u32, Entry)>, split: usize) {
-    if split == 0 || split == v.len() {
-        return;
+/// Puts `e` in the last block of the cell whose blocks start at `start`,
+/// or in a new block when that one is full (or the cell has none yet).
+fn push_lane(blocks: &mut Vec<Block>, start: usize, e: &Entry) {
+    if blocks.len() == start || blocks.last().is_some_and(|b| b.len == BLOCK) {
+        blocks.push(Block::EMPTY);
     }
-    let (first, second) = v.split_at(split);
-    let mut out = Vec::with_capacity(v.len());
-    let (mut i, mut j) = (0, 0);
-    while i < first.len() || j < second.len() {
-        if j == second.len() || (i < first.len() && first[i].0 <= second[j].0) {
-            out.push(first[i]);
-            i += 1;
-        } else {
-            out.push(second[j]);
-            j += 1;
-        }
+    // ok: a block was pushed above when the cell had none with room.
+    let b = blocks.last_mut().expect("a block with room");
+    let l = b.len;
+    for c in 0..3 {
+        Block::set(&mut b.p[c], l, e.rel[c]);
+        Block::set(&mut b.dir[c], l, e.dir[c]);
+        Block::set(&mut b.power[c], l, e.power[c]);
     }
-    *v = out;
-}
-
-/// Sixteen steps a side of a cell: the Morton code (12 bits) of the step
-/// that holds the point `rel` from the cell's low corner.
-fn morton(rel: [f32; 3], cell: f32) -> u32 {
-    let step = |v: f32| ((v / cell * 16.0) as u32).min(15);
-    let spread = |v: u32| (0..4).fold(0, |m, i| m | ((v >> i) & 1) << (3 * i));
-    spread(step(rel[0])) | spread(step(rel[1])) << 1 | spread(step(rel[2])) << 2
+    Block::set(&mut b.r2, l, e.r2);
+    b.len += 1;
 }
 
 /// The open-addressed table of `cells` (linear probing, at most half full).

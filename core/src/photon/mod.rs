@@ -152,18 +152,13 @@ const BLOCK: usize = 8;
 /// lies), arrival directions, powers over the area of their pass's disc
 /// (`Φ/(π r²)`: each photon's share of its pass's estimate) and their
 /// pass's squared radius. An unused lane lies at infinity with no power,
-/// no direction and no radius, so it is never within reach. The block's
-/// bounds and its largest `r²` let a query pass by a block none of whose
-/// photons can reach it.
+/// no direction and no radius, so it is never within reach.
 #[derive(Clone, Debug)]
 struct Block {
     p: [Col; 3],
     dir: [Col; 3],
     power: [Col; 3],
     r2: Col,
-    lo: [f32; 3],
-    hi: [f32; 3],
-    reach2: f32,
     len: usize,
 }
 
@@ -179,57 +174,12 @@ impl Block {
         dir: [[Vec4::ZERO; BLOCK / 4]; 3],
         power: [[Vec4::ZERO; BLOCK / 4]; 3],
         r2: [Vec4::ZERO; BLOCK / 4],
-        lo: [f32::INFINITY; 3],
-        hi: [f32::NEG_INFINITY; 3],
-        reach2: 0.0,
         len: 0,
     };
-
-    /// The block of up to [`BLOCK`] photons of one cell.
-    fn of(entries: impl IntoIterator<Item = grid::Entry>) -> Block {
-        let mut b = Block::EMPTY;
-        for (l, e) in entries.into_iter().take(BLOCK).enumerate() {
-            for c in 0..3 {
-                Block::set(&mut b.p[c], l, e.rel[c]);
-                Block::set(&mut b.dir[c], l, e.dir[c]);
-                Block::set(&mut b.power[c], l, e.power[c]);
-                b.lo[c] = b.lo[c].min(e.rel[c]);
-                b.hi[c] = b.hi[c].max(e.rel[c]);
-            }
-            Block::set(&mut b.r2, l, e.r2);
-            b.reach2 = b.reach2.max(e.r2);
-            b.len = l + 1;
-        }
-        b
-    }
-
-    /// Lane `l`'s photon, in cell `key`.
-    fn entry(&self, key: Key, l: usize) -> grid::Entry {
-        let get = |c: &Col| c[l / 4][l % 4];
-        grid::Entry {
-            key,
-            rel: self.p.each_ref().map(get),
-            dir: self.dir.each_ref().map(get),
-            power: self.power.each_ref().map(get),
-            r2: get(&self.r2),
-        }
-    }
 
     /// Sets lane `l` of column `c`.
     fn set(c: &mut Col, l: usize, v: f32) {
         c[l / 4][l % 4] = v;
-    }
-
-    /// Whether no photon of the block lies within its radius of `q` (in
-    /// the cell's frame). Never true of a block with such a photon: the
-    /// gap to the bounds is at most the distance to the photon on each
-    /// axis, and the sum of the squares is taken in the lanes' order, so
-    /// its rounding is never above theirs.
-    #[inline(always)]
-    fn out_of_reach(&self, q: [f32; 3]) -> bool {
-        let gap = |c: usize| (self.lo[c] - q[c]).max(q[c] - self.hi[c]).max(0.0);
-        let (g0, g1, g2) = (gap(0), gap(1), gap(2));
-        g0 * g0 + g1 * g1 + g2 * g2 >= self.reach2
     }
 }
 
@@ -240,8 +190,8 @@ impl Block {
 // Halves and channels index several arrays: the form the vectoriser wants.
 #[allow(clippy::needless_range_loop)]
 fn sum_blocks(blocks: &[Block], q: [f32; 3], n: [f32; 3], acc: &mut [Col; 3]) {
-    let (qs, q, n) = (q, q.map(Vec4::splat), n.map(Vec4::splat));
-    for b in blocks.iter().filter(|b| !b.out_of_reach(qs)) {
+    let (q, n) = (q.map(Vec4::splat), n.map(Vec4::splat));
+    for b in blocks {
         for h in 0..BLOCK / 4 {
             let d = [b.p[0][h] - q[0], b.p[1][h] - q[1], b.p[2][h] - q[2]];
             let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
@@ -317,7 +267,7 @@ impl Group {
                 r2: (radius * radius) as f32,
             });
         }
-        self.cells.add(&entries, self.occupied.cell as f32);
+        self.cells.add(&entries);
     }
 
     /// Whether a photon of the group may lie within its radius of `x`.
@@ -599,10 +549,10 @@ mod tests {
         }
     }
 
-    /// A block's bounds never hide a photon within reach, nor let one out
-    /// of reach in: around queries in a cell, on a cell's corner and near
-    /// a face, photons just inside the radius in every direction are all
-    /// counted and those just outside none.
+    /// No photon within reach is missed, nor one out of reach let in:
+    /// around queries in a cell, on a cell's corner and near a face,
+    /// photons just inside the radius in every direction are all counted
+    /// and those just outside none.
     #[test]
     fn photons_just_inside_the_radius_are_all_found() {
         let r = 0.25;
