@@ -32,6 +32,25 @@ trap '[ -n "$app" ] && kill $app 2>/dev/null; kill $xvfb 2>/dev/null || true; rm
 export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
 for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
 
+# Like with like: `bench --frame-only` traces no photons and gathers none,
+# so the window and the headless frames both get the scene with its
+# caustics off (what caustics cost is benches/caustics-cost.sh's to say;
+# with them on, the window's stages carried photon passes and gathers the
+# headless frames did not, and read as half of headless speed).
+plain=$tmp/scene.toml
+python3 - "$scene" "$plain" <<'PY'
+import re, sys
+t = open(sys.argv[1]).read()
+if re.search(r'^caustics\s*=', t, re.M):
+    t = re.sub(r'^caustics\s*=.*$', 'caustics = false', t, flags=re.M)
+elif '[render]' in t:
+    t = t.replace('[render]', '[render]\ncaustics = false', 1)
+else:
+    t += '\n[render]\ncaustics = false\n'
+open(sys.argv[2], 'w').write(t)
+PY
+echo "scene: $scene, with caustics off in the window and headless alike"
+
 # cpu TAG: CPU seconds of the viewer's threads, summed by kind.
 cpu() {
     for t in /proc/$app/task/*; do
@@ -46,7 +65,7 @@ cpu() {
 one() { # BIN TAG ROUND
     local bin=$1 tag=$2 r=$3
     local log=$tmp/frames-$tag-$r.jsonl
-    "$bin" view "$scene" --width "$w" --height "$h" --max-spp 8 --no-panel \
+    "$bin" view "$plain" --width "$w" --height "$h" --max-spp 8 --no-panel \
         --frame-log "$log" --exit-after $((keys * 5 + 30)) >/dev/null 2>&1 &
     app=$!
     local win=""
@@ -62,7 +81,7 @@ one() { # BIN TAG ROUND
         if [ "$key" = w ]; then key=s; else key=w; fi
         sleep 2.5
         b0=$(date +%s.%N)
-        "$bin" bench --frame-only --width "$w" --height "$h" --runs 3 2>&1 |
+        "$bin" bench --frame-only --width "$w" --height "$h" --runs 3 "$plain" 2>&1 |
             awk -v t="$tag" -v r="$r" -v s="${w}x${h}" '$1=="frame" && $2==s {print r, t, $11}' >> "$tmp/headless"
         away=$(echo "$away + $(date +%s.%N) - $b0" | bc)
     done

@@ -53,15 +53,17 @@ mod lit;
 mod local;
 mod packet;
 mod photons;
+mod refraction;
 mod scalar;
 mod shade;
 mod surface;
 mod system_pass;
 
-pub use lens_pass::{Transmitted, transmitted_ray, transmitted_rays};
+pub use lens_pass::Transmitted;
 pub use lit::Lit;
 pub use packet::PacketScratch;
 pub use photons::{Targets, photon_pass, photons_per_light};
+pub use refraction::{transmitted_ray, transmitted_rays};
 pub use shade::{GHOST_ROULETTE, LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};
 

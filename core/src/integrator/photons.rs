@@ -1,7 +1,7 @@
 //! Caustic photons: shot from each light toward the glass and mirrors only
 //! ([`Targets`]), carried through lenses by the renderer's own exact tracer
 //! (one ray out of a lens's chain, drawn by Russian roulette at each exit,
-//! `lens_pass::transmitted_one`; one ray of a lens system's tree, drawn by
+//! `refraction::transmitted_one`; one ray of a lens system's tree, drawn by
 //! its weight, [`system_branch`]), through other glass and off mirrors by
 //! Russian roulette on the Fresnel split, and recorded where
 //! they land on a diffuse surface after at least one specular bounce
@@ -9,7 +9,8 @@
 //! and the pass keeps them in photon order, so a pass is the same on any
 //! number of threads.
 
-use super::lens_pass::{Transmitted, transmitted_one};
+use super::lens_pass::Transmitted;
+use super::refraction::transmitted_one;
 use super::surface::{spawn_ray, surface};
 use super::system_pass::system_rays;
 use crate::color::Rgb;

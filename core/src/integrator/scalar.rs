@@ -4,7 +4,8 @@
 //! packet.
 
 use super::Lit;
-use super::lens_pass::{Transmitted, transmitted_rays};
+use super::lens_pass::Transmitted;
+use super::refraction::transmitted_rays;
 use super::shade::{Refraction, Secondary, Tracer, add_light, ambient, light_at, shade_onward};
 use super::surface::{Surface, shadow_ray, surface};
 use super::system_pass::system_rays;
