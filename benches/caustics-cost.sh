@@ -17,17 +17,7 @@ uptime
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 for s in $SCENES; do
-  python3 - "$here/scenes/$s.toml" "$dir/$s-off.toml" <<'PY'
-import re, sys
-t = open(sys.argv[1]).read()
-if re.search(r'^caustics\s*=', t, re.M):
-    t = re.sub(r'^caustics\s*=.*$', 'caustics = false', t, flags=re.M)
-elif '[render]' in t:
-    t = t.replace('[render]', '[render]\ncaustics = false', 1)
-else:
-    t += '\n[render]\ncaustics = false\n'
-open(sys.argv[2], 'w').write(t)
-PY
+  python3 "$(dirname "$0")/caustics-off.py" "$here/scenes/$s.toml" "$dir/$s-off.toml"
 done
 bins=("$@")
 for r in $(seq 1 "$ROUNDS"); do
@@ -57,5 +47,6 @@ for b in dict.fromkeys(k[0] for k in wall):
     for s in dict.fromkeys(k[1] for k in wall if k[0] == b):
         on, off = st.median(wall[(b, s, 'on')]), st.median(wall[(b, s, 'off')])
         con, coff = st.median(cpu[(b, s, 'on')]), st.median(cpu[(b, s, 'off')])
-        print(f"| {s} | {on:.3f} | {off:.3f} | {100 * (on / off - 1):+.0f} % | {100 * (con / coff - 1):+.0f} % |")
+        cost = lambda a, b: f"{100 * (a / b - 1):+.0f} %" if b > 0 else "n/a (under `time`'s 10 ms)"
+        print(f"| {s} | {on:.3f} | {off:.3f} | {cost(on, off)} | {cost(con, coff)} |")
 PY

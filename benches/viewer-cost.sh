@@ -38,17 +38,7 @@ for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.
 # with them on, the window's stages carried photon passes and gathers the
 # headless frames did not, and read as half of headless speed).
 plain=$tmp/scene.toml
-python3 - "$scene" "$plain" <<'PY'
-import re, sys
-t = open(sys.argv[1]).read()
-if re.search(r'^caustics\s*=', t, re.M):
-    t = re.sub(r'^caustics\s*=.*$', 'caustics = false', t, flags=re.M)
-elif '[render]' in t:
-    t = t.replace('[render]', '[render]\ncaustics = false', 1)
-else:
-    t += '\n[render]\ncaustics = false\n'
-open(sys.argv[2], 'w').write(t)
-PY
+python3 "$(dirname "$0")/caustics-off.py" "$scene" "$plain"
 echo "scene: $scene, with caustics off in the window and headless alike"
 
 # cpu TAG: CPU seconds of the viewer's threads, summed by kind.
