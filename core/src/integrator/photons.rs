@@ -190,8 +190,8 @@ fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sample
 /// shares (Russian roulette), until it leaves the scene, is absorbed, or
 /// `max_depth` is used up.
 ///
-/// `branches` is scratch room for the rays out of a lens (kept from photon
-/// to photon, so that a photon through glass allocates nothing).
+/// `branches` is scratch room for the rays out of a lens system (kept from
+/// photon to photon, so that a photon through one allocates nothing).
 fn trace_photon(
     scene: &Scene,
     (mut ray, mut power): (Ray, Rgb),
