@@ -194,10 +194,12 @@ fn emit(light: &Light, t: &Targets, i: usize, per_light: usize, rng: &mut Sample
 /// photon to photon, so that a photon through one allocates nothing).
 fn trace_photon(
     scene: &Scene,
-    (mut ray, mut power): (Ray, Rgb),
+    mut ray: Ray,
+    mut power: Rgb,
     lambda: f64,
     rng: &mut Sampler,
-    (out, branches): (&mut Vec<Photon>, &mut Vec<Transmitted>),
+    out: &mut Vec<Photon>,
+    branches: &mut Vec<Transmitted>,
 ) {
     let (mut skip, mut depth, mut bounced) = (usize::MAX, 0u32, false);
     while depth < scene.max_depth.max(1) {
@@ -234,7 +236,7 @@ fn trace_photon(
         } else {
             let tr = match system {
                 Some(sys) => system_branch(s.object, sys, &ray, lambda, rng.next_f64(), branches),
-                None => transmitted_one((s.object, s.p, s.nf, s.entering), &ray, ior, || rng.next_f64()),
+                None => transmitted_one(s.object, s.p, s.nf, s.entering, &ray, ior, || rng.next_f64()),
             };
             let Some(tr) = tr else {
                 return;
@@ -329,8 +331,7 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
                 let light = &scene.lights[i / per_light];
                 let (lambda, tint) = colour_of(scene, i % per_light, t);
                 let (ray, power) = emit(light, targets, i % per_light, per_light, &mut rng);
-                let io = (&mut out, &mut branches);
-                trace_photon(scene, (ray, power * tint), lambda, &mut rng, io);
+                trace_photon(scene, ray, power * tint, lambda, &mut rng, &mut out, &mut branches);
             }
             out
         })

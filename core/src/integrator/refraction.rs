@@ -90,7 +90,10 @@ fn refracted_in<'a>(
 /// `draw()` uniform in [0, 1)), carrying the factor 1; through other glass
 /// the one ray on. `None` when the light is totally reflected or lost.
 pub fn transmitted_one(
-    (obj, p, nf, entering): (&Object, DVec3, DVec3, bool),
+    obj: &Object,
+    p: DVec3,
+    nf: DVec3,
+    entering: bool,
     ray: &Ray,
     ior: f64,
     draw: impl FnMut() -> f64,

@@ -429,21 +429,23 @@ pub fn initial_radius(photons: &[Photon], k: usize, floor: f64) -> Option<f64> {
 /// scan of every point for each of 256 cost 2 % of a focal-spot frame).
 fn kth_smallest(by_x: &[DVec3], a: DVec3, k: usize) -> f64 {
     let mut best = vec![f64::INFINITY; k + 1];
-    let mid = by_x.partition_point(|b| b.x < a.x);
-    let (below, above) = by_x.split_at(mid);
-    for half in [
-        &mut above.iter() as &mut dyn Iterator<Item = &DVec3>,
-        &mut below.iter().rev(),
-    ] {
-        for &b in half {
-            let d = a - b;
-            if d.x * d.x >= best[k] {
-                break;
-            }
-            keep_smallest(&mut best, d.length_squared());
-        }
-    }
+    let (below, above) = by_x.split_at(by_x.partition_point(|b| b.x < a.x));
+    scan_out(a, above.iter(), &mut best);
+    scan_out(a, below.iter().rev(), &mut best);
     best[k]
+}
+
+/// Keeps in `best` the smallest squared distances from `a` to `points`,
+/// taken in order of their distance in `x` from `a`, until that alone
+/// reaches the last kept.
+fn scan_out<'a>(a: DVec3, points: impl Iterator<Item = &'a DVec3>, best: &mut [f64]) {
+    for &b in points {
+        let d = a - b;
+        if d.x * d.x >= best[best.len() - 1] {
+            break;
+        }
+        keep_smallest(best, d.length_squared());
+    }
 }
 
 /// Puts `d` in `best` (in order) when it is below its last, which drops out.
