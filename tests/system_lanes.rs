@@ -1,10 +1,13 @@
 //! The lens camera's sensor rays in lanes (`LensSystem::pass_lanes`,
 //! `LensCamera::local_rays`, the renderer's lens-camera bands) against the
-//! scalar pass, bit for bit, on every instruction set this CPU runs.
+//! scalar pass, and the trees of scene rays into a system in lanes
+//! (`LensSystem::branches_lanes`, the packet kernel's) against the scalar
+//! tree, bit for bit, on every instruction set this CPU runs.
 
 use glam::DVec3;
 use lensview::camera::LensCamera;
-use lensview::geometry::{EventKind, LensSystem, RayStatus};
+use lensview::geometry::{EventKind, LaneTrees, LensSystem, Pruning, RayStatus, SystemBranch};
+use lensview::integrator::{GHOST_ROULETTE, LENS_MIN_WEIGHT};
 use lensview::optics::WAVELENGTH_D_UM;
 use lensview::render::{RenderSettings, render, render_pixel};
 use lensview::scene::Scene;
@@ -19,13 +22,14 @@ fn isas() -> Vec<Isa> {
         .collect()
 }
 
+fn load(file: &str) -> Scene {
+    Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(file))
+        .unwrap()
+        .1
+}
+
 fn camera_dgauss() -> Scene {
-    Scene::load(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/camera-dgauss.toml"
-    )))
-    .unwrap()
-    .1
+    load("scenes/camera-dgauss.toml")
 }
 
 fn lens(s: &Scene) -> &LensCamera {
@@ -202,6 +206,147 @@ fn a_lens_camera_picture_is_its_pixels_one_by_one() {
                     (0..3).all(|c| got[c].to_bits() == want[c].to_bits()),
                     "{isa:?}: pixel ({x}, {y}): {got:?} against {want:?}"
                 );
+            }
+        }
+    }
+    force_isa(None);
+}
+
+/// A ray out of a tree as bits.
+fn branch_bits(b: &SystemBranch) -> [u64; 11] {
+    let v = [b.point, b.dir, b.normal].map(|v| v.to_array().map(f64::to_bits));
+    let [p, d, n] = v;
+    [
+        p[0],
+        p[1],
+        p[2],
+        d[0],
+        d[1],
+        d[2],
+        n[0],
+        n[1],
+        n[2],
+        b.weight.to_bits(),
+        u64::from(b.reflections),
+    ]
+}
+
+/// Every lane of `branches_lanes` is `branches` bit for bit (its rays out in
+/// order, and the weight it dropped): the systems of the shipped scenes
+/// (singlets of every kind, the achromat, the double Gauss, whether or
+/// not the renderer walks them in lanes), rays of every kind mixed in a
+/// packet with lanes left out, each lane pruned its own way (nearly exact, the
+/// renderer's pruning with the ghosts' roulette, few reflections).
+#[test]
+fn lane_trees_are_the_scalar_trees() {
+    let scenes = [
+        "scenes/achromat.toml",
+        "scenes/lens-family.toml",
+        "benches/systems/double-gauss.toml",
+    ];
+    let systems: Vec<LensSystem> = scenes
+        .iter()
+        .flat_map(|f| {
+            load(f)
+                .objects
+                .iter()
+                .filter_map(|o| o.system().cloned())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(systems.len(), 6);
+    let prunes = [
+        Pruning {
+            scale: 1.0,
+            min: 1e-6,
+            max_reflections: 4,
+            roulette: 0.0,
+        },
+        Pruning {
+            scale: 0.9,
+            min: LENS_MIN_WEIGHT,
+            max_reflections: 6,
+            roulette: GHOST_ROULETTE,
+        },
+        Pruning {
+            scale: 0.3,
+            min: LENS_MIN_WEIGHT,
+            max_reflections: 1,
+            roulette: GHOST_ROULETTE,
+        },
+    ];
+    let mut trees = LaneTrees::default();
+    let (mut rays_out, mut ghosts, mut dropped) = (0usize, 0usize, 0usize);
+    for isa in isas() {
+        assert!(force_isa(Some(isa)));
+        for (k, s) in systems.iter().enumerate() {
+            let mut rng = Rng(13 + k as u64);
+            for packet in 0..300u32 {
+                let rays: [(DVec3, DVec3); LANES] = std::array::from_fn(|l| {
+                    let kind = if packet % 2 == 0 { packet / 2 } else { packet + l as u32 };
+                    let (o, d) = ray(&mut rng, s, kind);
+                    (o, d.normalize())
+                });
+                let live: [bool; LANES] = std::array::from_fn(|l| packet % 5 != 0 || l % 3 != 1);
+                let prune: [Pruning; LANES] = std::array::from_fn(|l| prunes[(packet as usize + l) % 3]);
+                let (mut o, mut d) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+                for (l, (a, b)) in rays.iter().enumerate() {
+                    for c in 0..3 {
+                        (o[c][l], d[c][l]) = (a[c], b[c]);
+                    }
+                }
+                let lambda = if packet % 3 == 0 { 0.4861 } else { WAVELENGTH_D_UM };
+                let lost = s.branches_lanes(&o, &d, live, lambda, &prune, &mut trees);
+                for (l, &(a, b)) in rays.iter().enumerate() {
+                    let mut want = Vec::new();
+                    let want_lost = if live[l] {
+                        s.branches(a, b, lambda, &prune[l], &mut |r| want.push(r))
+                    } else {
+                        0.0
+                    };
+                    let at = format!("{isa:?}, system {k}, packet {packet}, lane {l}: {a} along {b}");
+                    let got: Vec<_> = trees.out[l].iter().map(branch_bits).collect();
+                    assert_eq!(got, want.iter().map(branch_bits).collect::<Vec<_>>(), "{at}");
+                    assert_eq!(lost[l].to_bits(), want_lost.to_bits(), "{at}");
+                    rays_out += want.len();
+                    ghosts += want.iter().filter(|r| r.reflections >= 2).count();
+                    dropped += usize::from(want_lost > 0.0);
+                }
+            }
+        }
+    }
+    force_isa(None);
+    // The trees are of every kind: many rays out, ghosts, pruned branches.
+    assert!(rays_out > 20_000, "{rays_out} rays out");
+    assert!(ghosts > 2_000, "{ghosts} ghosts");
+    assert!(dropped > 1_000, "{dropped} trees pruned");
+}
+
+/// The packet kernel's pictures of scene systems (the achromat and the
+/// singlet in lanes, the double Gauss one ray at a time) are their pixels
+/// traced one by one by the scalar kernel.
+#[test]
+fn a_picture_through_scene_systems_is_its_pixels_one_by_one() {
+    for file in ["scenes/achromat.toml", "benches/systems/double-gauss.toml"] {
+        let scene = load(file);
+        let s = RenderSettings {
+            width: 29,
+            height: 21,
+            spp: 2,
+            seed: 5,
+        };
+        for isa in isas() {
+            assert!(force_isa(Some(isa)));
+            let img = render(&scene, &s, None);
+            for y in 0..s.height {
+                for x in 0..s.width {
+                    let want = render_pixel(&scene, x, y, &s);
+                    let got = img.get(x, y);
+                    assert!(
+                        (0..3).all(|c| got[c].to_bits() == want[c].to_bits()),
+                        "{file}, {isa:?}: pixel ({x}, {y}): {got:?} against {want:?}"
+                    );
+                }
             }
         }
     }

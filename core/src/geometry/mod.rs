@@ -27,8 +27,8 @@ pub use prism::Prism;
 pub use pyramid::Pyramid;
 pub use sphere::Sphere;
 pub use system::{
-    Event, EventKind, LensSystem, Paraxial, Passed, Piece, PieceKind, Pupil, RayStatus, RealRay, SurfaceSpec,
-    SystemBranch, SystemError, is_air,
+    Event, EventKind, LaneTrees, LensSystem, Paraxial, Passed, Piece, PieceKind, Pupil, RayStatus, RealRay,
+    SurfaceSpec, SystemBranch, SystemError, is_air,
 };
 
 use crate::math::Ray;

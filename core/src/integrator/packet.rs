@@ -14,9 +14,10 @@ use super::Lit;
 use super::PacketPaths;
 use super::lens_pass::{LensPasses, lens_passes};
 use super::local::{SurfaceLanes, add_light_lanes, local_shading};
-use super::scalar::{Alone, kernel};
+use super::scalar::kernel;
 use super::shade::{Secondary, Tracer, join, shade_onward};
 use super::surface::Surface;
+use super::system_pass::{SystemTrees, system_trees};
 use crate::color::Rgb;
 
 use crate::simd::{LANES, Lanes, lane, live_lanes, set_lane};
@@ -37,6 +38,7 @@ pub struct PacketScratch {
     onward: [Onward; 3],
     back: [Lanes<Rgb>; 3],
     extra: Vec<Extra>,
+    systems: SystemTrees,
     deeper: Option<Box<PacketScratch>>,
 }
 
@@ -59,6 +61,7 @@ impl Default for PacketScratch {
             onward: [Onward::REFRACTED, Onward::REFRACTED, Onward::REFLECTED],
             back: [[Rgb::ZERO; LANES]; 3],
             extra: Vec::new(),
+            systems: SystemTrees::default(),
             deeper: None,
         }
     }
@@ -318,9 +321,15 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
         extra,
         deeper,
         lens,
+        systems,
         ..
     } = scratch;
-    let sent = Sent { lens, onward, extra };
+    let sent = Sent {
+        lens,
+        systems,
+        onward,
+        extra,
+    };
     if !send_onward::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, &surfaces, lambda_um, sent, out) {
         return;
     }
@@ -350,6 +359,7 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 /// packets, and the further rays out of a lens, traced at once.
 struct Sent<'a> {
     lens: &'a mut LensPasses,
+    systems: &'a mut SystemTrees,
     onward: &'a mut [Onward; 3],
     extra: &'a mut Vec<Extra>,
 }
@@ -369,7 +379,12 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
     sent: Sent,
     out: &mut Lanes<Rgb>,
 ) -> bool {
-    let Sent { lens, onward, extra } = sent;
+    let Sent {
+        lens,
+        systems,
+        onward,
+        extra,
+    } = sent;
     let p = paths.rays;
     for o in onward.iter_mut() {
         o.live = 0;
@@ -381,6 +396,9 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
         super::lens_send::send_through_lens::<SHADOWS, GLASS, MIRROR, SPECULAR>(
             scene, paths, surfaces, lens, lambda_um, onward, extra,
         );
+    }
+    if GLASS {
+        system_trees(scene.scene, paths, surfaces, lambda_um, systems);
     }
     // One sink for every lane, moved from lane to lane.
     let mut gather = Gather::<SHADOWS, GLASS, MIRROR, SPECULAR> {
@@ -404,7 +422,7 @@ fn send_onward<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const
             paths.depth[l],
             lambda_um,
             paths.weight[l],
-            &Alone(p.ray(l)),
+            &systems.lane(l, p.ray(l)),
             &mut gather,
             &mut out[l],
         );

@@ -75,7 +75,7 @@ impl Inside {
 /// carrying the weight `roulette / scale`, so the expected light is the
 /// same and the ghosts of many surfaces, whose number grows with the square
 /// of the surfaces, cost little (`LensSystem::branches`). 0 turns it off.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pruning {
     pub scale: f64,
     pub min: f64,

@@ -29,25 +29,40 @@ use glam::DVec3;
 pub type Passed = Option<(DVec3, DVec3)>;
 
 /// No surface (a lane's `from` or `last` before its first crossing).
-const NONE: usize = usize::MAX;
+pub(super) const NONE: usize = usize::MAX;
 
 /// The lanes' walk: local point and direction, the start of the stretch
 /// to search, and what [`LensSystem::pass`] keeps to judge the order.
-struct Walk {
-    x: [Lanes<f64>; 3],
-    u: [Lanes<f64>; 3],
-    lo: Lanes<f64>,
+pub(super) struct Walk {
+    pub x: [Lanes<f64>; 3],
+    pub u: [Lanes<f64>; 3],
+    pub lo: Lanes<f64>,
     /// The cap a lane starts on (its own root is not a crossing).
-    from: Lanes<usize>,
+    pub from: Lanes<usize>,
     /// The step between the last two caps (its sign is the direction).
     step: Lanes<i64>,
     /// Crossings so far.
     count: Lanes<usize>,
-    live: Lanes<bool>,
+    pub live: Lanes<bool>,
+}
+
+impl Walk {
+    /// No lane walking yet.
+    pub fn new() -> Walk {
+        Walk {
+            x: [[0.0; LANES]; 3],
+            u: [[0.0; LANES]; 3],
+            lo: [0.0; LANES],
+            from: [NONE; LANES],
+            step: [0; LANES],
+            count: [0; LANES],
+            live: [false; LANES],
+        }
+    }
 }
 
 /// Each lane's nearest crossing ([`Nearest`]'s fields, as lanes).
-struct Found {
+pub(super) struct Found {
     t: Lanes<f64>,
     surface: Lanes<usize>,
     kind: Lanes<PieceKind>,
@@ -57,7 +72,7 @@ struct Found {
 impl Found {
     /// Lane `l`'s [`Nearest`], its search starting at `t_lo`.
     #[inline(always)]
-    fn near(&self, l: usize, t_lo: f64) -> Nearest {
+    pub fn near(&self, l: usize, t_lo: f64) -> Nearest {
         Nearest {
             t: self.t[l],
             piece: Piece {
@@ -99,15 +114,7 @@ fn pass_lanes_impl(
     live: Lanes<bool>,
     media: &[f64],
 ) -> Lanes<Passed> {
-    let mut w = Walk {
-        x: [[0.0; LANES]; 3],
-        u: [[0.0; LANES]; 3],
-        lo: [0.0; LANES],
-        from: [NONE; LANES],
-        step: [0; LANES],
-        count: [0; LANES],
-        live,
-    };
+    let mut w = Walk { live, ..Walk::new() };
     for l in 0..LANES {
         let (x, u, t0) = system.localize(lane(origin, l), lane(dir, l));
         set_lane(&mut w.x, l, x);
@@ -141,7 +148,7 @@ impl LensSystem {
     /// with `t_hi` infinite): the lanes walking toward `+z`, then those
     /// toward `−z`, each group over the faces in its order.
     #[inline(always)]
-    fn lane_crossings(&self, w: &Walk) -> Found {
+    pub(super) fn lane_crossings(&self, w: &Walk) -> Found {
         let none = Nearest::new(0.0, f64::INFINITY);
         let mut found = Found {
             t: [none.t; LANES],

@@ -20,16 +20,19 @@
 //! Files: `pieces.rs` the boundary pieces and the nearest crossing,
 //! `walk.rs` the real ray (`lens trace`) and the Whitted tree of a pass
 //! (every ray out, Fresnel-weighted), `lanes.rs` the walk of `pass` for
-//! eight rays at once (the lens camera's), `paraxial.rs` the y–nu trace.
+//! eight rays at once (the lens camera's), `tree_lanes.rs` the tree for
+//! eight scene rays at once (the packet kernel's), `paraxial.rs` the y–nu trace.
 
 mod lanes;
 mod paraxial;
 mod pieces;
+mod tree_lanes;
 mod walk;
 
 pub use lanes::Passed;
 pub use paraxial::{Paraxial, Pupil};
 pub use pieces::{Piece, PieceKind};
+pub use tree_lanes::LaneTrees;
 pub use walk::{Event, EventKind, RayStatus, RealRay, SystemBranch};
 
 use super::{Aabb, Hit};

@@ -266,32 +266,58 @@ impl LensSystem {
 /// A branch of the tree still inside (or between the elements of) the
 /// system.
 #[derive(Clone, Copy, Debug)]
-struct Live {
-    x: DVec3,
-    u: DVec3,
+pub(super) struct Live {
+    pub x: DVec3,
+    pub u: DVec3,
     weight: f64,
     reflections: u32,
-    from: Option<usize>,
+    pub from: Option<usize>,
     /// Crossings so far (the tree's bound on refractions).
     steps: u32,
 }
 
+impl Live {
+    /// Where its search for the next crossing starts: the root's at the
+    /// world ray's origin (`−t0` along the local ray), a branch's at its
+    /// own start.
+    #[inline(always)]
+    pub fn lo(&self, t0: f64) -> f64 {
+        if self.steps == 0 { -t0 } else { 0.0 }
+    }
+}
+
+/// A ray's tree under way: the branches still to walk, its pruning, the
+/// seed of its ghosts' roulette and where its world origin lies along the
+/// local ray (`−t0`).
+pub(super) struct Tree<'a> {
+    pub pending: Pending<'a>,
+    prune: Pruning,
+    seed: u64,
+    pub t0: f64,
+}
+
 /// Branches held at once; a tree that would hold more drops its lightest.
-const STACK: usize = 32;
+pub(super) const STACK: usize = 32;
 
 /// The branches of a tree still to walk, and the weight dropped so far.
-struct Pending<'a> {
+pub(super) struct Pending<'a> {
     /// `None` past `len`: only a branch's slot is written when it is
     /// pushed (filling 32 slots with copies of the root each tree cost 5 %
     /// of a singlet's frame).
     stack: &'a mut [Option<Live>; STACK],
     len: usize,
-    dropped: f64,
+    pub dropped: f64,
 }
 
 impl Pending<'_> {
+    /// The branch [`Pending::pop`] would give.
     #[inline(always)]
-    fn pop(&mut self) -> Option<Live> {
+    pub fn peek(&self) -> Option<&Live> {
+        self.len.checked_sub(1).and_then(|k| self.stack[k].as_ref())
+    }
+
+    #[inline(always)]
+    pub fn pop(&mut self) -> Option<Live> {
         self.len = self.len.checked_sub(1)?;
         self.stack[self.len]
     }
@@ -345,63 +371,122 @@ impl LensSystem {
         prune: &Pruning,
         emit: &mut impl FnMut(SystemBranch),
     ) -> f64 {
-        let (x, u, t0) = self.localize(origin, dir);
         let media = self.media(lambda_um);
-        let root = Live {
+        // On the stack where it stays (moving 32 branches cost 3 % of a frame).
+        let mut stack = [None; STACK];
+        let mut tree = self.tree(origin, dir, prune, &mut stack);
+        let most = self.most_steps();
+        while let Some(b) = tree.pending.pop() {
+            let c = self.next_crossing(b.x, b.u, b.from, b.lo(tree.t0), f64::INFINITY);
+            self.tree_step(&mut tree, &b, c, &media, most, emit);
+        }
+        tree.pending.dropped
+    }
+
+    /// The tree of the world ray `origin + t·dir` with its root on `stack`:
+    /// the system's pruning ([`LensSystem::tree_pruning`]) and the ray's
+    /// hash for the ghosts' roulette.
+    #[inline(always)]
+    pub(super) fn tree<'a>(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        prune: &Pruning,
+        stack: &'a mut [Option<Live>; STACK],
+    ) -> Tree<'a> {
+        let (x, u, t0) = self.localize(origin, dir);
+        stack[0] = Some(Live {
             x,
             u,
             weight: 1.0,
             reflections: 0,
             from: None,
             steps: 0,
-        };
-        // On the stack where it stays (moving 32 branches cost 3 % of a frame).
-        let mut stack = [None; STACK];
-        stack[0] = Some(root);
-        let mut tree = Pending {
-            stack: &mut stack,
-            len: 1,
-            dropped: 0.0,
-        };
-        let prune = &self.tree_pruning(prune);
+        });
+        let prune = self.tree_pruning(prune);
         // Only a roulette needs the ray's hash.
         let seed = if prune.roulette > 0.0 { ray_hash(origin, dir) } else { 0 };
-        let most = 8 * self.len() as u32 + 8;
-        while let Some(b) = tree.pop() {
-            let lo = if b.steps == 0 { -t0 } else { 0.0 };
-            let Some(c) = self.next_crossing(b.x, b.u, b.from, lo, f64::INFINITY) else {
-                if b.steps > 0 {
-                    emit(self.leaving(&b));
-                }
-                continue;
-            };
-            if c.piece.is_opaque() {
-                continue;
-            }
-            if b.steps > most {
-                tree.dropped += b.weight;
-                continue;
-            }
-            let i = self.interface(c.piece.surface, c.x, b.u, &media);
-            let r = if i.crossing.total { 1.0 } else { i.crossing.reflectance };
-            let next = |u, weight, reflections| Live {
-                x: c.x,
-                u,
-                weight,
-                reflections,
-                from: Some(c.piece.surface),
-                steps: b.steps + 1,
-            };
-            let children = [
-                (!i.crossing.total).then(|| next(i.crossing.dir, b.weight * (1.0 - r), b.reflections)),
-                Some(next(optics::reflect(b.u, i.nf), b.weight * r, b.reflections + 1)),
-            ];
-            // Pushed reflection first, so the refraction is walked first.
-            for child in children.into_iter().rev().flatten() {
-                tree.push(child, b.reflections, prune, seed);
-            }
+        Tree {
+            pending: Pending {
+                stack,
+                len: 1,
+                dropped: 0.0,
+            },
+            prune,
+            seed,
+            t0,
         }
-        tree.dropped
+    }
+
+    /// A tree with nothing to walk, on `stack` (a lane of
+    /// [`super::tree_lanes`] with no ray).
+    #[inline(always)]
+    pub(super) fn idle_tree<'a>(stack: &'a mut [Option<Live>; STACK]) -> Tree<'a> {
+        Tree {
+            pending: Pending {
+                stack,
+                len: 0,
+                dropped: 0.0,
+            },
+            prune: Pruning::NONE,
+            seed: 0,
+            t0: 0.0,
+        }
+    }
+
+    /// The crossings a branch may make before it is dropped.
+    #[inline(always)]
+    pub(super) fn most_steps(&self) -> u32 {
+        8 * self.len() as u32 + 8
+    }
+
+    /// The tree's step for the branch `b` whose nearest crossing is `c`:
+    /// out of the system where nothing is ahead (handed to `emit`),
+    /// stopped at an opaque piece, dropped past `most` crossings, else
+    /// split at the cap into its refraction and reflection (pushed to
+    /// walk, the refraction first). The scalar tree and the lanes'
+    /// ([`super::tree_lanes`]) take it.
+    #[inline(always)]
+    pub(super) fn tree_step(
+        &self,
+        tree: &mut Tree,
+        b: &Live,
+        c: Option<Crossing>,
+        media: &[f64],
+        most: u32,
+        emit: &mut impl FnMut(SystemBranch),
+    ) {
+        let Some(c) = c else {
+            if b.steps > 0 {
+                emit(self.leaving(b));
+            }
+            return;
+        };
+        if c.piece.is_opaque() {
+            return;
+        }
+        if b.steps > most {
+            tree.pending.dropped += b.weight;
+            return;
+        }
+        let i = self.interface(c.piece.surface, c.x, b.u, media);
+        let r = if i.crossing.total { 1.0 } else { i.crossing.reflectance };
+        let next = |u, weight, reflections| Live {
+            x: c.x,
+            u,
+            weight,
+            reflections,
+            from: Some(c.piece.surface),
+            steps: b.steps + 1,
+        };
+        let children = [
+            (!i.crossing.total).then(|| next(i.crossing.dir, b.weight * (1.0 - r), b.reflections)),
+            Some(next(optics::reflect(b.u, i.nf), b.weight * r, b.reflections + 1)),
+        ];
+        // Pushed reflection first, so the refraction is walked first.
+        for child in children.into_iter().rev().flatten() {
+            tree.pending.push(child, b.reflections, &tree.prune, tree.seed);
+        }
     }
 
     /// `prune` for this system's tree: a singlet's tree is the biconvex
