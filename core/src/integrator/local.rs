@@ -11,7 +11,9 @@
 
 use super::Lit;
 use super::PacketPaths;
-use super::shade::{ambient, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong};
+use super::shade::{
+    ambient, ambient_light, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong, reads_surface,
+};
 use super::surface::{Surface, outward, shadow_ray_from, surface};
 use crate::color::Rgb;
 use crate::light::{Light, LightLanes};
@@ -72,9 +74,10 @@ impl SurfaceLanes {
 
 /// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
 /// term, or the background where its ray escapes (in `out`); whether any
-/// lane hit.
+/// lane has a surface (a lane whose shading is its ambient light alone,
+/// [`reads_surface`], gets none: its radiance is complete).
 #[inline(always)]
-pub(super) fn local_shading<'s, const GLASS: bool>(
+pub(super) fn local_shading<'s, const GLASS: bool, const MIRROR: bool>(
     scene: Lit<'s>,
     paths: &PacketPaths,
     surfaces: &mut [Option<Surface<'s>>; LANES],
@@ -83,15 +86,28 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
 ) -> bool {
     *out = [Rgb::ZERO; LANES];
     at.hit = 0;
+    // Only [`add_light_lanes`] reads the lane arrays: without lights, the
+    // bit mask of the lanes that hit is all that is kept.
+    let lights = !scene.lights.is_empty();
     for l in 0..LANES {
         if paths.active >> l & 1 == 0 {
             continue;
         }
         match paths.hits.get(l) {
+            // A surface whose shading is its ambient light alone needs no
+            // point, normal or side: it gets no `Surface`, so nothing after
+            // looks at the lane.
+            Some((i, _)) if !reads_surface::<GLASS, MIRROR>(scene, &scene.objects[i].material) => {
+                out[l] = ambient_light::<GLASS>(scene, &scene.objects[i].material);
+            }
             Some((i, h)) => {
                 let s = surface(scene.scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
-                at.set::<GLASS>(l, &s);
+                if lights {
+                    at.set::<GLASS>(l, &s);
+                } else {
+                    at.hit |= 1 << l;
+                }
                 surfaces[l] = Some(s);
             }
             None => out[l] = scene.background,

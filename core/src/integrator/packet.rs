@@ -295,8 +295,9 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 ) {
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
     let at = &mut scratch.surfaces;
-    if !local_shading::<GLASS>(scene, paths, &mut surfaces, at, out) {
-        // Every ray escaped (the rays a lens reflects, mostly).
+    if !local_shading::<GLASS, MIRROR>(scene, paths, &mut surfaces, at, out) {
+        // Every ray escaped (the rays a lens reflects, mostly), or met
+        // only what ambient light alone shades.
         return;
     }
     for light in &scene.lights {
