@@ -255,6 +255,20 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
         }
         crate::simd::Isa::Portable => {}
     }
+    packet_kernel_portable::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
+}
+
+/// [`packet_kernel`]'s portable build, out of line: the dispatcher, which
+/// every depth of the recursion passes, stays a few instructions, with no
+/// stack frame of the kernel's size.
+#[inline(never)]
+fn packet_kernel_portable<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: Lit,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
     packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
 }
 
