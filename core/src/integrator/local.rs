@@ -74,8 +74,9 @@ impl SurfaceLanes {
 
 /// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
 /// term, or the background where its ray escapes (in `out`); whether any
-/// lane has a surface (a lane whose shading is its ambient light alone,
-/// [`reads_surface`], gets none: its radiance is complete).
+/// lane has a surface (in a scene without lights or caustic photons, a
+/// lane whose shading is its ambient light alone, [`reads_surface`], gets
+/// none: its radiance is complete).
 #[inline(always)]
 pub(super) fn local_shading<'s, const GLASS: bool, const MIRROR: bool>(
     scene: Lit<'s>,
@@ -84,11 +85,27 @@ pub(super) fn local_shading<'s, const GLASS: bool, const MIRROR: bool>(
     at: &mut SurfaceLanes,
     out: &mut Lanes<Rgb>,
 ) -> bool {
+    // Two builds of the loop, so that a lit scene's is the loop without
+    // the tests for ambient light alone.
+    if scene.lights.is_empty() && scene.caustics.is_none() {
+        local_lanes::<GLASS, MIRROR, true>(scene, paths, surfaces, at, out)
+    } else {
+        local_lanes::<GLASS, MIRROR, false>(scene, paths, surfaces, at, out)
+    }
+}
+
+/// [`local_shading`] in a scene with no lights and no caustic photons
+/// (`BARE`) or with some.
+#[inline(always)]
+fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
+    scene: Lit<'s>,
+    paths: &PacketPaths,
+    surfaces: &mut [Option<Surface<'s>>; LANES],
+    at: &mut SurfaceLanes,
+    out: &mut Lanes<Rgb>,
+) -> bool {
     *out = [Rgb::ZERO; LANES];
     at.hit = 0;
-    // Only [`add_light_lanes`] reads the lane arrays: without lights, the
-    // bit mask of the lanes that hit is all that is kept.
-    let lights = !scene.lights.is_empty();
     for l in 0..LANES {
         if paths.active >> l & 1 == 0 {
             continue;
@@ -97,16 +114,18 @@ pub(super) fn local_shading<'s, const GLASS: bool, const MIRROR: bool>(
             // A surface whose shading is its ambient light alone needs no
             // point, normal or side: it gets no `Surface`, so nothing after
             // looks at the lane.
-            Some((i, _)) if !reads_surface::<GLASS, MIRROR>(scene, &scene.objects[i].material) => {
+            Some((i, _)) if BARE && !reads_surface::<GLASS, MIRROR>(scene, &scene.objects[i].material) => {
                 out[l] = ambient_light::<GLASS>(scene, &scene.objects[i].material);
             }
             Some((i, h)) => {
                 let s = surface(scene.scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
-                if lights {
-                    at.set::<GLASS>(l, &s);
-                } else {
+                if BARE {
+                    // Only [`add_light_lanes`] reads the lane arrays:
+                    // without lights, the bit mask is all that is kept.
                     at.hit |= 1 << l;
+                } else {
+                    at.set::<GLASS>(l, &s);
                 }
                 surfaces[l] = Some(s);
             }
