@@ -135,22 +135,30 @@ static CHOSEN: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0)
 /// The build the lane functions run: the best this CPU has, unless
 /// `LENSVIEW_ISA` (`sse2`, `avx2`, `avx512`; one this CPU runs) or
 /// [`force_isa`] asked for a lesser one (to compare them).
-#[inline]
+///
+/// Inlined into every dispatcher (one load and a compare before the jump
+/// to the build), the first call's look-up out of line.
+#[inline(always)]
 pub fn isa() -> Isa {
     use std::sync::atomic::Ordering;
     match CHOSEN.load(Ordering::Relaxed) {
         1 => Isa::Portable,
         2 => Isa::Avx2,
         3 => Isa::Avx512,
-        _ => {
-            let isa = std::env::var("LENSVIEW_ISA")
-                .ok()
-                .and_then(|v| Isa::parse(&v))
-                .unwrap_or_else(Isa::detected);
-            CHOSEN.store(isa as u8, Ordering::Relaxed);
-            isa
-        }
+        _ => choose_isa(),
     }
+}
+
+/// [`isa`]'s first call: reads `LENSVIEW_ISA` and keeps the choice.
+#[cold]
+#[inline(never)]
+fn choose_isa() -> Isa {
+    let isa = std::env::var("LENSVIEW_ISA")
+        .ok()
+        .and_then(|v| Isa::parse(&v))
+        .unwrap_or_else(Isa::detected);
+    CHOSEN.store(isa as u8, std::sync::atomic::Ordering::Relaxed);
+    isa
 }
 
 /// Runs the lane functions on `isa` from now on (`None`: the best this CPU
@@ -197,7 +205,13 @@ macro_rules! with_avx2 {
                     $crate::simd::Isa::Portable => {}
                 }
             }
-            $imp($($arg),*)
+            /// The portable build, out of line: the dispatcher stays a
+            /// few instructions, with no stack frame of the build's size.
+            #[inline(never)]
+            fn portable($($arg: $ty),*) -> $ret {
+                $imp($($arg),*)
+            }
+            portable($($arg),*)
         }
     };
 }

@@ -11,7 +11,9 @@
 
 use super::Lit;
 use super::PacketPaths;
-use super::shade::{ambient, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong};
+use super::shade::{
+    ambient, ambient_light, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong, reads_surface,
+};
 use super::surface::{Surface, outward, shadow_ray_from, surface};
 use crate::color::Rgb;
 use crate::light::{Light, LightLanes};
@@ -72,9 +74,30 @@ impl SurfaceLanes {
 
 /// Each live lane's surface (in `surfaces`, and in `at`) and [`ambient`]
 /// term, or the background where its ray escapes (in `out`); whether any
-/// lane hit.
+/// lane has a surface (in a scene without lights or caustic photons, a
+/// lane whose shading is its ambient light alone, [`reads_surface`], gets
+/// none: its radiance is complete).
 #[inline(always)]
-pub(super) fn local_shading<'s, const GLASS: bool>(
+pub(super) fn local_shading<'s, const GLASS: bool, const MIRROR: bool>(
+    scene: Lit<'s>,
+    paths: &PacketPaths,
+    surfaces: &mut [Option<Surface<'s>>; LANES],
+    at: &mut SurfaceLanes,
+    out: &mut Lanes<Rgb>,
+) -> bool {
+    // Two builds of the loop, so that a lit scene's is the loop without
+    // the tests for ambient light alone.
+    if scene.lights.is_empty() && scene.caustics.is_none() {
+        local_lanes::<GLASS, MIRROR, true>(scene, paths, surfaces, at, out)
+    } else {
+        local_lanes::<GLASS, MIRROR, false>(scene, paths, surfaces, at, out)
+    }
+}
+
+/// [`local_shading`] in a scene with no lights and no caustic photons
+/// (`BARE`) or with some.
+#[inline(always)]
+fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
     scene: Lit<'s>,
     paths: &PacketPaths,
     surfaces: &mut [Option<Surface<'s>>; LANES],
@@ -88,10 +111,22 @@ pub(super) fn local_shading<'s, const GLASS: bool>(
             continue;
         }
         match paths.hits.get(l) {
+            // A surface whose shading is its ambient light alone needs no
+            // point, normal or side: it gets no `Surface`, so nothing after
+            // looks at the lane.
+            Some((i, _)) if BARE && !reads_surface::<GLASS, MIRROR>(scene, &scene.objects[i].material) => {
+                out[l] = ambient_light::<GLASS>(scene, &scene.objects[i].material);
+            }
             Some((i, h)) => {
                 let s = surface(scene.scene, &paths.rays.ray(l), i, h);
                 out[l] = ambient::<GLASS>(scene, &s);
-                at.set::<GLASS>(l, &s);
+                if BARE {
+                    // Only [`add_light_lanes`] reads the lane arrays:
+                    // without lights, the bit mask is all that is kept.
+                    at.hit |= 1 << l;
+                } else {
+                    at.set::<GLASS>(l, &s);
+                }
                 surfaces[l] = Some(s);
             }
             None => out[l] = scene.background,

@@ -258,6 +258,20 @@ pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR
         }
         crate::simd::Isa::Portable => {}
     }
+    packet_kernel_portable::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
+}
+
+/// [`packet_kernel`]'s portable build, out of line: the dispatcher, which
+/// every depth of the recursion passes, stays a few instructions, with no
+/// stack frame of the kernel's size.
+#[inline(never)]
+fn packet_kernel_portable<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+    scene: Lit,
+    paths: &PacketPaths,
+    lambda_um: f64,
+    scratch: &mut PacketScratch,
+    out: &mut Lanes<Rgb>,
+) {
     packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
 }
 
@@ -298,8 +312,9 @@ fn packet_kernel_impl<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
 ) {
     let mut surfaces: [Option<Surface>; LANES] = [None; LANES];
     let at = &mut scratch.surfaces;
-    if !local_shading::<GLASS>(scene, paths, &mut surfaces, at, out) {
-        // Every ray escaped (the rays a lens reflects, mostly).
+    if !local_shading::<GLASS, MIRROR>(scene, paths, &mut surfaces, at, out) {
+        // Every ray escaped (the rays a lens reflects, mostly), or met
+        // only what ambient light alone shades.
         return;
     }
     for light in &scene.lights {

@@ -135,9 +135,7 @@ pub(super) fn light_matters<const SPECULAR: bool>(
 #[inline(always)]
 pub(super) fn ambient<const GLASS: bool>(scene: Lit, s: &Surface) -> Rgb {
     let m = &s.object.material;
-    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
-    let mut color = Rgb::ZERO;
-    color += m.color * scene.ambient * (m.ambient * opacity);
+    let mut color = ambient_light::<GLASS>(scene, m);
     let kd = diffuse_share::<GLASS>(m);
     if let Some(map) = scene.caustics
         && kd > 0.0
@@ -147,6 +145,28 @@ pub(super) fn ambient<const GLASS: bool>(scene: Lit, s: &Surface) -> Rgb {
         color += m.color * map.irradiance(s.p, s.nf) * kd;
     }
     color
+}
+
+/// [`ambient`]'s first term, the ambient light on material `m`: all of
+/// it where the scene has no caustic photons.
+#[inline(always)]
+pub(super) fn ambient_light<const GLASS: bool>(scene: Lit, m: &Material) -> Rgb {
+    let opacity = if GLASS { 1.0 - m.transparency } else { 1.0 };
+    let mut color = Rgb::ZERO;
+    color += m.color * scene.ambient * (m.ambient * opacity);
+    color
+}
+
+/// Whether shading at a surface of material `m` reads more of it than
+/// its [`ambient_light`]: the scene has lights or caustic photons, or
+/// [`shade_onward`] may send a ray on from it (glass, or a mirror whose
+/// share of any weight can pass [`followed`]).
+#[inline(always)]
+pub(super) fn reads_surface<const GLASS: bool, const MIRROR: bool>(scene: Lit, m: &Material) -> bool {
+    !scene.lights.is_empty()
+        || scene.caustics.is_some()
+        || (GLASS && m.transparency > 0.0)
+        || (MIRROR && m.reflectivity != 0.0)
 }
 
 /// Adds the Lambert and Phong terms of one light's sample `ls` at the
