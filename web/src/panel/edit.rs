@@ -12,7 +12,7 @@ use lensview::edit::document::{new_preset_system, new_system, switch_light_kind,
 use lensview::edit::{Change, Document, Item};
 use lensview::glass;
 use lensview::scene::escape_controls;
-use lensview::scene::file::{IndexFile, LensFile, LightFile, LightKind, ObjectFile, SystemFile, V3};
+use lensview::scene::file::{IndexFile, LensFile, LightFile, LightKind, MaterialFile, ObjectFile, SystemFile, V3};
 
 /// Sets field `key` of item `id` to `value` (text, as typed). Returns what
 /// was done and what changed, or the one line (`error: …`) saying why not.
@@ -141,8 +141,10 @@ fn set_colour(doc: &mut Document, i: usize, colour: V3) -> Result<Change, lensvi
     let base = doc.item_name(Item::Object(i));
     doc.edit("material colour", |sf| {
         let name = unique_key(&sf.materials, &base);
-        let mut m = lensview::scene::file::MaterialFile::default();
-        m.color = colour;
+        let m = MaterialFile {
+            color: colour,
+            ..MaterialFile::default()
+        };
         sf.materials.insert(name.clone(), m);
         sf.objects[i].material = Some(name);
     })
