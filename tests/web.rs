@@ -244,13 +244,16 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
 /// (tools/web_page_test.py's defaults).
 const PANEL_R1: f64 = 3.5;
 const PANEL_BAD: f64 = 0.1;
+const PANEL_GLASS: &str = "N-SF5";
 
 /// The panel after the lens key: r1 typed into it is the library's edit
 /// of the scene before (`Document::set_lens`), and the picture the native
 /// one of the page's scene file; a refused r1 gets the library's one-line
 /// error and the field shows the scene's value again; Ctrl+Z brings back
-/// the picture before bit for bit, Redo the edited one; Save scene saves
-/// the edited scene and Save PNG the canvas. The overlay shows the stage.
+/// the picture before bit for bit, Redo the edited one; a glass picked
+/// from the catalogue is the library's and the native picture again; Save
+/// scene saves the edited scene and Save PNG the canvas. The overlay shows
+/// the stage.
 fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
     use lensview::edit::{Document, Source};
     use lensview::scene::Scene;
@@ -281,11 +284,22 @@ fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
     assert_same_picture(&undone, &rgb_of(lens), "Ctrl+Z after the panel's r1");
     let redone = std::fs::read(out.join("redone.rgba")).unwrap();
     assert!(redone == panel, "Redo: not the edited picture");
+    // A catalogue glass picked from the list: the library's glass, and the
+    // native picture of the page's scene.
+    let (got, _) = Scene::parse("glass", &text("glass.toml")).unwrap();
+    let mut l = doc.scene().lenses[0].clone();
+    l.n = lensview::scene::file::IndexFile::Glass(lensview::glass::lookup(PANEL_GLASS).unwrap());
+    doc.set_lens(0, l).unwrap();
+    assert!(&got == doc.scene(), "the panel's glass: lenses {:?}", got.lenses);
+    let glass = std::fs::read(out.join("glass.rgba")).unwrap();
+    assert_ne!(glass, redone, "the panel's glass changed nothing on the page");
+    let native = native_rgb(&out.join("glass.toml"), &work.join("glass.png"), CUBES);
+    assert_same_picture(&glass, &native, "cubes after the glass N-SF5 in the panel");
     // Save scene and Save PNG: the edited scene's file and the canvas.
-    assert_eq!(text("saved.toml"), text("panel.toml"), "Save scene");
+    assert_eq!(text("saved.toml"), text("glass.toml"), "Save scene");
     let (size, colour, png) = read_png(&out.join("saved.png"));
     assert_eq!((size, colour), (CUBES.size, png::ColorType::Rgba), "Save PNG");
-    assert!(png == redone, "Save PNG: the file is not the canvas");
+    assert!(png == glass, "Save PNG: the file is not the canvas");
     let overlay = format!("\"overlay\": \"{0} spp of {0} spp (done), ", CUBES.spp);
     assert!(report.contains(&overlay), "the overlay: {report}");
 }

@@ -13,6 +13,7 @@ writes what it saw into OUT:
   panel-error.txt  the page's error line after typing r1 = PANEL_BAD
   undone.rgba      the canvas after Ctrl+Z (the r1 edit undone)
   redone.rgba      the canvas after the panel's Redo button
+  glass.rgba/.toml then after picking the glass PANEL_GLASS in the panel
   saved.toml/.png  what the page's Save buttons downloaded then
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
@@ -197,6 +198,12 @@ def panel_edits(page, a, out, report):
     page.eval("document.getElementById('redo').click()")
     page.wait(f"window.lensview.renders >= {renders + 3} && window.lensview.done", "the picture after Redo", a.timeout)
     save(out, "redone.rgba", page.canvas())
+    # A catalogue glass from the panel's list, as a user picks it.
+    page.eval(f"""(() => {{ const s = document.getElementById('field-n.glass');
+        s.value = '{a.panel_glass}'; s.dispatchEvent(new Event('change')); }})()""")
+    page.wait(f"window.lensview.renders >= {renders + 4} && window.lensview.done", "the picture after the glass", a.timeout)
+    save(out, "glass.rgba", page.canvas())
+    save(out, "glass.toml", page.eval("window.lensview.sceneToml()"))
     report["overlay"] = page.eval("document.getElementById('overlay').textContent")
 
 
@@ -284,6 +291,7 @@ def main():
     ap.add_argument("--preset-query", default="w=64&h=48&spp=2&seed=3")
     ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
     ap.add_argument("--panel-bad", default="0.1", help="an r1 the panel must refuse")
+    ap.add_argument("--panel-glass", default="N-SF5", help="the lens's glass picked in the panel")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.
