@@ -6,8 +6,9 @@
 //! spp, seed and the portable kernel; W moves the camera and the lens key 2
 //! edits the lens as the desktop does, and each new picture is again the
 //! native one of the page's own scene file; the editing panel sets the
-//! lens's r1 (the native picture again), refuses a bad r1 in one line, and
-//! Ctrl+Z and Redo bring back each picture bit for bit; Save scene and
+//! lens's r1 (the native picture again), refuses a bad r1 in one line,
+//! Ctrl+Z and Redo bring back each picture bit for bit, and a glass picked
+//! from its catalogue list is the native picture again; Save scene and
 //! Save PNG download the edited scene and the canvas; a bad scene file, opened or dropped,
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
