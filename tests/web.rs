@@ -5,8 +5,11 @@
 //! picture of cubes is the native renderer's bit for bit at the same size,
 //! spp, seed and the portable kernel; W moves the camera and the lens key 2
 //! edits the lens as the desktop does, and each new picture is again the
-//! native one of the page's own scene file; Save scene and Save PNG
-//! download that file and the canvas; a bad scene file, opened or dropped,
+//! native one of the page's own scene file; the editing panel sets the
+//! lens's r1 (the native picture again), refuses a bad r1 in one line,
+//! Ctrl+Z and Redo bring back each picture bit for bit, and a glass picked
+//! from its catalogue list is the native picture again; Save scene and
+//! Save PNG download the edited scene and the canvas; a bad scene file, opened or dropped,
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
 //! native picture; no console error. Then not isolated: one thread, a note
@@ -235,11 +238,76 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
         got.lenses,
         want.lenses
     );
-    // Save scene and Save PNG: the page's scene file and its canvas.
-    assert_eq!(text("saved.toml"), text("lens.toml"), "Save scene");
+    assert_panel_edits(work, out, &lens);
+}
+
+/// The r1 the page's panel test types, and the one it must refuse
+/// (tools/web_page_test.py's defaults).
+const PANEL_R1: f64 = 3.5;
+const PANEL_BAD: f64 = 0.1;
+const PANEL_GLASS: &str = "N-SF5";
+
+/// The panel after the lens key: r1 typed into it is the library's edit
+/// of the scene before (`Document::set_lens`), and the picture the native
+/// one of the page's scene file; a refused r1 gets the library's one-line
+/// error and the field shows the scene's value again; Ctrl+Z brings back
+/// the picture before bit for bit, Redo the edited one; a glass picked
+/// from the catalogue is the library's and the native picture again; Save
+/// scene saves the edited scene and Save PNG the canvas. The overlay shows
+/// the stage.
+fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
+    use lensview::edit::{Document, Source};
+    use lensview::scene::Scene;
+    let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
+    let (before, _) = Scene::parse("lens", &text("lens.toml")).unwrap();
+    let (got, _) = Scene::parse("panel", &text("panel.toml")).unwrap();
+    let mut doc = Document::new(before, Source::Default).unwrap();
+    let mut l = doc.scene().lenses[0].clone();
+    l.r1 = PANEL_R1;
+    doc.set_lens(0, l.clone()).unwrap();
+    assert!(&got == doc.scene(), "the panel's r1: lenses {:?}", got.lenses);
+    let panel = std::fs::read(out.join("panel.rgba")).unwrap();
+    assert_ne!(panel, lens, "the panel's r1 changed nothing on the page");
+    let native = native_rgb(&out.join("panel.toml"), &work.join("panel.png"), CUBES);
+    assert_same_picture(&panel, &native, "cubes after r1 in the panel");
+    l.r1 = PANEL_BAD;
+    let refused = doc.set_lens(0, l).unwrap_err();
+    let want = format!("error: {}", lensview::scene::escape_controls(&refused.to_string()));
+    assert_eq!(text("panel-error.txt"), want, "the refused r1's error line");
+    let report = text("report.json");
+    let field = format!("\"panel_field_after_error\": \"{PANEL_R1}\"");
+    assert!(report.contains(&field), "the field after the refusal: {report}");
+    assert!(
+        report.contains("\"undone_error\": \"\""),
+        "undo clears the error: {report}"
+    );
+    let undone = std::fs::read(out.join("undone.rgba")).unwrap();
+    assert_same_picture(&undone, &rgb_of(lens), "Ctrl+Z after the panel's r1");
+    let redone = std::fs::read(out.join("redone.rgba")).unwrap();
+    assert!(redone == panel, "Redo: not the edited picture");
+    // A catalogue glass picked from the list: the library's glass, and the
+    // native picture of the page's scene.
+    let (got, _) = Scene::parse("glass", &text("glass.toml")).unwrap();
+    let mut l = doc.scene().lenses[0].clone();
+    l.n = lensview::scene::file::IndexFile::Glass(lensview::glass::lookup(PANEL_GLASS).unwrap());
+    doc.set_lens(0, l).unwrap();
+    assert!(&got == doc.scene(), "the panel's glass: lenses {:?}", got.lenses);
+    let glass = std::fs::read(out.join("glass.rgba")).unwrap();
+    assert_ne!(glass, redone, "the panel's glass changed nothing on the page");
+    let native = native_rgb(&out.join("glass.toml"), &work.join("glass.png"), CUBES);
+    assert_same_picture(&glass, &native, "cubes after the glass N-SF5 in the panel");
+    // Save scene and Save PNG: the edited scene's file and the canvas.
+    assert_eq!(text("saved.toml"), text("glass.toml"), "Save scene");
     let (size, colour, png) = read_png(&out.join("saved.png"));
     assert_eq!((size, colour), (CUBES.size, png::ColorType::Rgba), "Save PNG");
-    assert!(png == lens, "Save PNG: the file is not the canvas");
+    assert!(png == glass, "Save PNG: the file is not the canvas");
+    let overlay = format!("\"overlay\": \"{0} spp of {0} spp (done), ", CUBES.spp);
+    assert!(report.contains(&overlay), "the overlay: {report}");
+}
+
+/// RGBA bytes as RGB (for [`assert_same_picture`]'s native side).
+fn rgb_of(rgba: &[u8]) -> Vec<u8> {
+    rgba.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
 /// Cross-origin isolated (`work/dist` served with COOP/COEP): one thread a

@@ -9,6 +9,11 @@ writes what it saw into OUT:
   first.rgba       the canvas's RGBA bytes
   moved.rgba/.toml after pressing W: the canvas, and the page's scene file
   lens.rgba/.toml  then after the lens key 2 (lens d +): the same
+  panel.rgba/.toml then after typing r1 = PANEL_R1 and Enter in the panel
+  panel-error.txt  the page's error line after typing r1 = PANEL_BAD
+  undone.rgba      the canvas after Ctrl+Z (the r1 edit undone)
+  redone.rgba      the canvas after the panel's Redo button
+  glass.rgba/.toml then after picking the glass PANEL_GLASS in the panel
   saved.toml/.png  what the page's Save buttons downloaded then
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
@@ -159,6 +164,49 @@ def press(page, a, code, key, vk, renders, what):
     return json.loads(page.eval(STATE))
 
 
+def type_field(page, key, text):
+    """Types `text` into the panel's field `key` (replacing it) and Enter."""
+    page.eval(f"(() => {{ const i = document.getElementById('field-{key}'); i.focus(); i.select(); }})()")
+    page.call("Input.insertText", text=text)
+    for kind in ("keyDown", "keyUp"):
+        page.call("Input.dispatchKeyEvent", type=kind, code="Enter", key="Enter", windowsVirtualKeyCode=13,
+                  **({"text": "\r"} if kind == "keyDown" else {}))
+
+
+def panel_edits(page, a, out, report):
+    """The panel: the lens selected, r1 typed, a refused r1, Ctrl+Z, Redo."""
+    renders = json.loads(page.eval(STATE))["renders"]
+    page.eval("""(() => { const s = document.getElementById('items');
+        s.value = 'lens:0'; s.dispatchEvent(new Event('change')); })()""")
+    page.wait("window.lensview.panel.selected === 'lens:0' && !!document.getElementById('field-r1')",
+              "the lens in the panel", a.timeout)
+    type_field(page, "r1", a.panel_r1)
+    page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done", "the picture after r1", a.timeout)
+    report["panel"] = json.loads(page.eval(STATE))
+    save(out, "panel.rgba", page.canvas())
+    save(out, "panel.toml", page.eval("window.lensview.sceneToml()"))
+    type_field(page, "r1", a.panel_bad)
+    page.wait("window.lensview.error !== ''", "an error line for the refused r1", a.timeout)
+    save(out, "panel-error.txt", page.eval("document.getElementById('error').textContent"))
+    report["panel_field_after_error"] = page.eval("document.getElementById('field-r1').value")
+    page.eval("document.getElementById('view').focus()")
+    for kind in ("keyDown", "keyUp"):
+        page.call("Input.dispatchKeyEvent", type=kind, code="KeyZ", key="z", windowsVirtualKeyCode=90, modifiers=2)
+    page.wait(f"window.lensview.renders >= {renders + 2} && window.lensview.done", "the picture after Ctrl+Z", a.timeout)
+    save(out, "undone.rgba", page.canvas())
+    report["undone_error"] = page.eval("window.lensview.error")
+    page.eval("document.getElementById('redo').click()")
+    page.wait(f"window.lensview.renders >= {renders + 3} && window.lensview.done", "the picture after Redo", a.timeout)
+    save(out, "redone.rgba", page.canvas())
+    # A catalogue glass from the panel's list, as a user picks it.
+    page.eval(f"""(() => {{ const s = document.getElementById('field-n.glass');
+        s.value = '{a.panel_glass}'; s.dispatchEvent(new Event('change')); }})()""")
+    page.wait(f"window.lensview.renders >= {renders + 4} && window.lensview.done", "the picture after the glass", a.timeout)
+    save(out, "glass.rgba", page.canvas())
+    save(out, "glass.toml", page.eval("window.lensview.sceneToml()"))
+    report["overlay"] = page.eval("document.getElementById('overlay').textContent")
+
+
 def downloads(page, a, out, report):
     """Clicks Save scene and Save PNG; keeps the files the browser saved."""
     folder = os.path.join(out, "downloads")
@@ -190,8 +238,9 @@ def bad_files(page, a, out):
     save(out, "dropped.txt", page.eval("document.getElementById('error').textContent"))
     if a.good:
         # A good one dropped: it replaces the scene and clears the error.
+        renders = json.loads(page.eval(STATE))["renders"]
         drop(page, a.good)
-        page.wait("window.lensview.renders >= 4 && window.lensview.done && window.lensview.error === ''",
+        page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done && window.lensview.error === ''",
                   "the picture of the dropped good file", a.timeout)
         save(out, "good.rgba", page.canvas())
 
@@ -220,6 +269,7 @@ def run(page, url, a, out, report):
         report["lens"] = press(page, a, "Digit2", "2", 50, 3, "the picture after the lens key 2")
         save(out, "lens.rgba", page.canvas())
         save(out, "lens.toml", page.eval("window.lensview.sceneToml()"))
+        panel_edits(page, a, out, report)
         downloads(page, a, out, report)
         bad_files(page, a, out)
     for name in filter(None, a.presets.split(",")):
@@ -239,6 +289,9 @@ def main():
     ap.add_argument("--no-isolation", action="store_true", help="serve without COOP/COEP (one thread)")
     ap.add_argument("--presets", default="", help="presets to open after the first page, comma-separated")
     ap.add_argument("--preset-query", default="w=64&h=48&spp=2&seed=3")
+    ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
+    ap.add_argument("--panel-bad", default="0.1", help="an r1 the panel must refuse")
+    ap.add_argument("--panel-glass", default="N-SF5", help="the lens's glass picked in the panel")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.

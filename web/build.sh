@@ -45,5 +45,5 @@ rm -rf "$out"
 mkdir -p "$out"
 wasm-bindgen --target web --no-typescript --remove-name-section --out-dir "$out/pkg" \
     target/wasm32-unknown-unknown/release/lensview_web.wasm
-cp www/index.html www/main.js www/worker.js "$out/"
+cp www/index.html www/main.js www/worker.js www/panel.js "$out/"
 echo "built $out ($(du -b "$out/pkg/lensview_web_bg.wasm" | cut -f1) bytes of wasm); serve it with web/serve.sh"

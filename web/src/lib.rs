@@ -4,8 +4,12 @@
 //! draws them on a canvas and forwards keys and files. Threads: the
 //! worker calls `initThreadPool` (wasm-bindgen-rayon) when the page is
 //! cross-origin isolated, and rayon's loops of the library run on them;
-//! otherwise rayon runs on the worker's own thread.
+//! otherwise rayon runs on the worker's own thread. The editing panel
+//! (`www/panel.js`) shows [`App::panel`]'s rows and sends their values to
+//! [`App::set`]; [`App::undo`] and [`App::redo`] step the document's
+//! history (`panel.rs`).
 
+pub mod panel;
 pub mod view;
 
 use wasm_bindgen::prelude::*;
@@ -87,5 +91,28 @@ impl App {
     #[wasm_bindgen(js_name = sceneToml)]
     pub fn scene_toml(&self) -> Result<String, JsValue> {
         self.0.scene_toml().map_err(|e| JsValue::from_str(&e))
+    }
+
+    /// The panel as JSON: the items, the fields of `selected` (an item id:
+    /// `camera`, `light:0`, `lens:0`, …; another when it is gone), and the
+    /// labels of Undo and Redo.
+    pub fn panel(&self, selected: &str) -> String {
+        serde_json::to_string(&self.0.panel(selected)).unwrap_or_default()
+    }
+
+    /// Sets field `key` of item `id` to the text `value`; whether the
+    /// picture starts over. Throws the one-line error of a value the scene
+    /// refuses (the scene stays).
+    pub fn set(&mut self, id: &str, key: &str, value: &str) -> Result<bool, JsValue> {
+        self.0.set(id, key, value).map_err(|e| JsValue::from_str(&e))
+    }
+
+    /// Undoes the newest edit; whether the picture starts over.
+    pub fn undo(&mut self) -> bool {
+        self.0.undo()
+    }
+
+    pub fn redo(&mut self) -> bool {
+        self.0.redo()
     }
 }

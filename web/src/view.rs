@@ -6,11 +6,12 @@
 //! finished picture is `render`'s). Plain Rust, tested natively below;
 //! `lib.rs` only hands it to JavaScript.
 
+use crate::panel::{self, Panel};
 use glam::DVec3;
 use lensview::camera::Camera;
 use lensview::color::to_srgb8_toned;
 use lensview::edit::document::{Document, Source, to_toml};
-use lensview::edit::lens_key;
+use lensview::edit::{Change, lens_key};
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
 use lensview::render::RenderSettings;
@@ -202,6 +203,58 @@ impl View {
         }
     }
 
+    /// The panel with item `selected` (an id, see [`panel::Target`]).
+    pub fn panel(&self, selected: &str) -> Panel {
+        panel::panel(&self.doc, selected)
+    }
+
+    /// A panel edit: field `key` of item `id` set to `value` as typed
+    /// ([`panel::set`]); whether the picture starts over. A refusal is one
+    /// line, and the scene stays.
+    pub fn set(&mut self, id: &str, key: &str, value: &str) -> Result<bool, String> {
+        let (msg, change) = panel::set(&mut self.doc, id, key, value)?;
+        self.message = msg;
+        Ok(self.changed(change))
+    }
+
+    /// Undoes the newest edit (a panel field, a key, a flight); whether
+    /// the picture starts over.
+    pub fn undo(&mut self) -> bool {
+        let step = self.doc.undo();
+        self.stepped(step, "undone", "nothing to undo")
+    }
+
+    pub fn redo(&mut self) -> bool {
+        let step = self.doc.redo();
+        self.stepped(step, "redone", "nothing to redo")
+    }
+
+    fn stepped(&mut self, step: Option<(String, Change)>, done: &str, none: &str) -> bool {
+        let Some((label, change)) = step else {
+            self.message = none.into();
+            return false;
+        };
+        self.message = format!("{done}: {label}");
+        self.changed(change)
+    }
+
+    /// Starts the picture over for a change of the document: keeping the
+    /// photon map when only the camera moved, not at all when the picture
+    /// does not change (a name).
+    fn changed(&mut self, change: Change) -> bool {
+        match change {
+            Change::None | Change::File => false,
+            Change::Camera => {
+                self.restart(false);
+                true
+            }
+            _ => {
+                self.restart(true);
+                true
+            }
+        }
+    }
+
     /// The line the last key left: what the edit did, or why not.
     pub fn message(&self) -> &str {
         &self.message
@@ -333,6 +386,33 @@ mod tests {
         assert_ne!(v.doc.scene().lenses[0].d, Scene::default_scene().0.lenses[0].d);
         finish(&mut v);
         assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 1, 2));
+    }
+
+    /// A panel edit is `render`'s picture of the edited scene; a refused
+    /// value changes nothing; undo brings back the first picture bit for
+    /// bit, redo the edited one.
+    #[test]
+    fn a_panel_edit_renders_and_undo_brings_the_picture_back() {
+        let mut v = View::new(Some("cubes"), (16, 12), 1, 5).unwrap();
+        finish(&mut v);
+        let first = v.rgba().to_vec();
+        assert!(v.set("lens:0", "r1", "2.5").unwrap());
+        assert_eq!(v.message(), "lenses[0].r1 = 2.5");
+        finish(&mut v);
+        let edited = v.rgba().to_vec();
+        assert_ne!(edited, first);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 1, 5));
+        assert!(v.set("lens:0", "r1", "x").is_err());
+        assert!(v.done(), "a refused value does not restart");
+        assert!(v.undo());
+        finish(&mut v);
+        assert_eq!(v.rgba(), &first[..]);
+        assert!(v.redo());
+        finish(&mut v);
+        assert_eq!(v.rgba(), &edited[..]);
+        assert!(!v.redo());
+        assert_eq!(v.message(), "nothing to redo");
+        assert!(v.panel("lens:0").undo.is_some());
     }
 
     #[test]

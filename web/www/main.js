@@ -2,7 +2,11 @@
 // pictures and this draws them on a 2D canvas, forwards keys and scene files
 // (file input or drop) and saves the scene and the picture. URL parameters:
 // scene (a preset's name, e.g. ?scene=cubes), w, h, spp (0: the scene's),
-// seed. window.lensview holds the state the browser test reads.
+// seed. window.lensview holds the state the browser test reads. The editing
+// panel (panel.js) shows the rows the worker's App describes and sends
+// values back; Undo/Redo and Ctrl+Z / Ctrl+Shift+Z step the scene's history.
+import { createPanel } from "./panel.js";
+
 const params = new URLSearchParams(location.search);
 const num = (k, d) => (params.has(k) ? Number(params.get(k)) : d);
 const [width, height] = [num("w", 640), num("h", 480)];
@@ -11,6 +15,7 @@ const ctx = canvas.getContext("2d");
 const statusLine = document.getElementById("status");
 const errorLine = document.getElementById("error");
 const messageLine = document.getElementById("message");
+const overlay = document.getElementById("overlay");
 const state = (window.lensview = {
   ready: false,
   done: false,
@@ -19,6 +24,7 @@ const state = (window.lensview = {
   message: "",
   firstPictureMs: null,
   isolated: self.crossOriginIsolated,
+  panel: null, // the panel shown (App.panel's JSON, parsed)
 });
 
 // Threads need cross-origin isolation (SharedArrayBuffer); say so without.
@@ -28,6 +34,7 @@ if (!self.crossOriginIsolated) {
 }
 
 const worker = new Worker("worker.js", { type: "module" });
+const showPanel = createPanel(document.getElementById("panel"), (m) => worker.postMessage(m));
 let picture = 0; // the picture the worker renders now (its generation)
 let lastDone = 0; // the last picture seen finished
 let shownPicture = 0; // the picture the last frame drawn showed
@@ -64,6 +71,20 @@ function drawFrame(f) {
     `${f.width}×${f.height}, ${f.stage} of ${f.spp} spp` +
     (f.done ? `, ${(f.renderMs / 1000).toFixed(3)} s` : "…") +
     `, ${state.threads} thread${state.threads === 1 ? "" : "s"}`;
+  // As the desktop's overlay: the stage, then the time a sample took.
+  const perSample = f.samplesDone > 0 ? `${(f.samplesMs / f.samplesDone).toFixed(1)} ms a sample` : "previews";
+  overlay.textContent =
+    `${f.stage} of ${f.spp} spp${f.done ? " (done)" : ""}, ${f.renderMs.toFixed(0)} ms\n` +
+    `${perSample}, ${state.threads} thread${state.threads === 1 ? "" : "s"}` +
+    (self.crossOriginIsolated ? "" : " (not isolated)");
+}
+
+// A change that restarts the picture (a key, a panel edit, undo, redo).
+function restarted(message) {
+  picture += 1;
+  state.done = false;
+  messageLine.textContent = message;
+  state.message = message;
 }
 
 worker.onmessage = ({ data: d }) => {
@@ -77,12 +98,18 @@ worker.onmessage = ({ data: d }) => {
     state.threads = d.threads;
     state.ready = true;
   } else if (d.type === "key") {
-    if (d.changed) {
-      picture += 1;
-      state.done = false;
-    }
+    if (d.changed) restarted(d.message);
     messageLine.textContent = d.message;
     state.message = d.message;
+  } else if (d.type === "edited") {
+    // A panel edit, undo or redo that the document took.
+    showError("");
+    if (d.changed) restarted(d.message);
+    messageLine.textContent = d.message;
+    state.message = d.message;
+  } else if (d.type === "panel") {
+    state.panel = JSON.parse(d.json);
+    showPanel(state.panel);
   } else if (d.type === "opened") {
     picture += 1;
     state.done = false;
@@ -107,7 +134,14 @@ state.sceneToml = () =>
   });
 
 document.addEventListener("keydown", (e) => {
-  if (!state.ready || e.target.tagName === "INPUT" || e.ctrlKey || e.metaKey || e.altKey) return;
+  if (!state.ready || e.target.tagName === "INPUT" || e.target.tagName === "SELECT") return;
+  if ((e.ctrlKey || e.metaKey) && (e.code === "KeyZ" || e.code === "KeyY")) {
+    // Ctrl+Z undoes; Ctrl+Shift+Z and Ctrl+Y redo (the scene's history).
+    e.preventDefault();
+    worker.postMessage({ type: e.shiftKey || e.code === "KeyY" ? "redo" : "undo" });
+    return;
+  }
+  if (e.ctrlKey || e.metaKey || e.altKey) return;
   worker.postMessage({ type: "key", code: e.code });
 });
 

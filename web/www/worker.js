@@ -3,6 +3,8 @@
 // the page is cross-origin isolated, initThreadPool starts wasm-bindgen-rayon's
 // pool (one worker per core) and the library's rayon loops run on it; rayon
 // blocks this worker while they do, which the page's main thread may not.
+// The panel: the worker posts App.panel's JSON for the selected item after
+// every change, and hands the page's edits, undo and redo to the App.
 import init, { App, initThreadPool } from "./pkg/lensview_web.js";
 
 let app = null;
@@ -12,6 +14,24 @@ let started = 0; // when the picture of `generation` started
 let [previewMs, samplesMs] = [0, 0]; // its time in block previews and in samples
 const wake = new MessageChannel();
 let awake = false;
+let selected = ""; // the panel's item ("": the App picks the first lens)
+
+function postPanel() {
+  const json = app.panel(selected);
+  selected = JSON.parse(json).selected;
+  postMessage({ type: "panel", json });
+}
+
+// Posts what a panel edit, undo or redo did; restarts the picture if it
+// changed.
+function edited(changed, t) {
+  postMessage({ type: "edited", changed, message: app.message() });
+  if (changed) {
+    restart();
+    started = t;
+  }
+  postPanel();
+}
 
 function frame() {
   const rgba = app.rgba();
@@ -81,6 +101,7 @@ async function start(d) {
     return;
   }
   postMessage({ type: "ready", threads, width: app.width(), height: app.height() });
+  postPanel();
   restart();
   started = t;
 }
@@ -95,15 +116,32 @@ onmessage = async ({ data: d }) => {
     if (changed) {
       restart();
       started = t;
+      postPanel();
     }
   } else if (d.type === "open") {
     try {
       app.open(d.name, d.bytes);
       postMessage({ type: "opened", name: d.name });
       restart();
+      postPanel();
     } catch (err) {
       postMessage({ type: "error", text: String(err) });
     }
+  } else if (d.type === "select") {
+    selected = d.id;
+    postPanel();
+  } else if (d.type === "set") {
+    const t = performance.now();
+    try {
+      edited(app.set(d.id, d.key, d.value), t);
+    } catch (err) {
+      // The library's one line; the panel shows the document's value again.
+      postMessage({ type: "error", text: String(err) });
+      postPanel();
+    }
+  } else if (d.type === "undo" || d.type === "redo") {
+    const t = performance.now();
+    edited(d.type === "undo" ? app.undo() : app.redo(), t);
   } else if (d.type === "toml") {
     postMessage({ type: "toml", id: d.id, text: app.sceneToml() });
   }
