@@ -188,23 +188,28 @@ fn a_packet_of_camera_rays_is_its_rays_one_by_one() {
 /// once) give each pixel exactly the mean of its samples traced one by one.
 #[test]
 fn a_lens_camera_picture_is_its_pixels_one_by_one() {
-    let scene = camera_dgauss();
     let s = RenderSettings {
         width: 37,
         height: 23,
         spp: 2,
         seed: 3,
     };
+    assert_pixels_one_by_one(&camera_dgauss(), &s, "camera-dgauss");
+}
+
+/// `render`'s picture of `scene` is each pixel's `render_pixel` (the
+/// scalar kernel, one sample after another), bit for bit, on every ISA.
+fn assert_pixels_one_by_one(scene: &Scene, s: &RenderSettings, name: &str) {
     for isa in isas() {
         assert!(force_isa(Some(isa)));
-        let img = render(&scene, &s, None);
+        let img = render(scene, s, None);
         for y in 0..s.height {
             for x in 0..s.width {
-                let want = render_pixel(&scene, x, y, &s);
+                let want = render_pixel(scene, x, y, s);
                 let got = img.get(x, y);
                 assert!(
                     (0..3).all(|c| got[c].to_bits() == want[c].to_bits()),
-                    "{isa:?}: pixel ({x}, {y}): {got:?} against {want:?}"
+                    "{name}, {isa:?}: pixel ({x}, {y}): {got:?} against {want:?}"
                 );
             }
         }
@@ -328,27 +333,12 @@ fn lane_trees_are_the_scalar_trees() {
 #[test]
 fn a_picture_through_scene_systems_is_its_pixels_one_by_one() {
     for file in ["scenes/achromat.toml", "benches/systems/double-gauss.toml"] {
-        let scene = load(file);
         let s = RenderSettings {
             width: 29,
             height: 21,
             spp: 2,
             seed: 5,
         };
-        for isa in isas() {
-            assert!(force_isa(Some(isa)));
-            let img = render(&scene, &s, None);
-            for y in 0..s.height {
-                for x in 0..s.width {
-                    let want = render_pixel(&scene, x, y, &s);
-                    let got = img.get(x, y);
-                    assert!(
-                        (0..3).all(|c| got[c].to_bits() == want[c].to_bits()),
-                        "{file}, {isa:?}: pixel ({x}, {y}): {got:?} against {want:?}"
-                    );
-                }
-            }
-        }
+        assert_pixels_one_by_one(&load(file), &s, file);
     }
-    force_isa(None);
 }
