@@ -288,14 +288,10 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     }
     let m = &s.object.material;
     let mut kr = if MIRROR { m.reflectivity } else { 0.0 };
-    if GLASS
-        && m.transparency > 0.0
-        && let Some(sys) = s.object.system()
-    {
+    if GLASS && m.transparency > 0.0 && s.object.system().is_some() {
         // A system's tree holds every reflection at its surfaces.
-        let kt = m.transparency;
-        if followed(kt, weight) {
-            let prune = lens_pruning(scene, depth, weight, kt);
+        if let Some((sys, prune)) = into_system(scene, s, depth, weight) {
+            let kt = m.transparency;
             refraction.through_system(s, sys, lambda_um, &prune, |tr| {
                 if let Some(sec) = refracted(scene, s, depth, weight, kt, tr) {
                     tracer.trace(sec, color);
@@ -319,6 +315,23 @@ pub(super) fn shade_onward<const GLASS: bool, const MIRROR: bool>(
     if followed(kr, weight) {
         tracer.trace(reflected(s, dir, depth, weight, kr), color);
     }
+}
+
+/// The lens system whose surface `s` is, and the pruning of its tree, where
+/// shading follows the light into it (for a ray `depth` bounces deep with
+/// path weight `weight`: transparent, within `max_depth`, its transmitted
+/// share [`followed`]); `None` otherwise. [`shade_onward`] and the packet
+/// kernel's trees walked beforehand (`system_pass::system_trees`) ask it.
+#[inline(always)]
+pub(super) fn into_system<'a>(
+    scene: &Scene,
+    s: &Surface<'a>,
+    depth: u32,
+    weight: f64,
+) -> Option<(&'a LensSystem, Pruning)> {
+    let kt = s.object.material.transparency;
+    let sys = s.object.system()?;
+    (kt > 0.0 && depth < scene.max_depth && followed(kt, weight)).then(|| (sys, lens_pruning(scene, depth, weight, kt)))
 }
 
 /// The shares of the light that glass of material `m` reflects (`kr`,

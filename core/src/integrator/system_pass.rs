@@ -6,7 +6,7 @@
 use super::PacketPaths;
 use super::lens_pass::Transmitted;
 use super::scalar::Alone;
-use super::shade::{Refraction, followed, lens_pruning};
+use super::shade::{Refraction, into_system};
 use super::surface::{Surface, spawn_ray};
 use crate::geometry::{LaneTrees, LensSystem, Pruning, SystemBranch};
 use crate::math::Ray;
@@ -80,7 +80,8 @@ impl SystemTrees {
 /// Walks together the trees of the lanes of a packet whose surface is a
 /// lens system's (the first such system; lanes on another take the scalar
 /// path) and whose light `shade_onward` follows into it, each pruned as
-/// `shade_onward` prunes it ([`LensSystem::branches_lanes`]), into `out`;
+/// `shade_onward` prunes it (both ask [`into_system`];
+/// [`LensSystem::branches_lanes`]), into `out`;
 /// none where the system's trees do not pay in lanes
 /// ([`LensSystem::trees_in_lanes`]).
 #[inline(always)]
@@ -96,20 +97,24 @@ pub(super) fn system_trees(
     let (mut origin, mut dir) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
     for (l, s) in surfaces.iter().enumerate() {
         let Some(s) = s else { continue };
-        let Some(sys) = s.object.system() else { continue };
-        let (depth, weight, kt) = (paths.depth[l], paths.weight[l], s.object.material.transparency);
-        if kt <= 0.0 || depth >= scene.max_depth || !followed(kt, weight) || which.is_some_and(|(i, _)| i != s.index) {
+        let Some((sys, prune)) = into_system(scene, s, paths.depth[l], paths.weight[l]) else {
             continue;
+        };
+        match which {
+            Some((i, _)) if i != s.index => continue,
+            // The first system's trees walk one by one: no lane is gathered.
+            None if !sys.trees_in_lanes() => return,
+            _ => {}
         }
         which.get_or_insert((s.index, sys));
         out.lanes |= 1 << l;
-        out.prune[l] = lens_pruning(scene, depth, weight, kt);
+        out.prune[l] = prune;
         let ray = paths.rays.ray(l);
         set_lane(&mut origin, l, ray.origin);
         set_lane(&mut dir, l, ray.dir);
     }
     let Some((object, sys)) = which else { return };
-    if out.lanes.count_ones() < MIN_TREES || !sys.trees_in_lanes() {
+    if out.lanes.count_ones() < MIN_TREES {
         out.lanes = 0;
         return;
     }
