@@ -108,6 +108,16 @@ impl Nearest {
         self.t < t_hi
     }
 
+    /// The crossing taken, if any (below `t_hi`).
+    #[inline(always)]
+    pub fn crossing(&self, t_hi: f64) -> Option<Crossing> {
+        self.found(t_hi).then_some(Crossing {
+            t: self.t,
+            piece: self.piece,
+            x: self.x,
+        })
+    }
+
     /// Takes the crossing at `t` if it is one (`ok`) and the nearest so far.
     #[inline(always)]
     fn take(&mut self, ok: bool, t: f64, piece: Piece, x: DVec3) {
@@ -231,11 +241,7 @@ impl LensSystem {
                 break;
             }
         }
-        best.found(t_hi).then_some(Crossing {
-            t: best.t,
-            piece: best.piece,
-            x: best.x,
-        })
+        best.crossing(t_hi)
     }
 
     /// [`LensSystem::next_crossing`]'s step at face `k` (`f`) of the walk,

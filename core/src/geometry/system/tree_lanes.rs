@@ -10,7 +10,6 @@
 //! tree's, bit for bit and in its order (`tests/system_lanes.rs`).
 
 use super::lanes::{NONE, Walk};
-use super::pieces::Crossing;
 use super::walk::{Live, STACK, Tree};
 use super::{LensSystem, SystemBranch};
 use crate::geometry::Pruning;
@@ -105,12 +104,7 @@ fn branches_lanes_impl(
         let found = system.lane_crossings(&walk);
         for (l, b) in popped.iter().enumerate() {
             let Some(b) = b else { continue };
-            let near = found.near(l, 0.0);
-            let c = near.found(f64::INFINITY).then_some(Crossing {
-                t: near.t,
-                piece: near.piece,
-                x: near.x,
-            });
+            let c = found.near(l, 0.0).crossing(f64::INFINITY);
             system.tree_step(&mut tree[l], b, c, &media, most, &mut |ray| out[l].push(ray));
         }
     }
