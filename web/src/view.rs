@@ -191,10 +191,9 @@ impl View {
             return self.fly(code);
         };
         match self.doc.apply_edit(edit) {
-            Ok((msg, _)) => {
+            Ok((msg, change)) => {
                 self.message = msg;
-                self.restart(true);
-                true
+                self.changed(change)
             }
             Err(e) => {
                 self.message = format!("not applied: {e}");
