@@ -16,9 +16,11 @@ use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
 use lensview::render::RenderSettings;
 use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
+use lensview::render::first_frame::hole_level;
 use lensview::render::progressive::{Progressive, Sampling, Stage, schedule};
 use lensview::render::steps::Steps;
 use lensview::scene::{Scene, escape_controls};
+use std::sync::Arc;
 
 /// Units a flight key moves the camera per press (the desktop viewer's
 /// 3 units a second for a twelfth of a second); degrees a turn key turns.
@@ -40,6 +42,9 @@ pub struct View {
     /// The block preview drawn last, until the first band of samples.
     shown: Option<Stage>,
     steps: Steps,
+    /// The scene of the picture shown (its camera), for the next move to
+    /// reproject it from.
+    pictured: Arc<Scene>,
     rgba: Vec<u8>,
     /// What the last key did, for the page's message line.
     message: String,
@@ -79,6 +84,7 @@ impl View {
             spp: 1,
             seed,
         };
+        let pictured = doc.built().clone();
         let mut view = View {
             doc,
             size,
@@ -89,6 +95,7 @@ impl View {
             progressive: Progressive::new(size.0, size.1, seed).with_sampling(Sampling::UNIFORM),
             shown: None,
             steps: Steps::new(settings),
+            pictured,
             rgba: vec![0; size.0 as usize * size.1 as usize * 4],
             message: String::new(),
         };
@@ -118,12 +125,52 @@ impl View {
         self.previews.reverse();
         self.shown = None;
         self.progressive.reset(self.size.0, self.size.1, self.seed);
+        self.new_samples(spp);
+    }
+
+    /// Full samples start over (the picture shown stays until their bands
+    /// replace it).
+    fn new_samples(&mut self, spp: u32) {
         self.steps = Steps::new(RenderSettings {
             width: self.size.0,
             height: self.size.1,
             spp,
             seed: self.seed,
         });
+        self.pictured = self.doc.built().clone();
+    }
+
+    /// A camera move: the picture shown, moved into the new view as the
+    /// desktop viewer moves it (`Progressive::reproject`: what was seen
+    /// stays sharp, what was hidden or is seen through glass is traced at
+    /// 2×2 blocks), then full samples from the start; the block previews
+    /// again while nothing at full resolution is shown (or through a lens
+    /// camera, whose pixels a warp cannot move).
+    fn moved(&mut self) {
+        if !self.reproject() {
+            self.restart(false);
+        }
+    }
+
+    fn reproject(&mut self) -> bool {
+        let w = self.size.0 as usize;
+        let steps = &self.steps;
+        if w == 0 || !self.progressive.hold(|i| steps.pixel((i % w) as u32, (i / w) as u32)) {
+            return false;
+        }
+        let scene = self.doc.built().clone();
+        let lit = Lit::new(&scene, self.map.as_ref());
+        if !self
+            .progressive
+            .reproject(lit, &self.pictured, |holes| hole_level(holes, None))
+        {
+            return false;
+        }
+        self.progressive.write_rgba8(&mut self.rgba, scene.tone);
+        self.previews.clear();
+        self.shown = Some(Stage::Reprojected);
+        self.new_samples(if self.spp == 0 { scene.spp } else { self.spp });
+        true
     }
 
     /// Draws the next block preview, or renders the next `bands` bands of
@@ -244,7 +291,7 @@ impl View {
         match change {
             Change::None | Change::File => false,
             Change::Camera => {
-                self.restart(false);
+                self.moved();
                 true
             }
             _ => {
@@ -281,7 +328,7 @@ impl View {
         if self.doc.fly_camera(pos, rot).is_err() {
             return false;
         }
-        self.restart(false);
+        self.moved();
         true
     }
 
@@ -369,6 +416,62 @@ mod tests {
         assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 2, 1));
         assert!(!v.key("KeyQ"));
         assert!(v.scene_toml().unwrap().contains("[camera]"));
+    }
+
+    /// The mean absolute difference of two RGB(A) pictures, per channel.
+    fn mean_diff(a: &[u8], b: &[u8]) -> f64 {
+        let sum: u64 = a.iter().zip(b).map(|(&x, &y)| u64::from(x.abs_diff(y))).sum();
+        sum as f64 / a.len() as f64
+    }
+
+    /// A move with a picture at full resolution shows it moved into the
+    /// new view (the desktop's reprojection), far nearer the moved scene's
+    /// picture than the block preview a fresh start shows, and again after
+    /// a second move (a reprojection of the reprojection); the finished
+    /// picture is still `render`'s. With only blocks shown, a move starts
+    /// over with blocks.
+    #[test]
+    fn a_move_shows_the_picture_moved_then_renders() {
+        let (size, spp, seed) = ((64, 48), 2, 4);
+        let mut v = View::new(Some("cubes"), size, spp, seed).unwrap();
+        finish(&mut v);
+        for key in ["ArrowLeft", "ArrowUp", "KeyW"] {
+            let stale = rgb(&v);
+            assert!(v.key(key));
+            assert_eq!(v.stage(), "reprojected");
+            let moved = rgb(&v);
+            let want = renders(&scene_of(&v), size, spp, seed);
+            let mut fresh = View::new(Some("cubes"), size, spp, seed).unwrap();
+            assert!(
+                fresh
+                    .doc
+                    .fly_camera(v.doc.camera_pose().0, v.doc.camera_pose().1)
+                    .is_ok()
+            );
+            fresh.restart(false);
+            assert!(fresh.step(1));
+            assert_eq!(fresh.stage(), "8×8 blocks");
+            let (d_moved, d_blocks) = (mean_diff(&moved, &want), mean_diff(&rgb(&fresh), &want));
+            let d_stale = mean_diff(&stale, &want);
+            eprintln!("{key}: {d_moved} against blocks {d_blocks}, unmoved {d_stale}");
+            assert!(d_moved < 0.5 * d_blocks, "{key}: {d_moved} against blocks {d_blocks}");
+            // A turn moves the whole picture; a step forward of this size
+            // hardly changes it (the unmoved picture is then no measure).
+            if key != "KeyW" {
+                assert!(d_moved < 0.5 * d_stale, "{key}: {d_moved} against unmoved {d_stale}");
+            }
+        }
+        finish(&mut v);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), size, spp, seed));
+        // Blocks only: a move starts over.
+        let mut w = View::new(Some("cubes"), size, spp, seed).unwrap();
+        assert!(w.step(1) && w.key("KeyW") && w.step(1));
+        assert_eq!(w.stage(), "8×8 blocks");
+        // A lens camera's picture is not moved.
+        let mut c = View::new(Some("camera-dgauss"), (24, 16), 1, seed).unwrap();
+        finish(&mut c);
+        assert!(c.key("KeyW") && c.step(1));
+        assert_eq!(c.stage(), "8×8 blocks");
     }
 
     /// A lens key makes the desktop's edit (`edit::apply` of its

@@ -278,6 +278,37 @@ impl Progressive {
         true
     }
 
+    /// Takes a picture refined elsewhere as the one held, for the next
+    /// [`Self::reproject`] to move: pixel `i` becomes `over(i)` where that
+    /// is `Some` (linear colour), else keeps what this picture shows. For
+    /// a front end that adds its samples outside this type (the web page's
+    /// band steps, whose finished picture is `render`'s). Returns `false`,
+    /// changing nothing, if a pixel left to this picture shows only a
+    /// block preview (nothing at full resolution to move).
+    pub fn hold(&mut self, over: impl Fn(usize) -> Option<Rgb> + Sync) -> bool {
+        let blocks = self.spp == 0 && (self.block > 1 || !self.reprojected);
+        let (spp, preview, sum, count) = (self.spp, &self.preview, &self.sum, &self.count);
+        // Into the scratch buffer (the old picture is read meanwhile), which
+        // then becomes the preview; a refusal leaves only scratch written.
+        let whole = self.next.par_iter_mut().enumerate().all(|(i, out)| {
+            let own = || match spp {
+                0 => preview[i],
+                _ => mean(sum[i], count[i]),
+            };
+            match over(i).or_else(|| (!blocks).then(own)) {
+                Some(c) => *out = c,
+                None => return false,
+            }
+            true
+        });
+        if !whole {
+            return false;
+        }
+        std::mem::swap(&mut self.preview, &mut self.next);
+        (self.spp, self.block, self.reprojected) = (0, 1, true);
+        true
+    }
+
     /// What each pixel's centre ray met (row-major; see [`FirstHit`]), once
     /// recorded for the picture held ([`Self::record_first_hits`]).
     pub fn first_hits(&self) -> Option<&[FirstHit]> {

@@ -364,3 +364,32 @@ fn adaptive_waves_sample_through_the_lens_camera() {
         }
     }
 }
+
+/// A picture refined elsewhere is held only where it covers what would
+/// otherwise be a block preview or nothing; held, it is the picture a
+/// reprojection moves (a turn of the camera by nothing moves nothing).
+#[test]
+fn a_held_picture_is_what_a_reprojection_moves() {
+    let scene = scene();
+    let mut p = Progressive::new(48, 36, 1);
+    let n = 48 * 36;
+    let colour = |i: usize| Rgb::splat(i as f64 / n as f64);
+    assert!(!p.hold(|_| None), "nothing drawn yet");
+    p.run(&scene, Stage::Blocks(4), &|| false);
+    assert!(!p.hold(|i| (i > 0).then(|| colour(i))), "a pixel left to a block");
+    assert!(p.hold(|i| Some(colour(i))));
+    assert!(p.hold(|_| None), "a held picture is at full resolution");
+    assert!(p.reproject(&scene, &scene, |_| 1));
+    let img = p.image();
+    // Pixels seen on a surface keep their colour (to the rounding of the
+    // projection), but for those beside glass or a mirror, which are
+    // traced again with those seen through them.
+    let first = p.first_hits().unwrap();
+    let surface: Vec<usize> = (0..n).filter(|&i| first[i].seen() == Seen::Surface).collect();
+    let kept = surface
+        .iter()
+        .filter(|&&i| (img.pixels[i] - colour(i)).abs().max_element() < 1e-4)
+        .count();
+    assert!(surface.len() >= n / 4, "{} of {n} on a surface", surface.len());
+    assert!(kept * 4 >= surface.len() * 3, "{kept} of {} kept", surface.len());
+}
