@@ -12,9 +12,12 @@
 //! Save PNG download the edited scene and the canvas; a bad scene file, opened or dropped,
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
-//! native picture; no console error. Then not isolated: one thread, a note
-//! that says so, and the same picture. Needs Debian's rustc-web,
-//! rust-web-src, rust-web-llvm, lld, chromium, wasm-bindgen-cli and
+//! native picture; no console error. The same in headless Firefox (over
+//! WebDriver BiDi: the first picture, W, the lens key, the dropped files
+//! and the presets, bit for bit; BiDi has no file-input or download
+//! commands, and the panel is Chromium's part). Then not isolated: one
+//! thread, a note that says so, and the same picture. Needs Debian's rustc-web,
+//! rust-web-src, rust-web-llvm, lld, chromium, firefox-esr, wasm-bindgen-cli and
 //! Python's websocket-client (`.ci/run` installs them); fails, naming what
 //! is missing, without them.
 
@@ -71,6 +74,9 @@ fn missing_tools() -> Vec<&'static str> {
     }
     if !has("chromium", &["--version"]) {
         missing.push("chromium (apt-get install chromium)");
+    }
+    if !has("firefox-esr", &["--version"]) {
+        missing.push("firefox (apt-get install firefox-esr)");
     }
     if !has("python3", &["-c", "import websocket"]) {
         missing.push("Python's websocket-client (python3 -m pip install websocket-client)");
@@ -175,7 +181,7 @@ fn drive(root: &Path, dist: &Path, out: &Path, args: &[&str]) -> String {
         "the page test (tools/web_page_test.py)",
     );
     let report = std::fs::read_to_string(out.join("report.json")).unwrap();
-    eprintln!("the page in Chromium: {:.1} s; {report}", t.elapsed().as_secs_f64());
+    eprintln!("the page test {args:?}: {:.1} s; {report}", t.elapsed().as_secs_f64());
     assert!(
         report.contains("\"console_errors\": []"),
         "the page logged errors: {report}"
@@ -217,15 +223,15 @@ fn cli_error(work: &Path) -> String {
 /// The cubes page after W and the lens key 2: each picture is the native
 /// one of the page's scene file, and the key made the desktop's edit
 /// (`edit::apply` of the library's lens key table) of the scene before.
-fn assert_keys_give_native(work: &Path, out: &Path) {
+fn assert_keys_give_native(out: &Path) -> Vec<u8> {
     let first = std::fs::read(out.join("first.rgba")).unwrap();
     let moved = std::fs::read(out.join("moved.rgba")).unwrap();
     assert_ne!(first, moved, "W changed nothing on the page");
-    let native_moved = native_rgb(&out.join("moved.toml"), &work.join("moved.png"), CUBES);
+    let native_moved = native_rgb(&out.join("moved.toml"), &out.join("moved.png"), CUBES);
     assert_same_picture(&moved, &native_moved, "cubes after W");
     let lens = std::fs::read(out.join("lens.rgba")).unwrap();
     assert_ne!(moved, lens, "the lens key changed nothing on the page");
-    let native_lens = native_rgb(&out.join("lens.toml"), &work.join("lens.png"), CUBES);
+    let native_lens = native_rgb(&out.join("lens.toml"), &out.join("lens.png"), CUBES);
     assert_same_picture(&lens, &native_lens, "cubes after the lens key 2");
     let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
     let (mut want, _) = lensview::scene::Scene::parse("moved", &text("moved.toml")).unwrap();
@@ -238,7 +244,7 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
         got.lenses,
         want.lenses
     );
-    assert_panel_edits(work, out, &lens);
+    lens
 }
 
 /// The r1 the page's panel test types, and the one it must refuse
@@ -313,37 +319,43 @@ fn rgb_of(rgba: &[u8]) -> Vec<u8> {
 /// Cross-origin isolated (`work/dist` served with COOP/COEP): one thread a
 /// core; cubes, W, the lens key, saving; the bad file opened and dropped,
 /// a good one dropped; every preset; each picture the native one.
-fn assert_isolated_page(root: &Path, work: &Path, query: &str) {
+fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
     let bad = work.join("bad.toml");
     std::fs::write(&bad, "[camera]\nposition = [0, 1, 5]\nfov = \"wide\"\n").unwrap();
-    let (out, names) = (work.join("page"), presets(root));
+    let (out, names) = (work.join(format!("page-{browser}")), presets(root));
     let good = root.join("scenes/focal-spot.toml");
     let (bad_arg, good_arg) = (bad.to_str().unwrap(), good.to_str().unwrap());
     let presets = (names.join(","), PRESETS.query());
-    let args = ["--query", query, "--bad", bad_arg, "--good", good_arg];
+    let args = ["--query", query, "--bad", bad_arg, "--good", good_arg, "--browser", browser];
     let more = ["--presets", &presets.0, "--preset-query", &presets.1];
     let report = drive(root, &work.join("dist"), &out, &[&args[..], &more[..]].concat());
-    assert!(report.contains("\"cross_origin_isolated\": true"), "{report}");
+    assert!(report.contains("\"cross_origin_isolated\": true"), "{browser}: {report}");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
-    assert_eq!(page_threads(&report), cores, "threads: one a core");
+    assert_eq!(page_threads(&report), cores, "{browser}: threads: one a core");
     let cubes = root.join("scenes/cubes.toml");
     let first = std::fs::read(out.join("first.rgba")).unwrap();
-    assert_same_picture(&first, &native_rgb(&cubes, &work.join("first.png"), CUBES), "cubes");
-    assert_keys_give_native(work, &out);
+    let what = format!("cubes in {browser}");
+    assert_same_picture(&first, &native_rgb(&cubes, &out.join("first.png"), CUBES), &what);
+    let lens = assert_keys_give_native(&out);
+    if browser == "chromium" {
+        assert_panel_edits(work, &out, &lens);
+    }
     for name in &names {
         let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();
         let scene = root.join("scenes").join(format!("{name}.toml"));
-        let native = native_rgb(&scene, &work.join(format!("{name}.png")), PRESETS);
-        assert_same_picture(&page, &native, name);
+        let native = native_rgb(&scene, &out.join(format!("{name}.png")), PRESETS);
+        assert_same_picture(&page, &native, &format!("{name} in {browser}"));
     }
     let dropped = std::fs::read(out.join("good.rgba")).unwrap();
-    let native = native_rgb(&good, &work.join("good.png"), CUBES);
+    let native = native_rgb(&good, &out.join("good.png"), CUBES);
     assert_same_picture(&dropped, &native, "focal-spot.toml dropped on the page");
     let cli = cli_error(work);
-    for file in ["error.txt", "dropped.txt"] {
+    // Firefox's BiDi cannot fill a file input: the file is dropped there.
+    let files: &[&str] = if browser == "chromium" { &["error.txt", "dropped.txt"] } else { &["dropped.txt"] };
+    for file in files {
         let page = std::fs::read_to_string(out.join(file)).unwrap();
-        assert!(page.starts_with("error: bad.toml:"), "{file}: {page}");
-        let why = format!("{file}: the page's error line is not the command line's");
+        assert!(page.starts_with("error: bad.toml:"), "{browser} {file}: {page}");
+        let why = format!("{browser} {file}: the page's error line is not the command line's");
         assert_eq!(page.trim_end(), cli, "{why}");
     }
 }
@@ -370,7 +382,8 @@ fn the_page_renders_what_the_native_renderer_renders() {
     eprintln!("web/build.sh: {:.1} s", t.elapsed().as_secs_f64());
 
     let query = format!("scene=cubes&{}", CUBES.query());
-    assert_isolated_page(&root, &work, &query);
+    assert_isolated_page(&root, &work, &query, "chromium");
+    assert_isolated_page(&root, &work, &query, "firefox");
 
     // Not isolated: one thread, a note that says so, the same picture.
     let out = work.join("plain");

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Drives lensview's web page in headless Chromium over the DevTools
-protocol, for tests/web.rs (and the figures of docs/web.md).
+protocol (or, --browser firefox, in headless Firefox over WebDriver BiDi:
+tools/web_bidi.py), for tests/web.rs (and the figures of docs/web.md).
 
 Serves DIST on 127.0.0.1 (a thread of this process, web/serve.py's server;
 with the COOP/COEP headers unless --no-isolation), starts Chromium with a
@@ -44,6 +45,8 @@ try:
     import websocket  # websocket-client, from PyPI
 except ImportError:
     sys.exit("error: Python's websocket-client is missing: python3 -m pip install websocket-client (.ci/run does)")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import web_bidi  # noqa: E402
 
 FLAGS = [
     "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -95,15 +98,29 @@ class Page:
             time.sleep(0.05)
         raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('JSON.stringify(window.lensview)')}")
 
-    def canvas(self):
-        b64 = self.eval("""(() => {
-            const c = document.getElementById('view');
-            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-            let s = '';
-            for (let i = 0; i < d.length; i += 0x8000) s += String.fromCharCode.apply(null, d.subarray(i, i + 0x8000));
-            return btoa(s);
-        })()""")
-        return base64.b64decode(b64)
+    def navigate(self, url):
+        self.call("Page.navigate", url=url)
+
+    def key(self, code, key, vk, modifiers=0):
+        """One key pressed and released, as the keyboard sends it."""
+        for kind in ("keyDown", "keyUp"):
+            self.call("Input.dispatchKeyEvent", type=kind, code=code, key=key, windowsVirtualKeyCode=vk,
+                      modifiers=modifiers, **({"text": key} if kind == "keyDown" and not modifiers else {}))
+
+    def close(self):
+        pass
+
+
+def canvas(page):
+    """The picture's canvas as RGBA bytes."""
+    b64 = page.eval("""(() => {
+        const c = document.getElementById('view');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let s = '';
+        for (let i = 0; i < d.length; i += 0x8000) s += String.fromCharCode.apply(null, d.subarray(i, i + 0x8000));
+        return btoa(s);
+    })()""")
+    return base64.b64decode(b64)
 
 
 def start_chromium(profile):
@@ -143,7 +160,7 @@ def open_page(page, url, a):
     """Opens `url` and waits for its finished first picture (or an error);
     returns the page's state and the wall time it took."""
     t0 = time.monotonic()
-    page.call("Page.navigate", url=url)
+    page.navigate(url)
     page.wait("window.lensview && (window.lensview.done || window.lensview.error !== '')", "its first picture", a.timeout)
     return json.loads(page.eval(STATE)), time.monotonic() - t0
 
@@ -157,9 +174,7 @@ def press(page, a, code, key, vk, renders, what):
     """Presses a key on the focused canvas as a user does; waits for the
     finished picture it starts (the page's `renders`-th)."""
     page.eval("document.getElementById('view').focus()")
-    for kind in ("keyDown", "keyUp"):
-        page.call("Input.dispatchKeyEvent", type=kind, code=code, key=key, windowsVirtualKeyCode=vk,
-                  **({"text": key} if kind == "keyDown" else {}))
+    page.key(code, key, vk)
     page.wait(f"window.lensview.renders >= {renders} && window.lensview.done", what, a.timeout)
     return json.loads(page.eval(STATE))
 
@@ -183,26 +198,25 @@ def panel_edits(page, a, out, report):
     type_field(page, "r1", a.panel_r1)
     page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done", "the picture after r1", a.timeout)
     report["panel"] = json.loads(page.eval(STATE))
-    save(out, "panel.rgba", page.canvas())
+    save(out, "panel.rgba", canvas(page))
     save(out, "panel.toml", page.eval("window.lensview.sceneToml()"))
     type_field(page, "r1", a.panel_bad)
     page.wait("window.lensview.error !== ''", "an error line for the refused r1", a.timeout)
     save(out, "panel-error.txt", page.eval("document.getElementById('error').textContent"))
     report["panel_field_after_error"] = page.eval("document.getElementById('field-r1').value")
     page.eval("document.getElementById('view').focus()")
-    for kind in ("keyDown", "keyUp"):
-        page.call("Input.dispatchKeyEvent", type=kind, code="KeyZ", key="z", windowsVirtualKeyCode=90, modifiers=2)
+    page.key("KeyZ", "z", 90, modifiers=2)
     page.wait(f"window.lensview.renders >= {renders + 2} && window.lensview.done", "the picture after Ctrl+Z", a.timeout)
-    save(out, "undone.rgba", page.canvas())
+    save(out, "undone.rgba", canvas(page))
     report["undone_error"] = page.eval("window.lensview.error")
     page.eval("document.getElementById('redo').click()")
     page.wait(f"window.lensview.renders >= {renders + 3} && window.lensview.done", "the picture after Redo", a.timeout)
-    save(out, "redone.rgba", page.canvas())
+    save(out, "redone.rgba", canvas(page))
     # A catalogue glass from the panel's list, as a user picks it.
     page.eval(f"""(() => {{ const s = document.getElementById('field-n.glass');
         s.value = '{a.panel_glass}'; s.dispatchEvent(new Event('change')); }})()""")
     page.wait(f"window.lensview.renders >= {renders + 4} && window.lensview.done", "the picture after the glass", a.timeout)
-    save(out, "glass.rgba", page.canvas())
+    save(out, "glass.rgba", canvas(page))
     save(out, "glass.toml", page.eval("window.lensview.sceneToml()"))
     report["overlay"] = page.eval("document.getElementById('overlay').textContent")
 
@@ -225,14 +239,16 @@ def downloads(page, a, out, report):
 
 
 def bad_files(page, a, out):
-    """The bad scene file through the file input, then dropped on the page;
-    then the good one (--good) dropped."""
-    doc = page.call("DOM.getDocument")
-    node = page.call("DOM.querySelector", nodeId=doc["root"]["nodeId"], selector="#file")["nodeId"]
-    page.call("DOM.setFileInputFiles", nodeId=node, files=[os.path.abspath(a.bad)])
-    page.wait("window.lensview.error !== ''", "an error line for the bad file", a.timeout)
-    save(out, "error.txt", page.eval("document.getElementById('error').textContent"))
-    page.eval("window.lensview.error = ''; document.getElementById('error').textContent = ''")
+    """The bad scene file through the file input (Chromium: Firefox's BiDi
+    has no file-input command), then dropped on the page; then the good one
+    (--good) dropped."""
+    if a.browser == "chromium":
+        doc = page.call("DOM.getDocument")
+        node = page.call("DOM.querySelector", nodeId=doc["root"]["nodeId"], selector="#file")["nodeId"]
+        page.call("DOM.setFileInputFiles", nodeId=node, files=[os.path.abspath(a.bad)])
+        page.wait("window.lensview.error !== ''", "an error line for the bad file", a.timeout)
+        save(out, "error.txt", page.eval("document.getElementById('error').textContent"))
+        page.eval("window.lensview.error = ''; document.getElementById('error').textContent = ''")
     drop(page, a.bad)
     page.wait("window.lensview.error !== ''", "an error line for the dropped file", a.timeout)
     save(out, "dropped.txt", page.eval("document.getElementById('error').textContent"))
@@ -242,7 +258,7 @@ def bad_files(page, a, out):
         drop(page, a.good)
         page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done && window.lensview.error === ''",
                   "the picture of the dropped good file", a.timeout)
-        save(out, "good.rgba", page.canvas())
+        save(out, "good.rgba", canvas(page))
 
 
 def drop(page, path):
@@ -261,21 +277,23 @@ def drop(page, path):
 def run(page, url, a, out, report):
     report["first"], report["first_wall_s"] = open_page(page, url, a)
     report["note"] = page.eval("document.getElementById('note').textContent")
-    save(out, "first.rgba", page.canvas())
+    save(out, "first.rgba", canvas(page))
     if not a.measure:
         report["moved"] = press(page, a, "KeyW", "w", 87, 2, "the picture after W")
-        save(out, "moved.rgba", page.canvas())
+        save(out, "moved.rgba", canvas(page))
         save(out, "moved.toml", page.eval("window.lensview.sceneToml()"))
         report["lens"] = press(page, a, "Digit2", "2", 50, 3, "the picture after the lens key 2")
-        save(out, "lens.rgba", page.canvas())
+        save(out, "lens.rgba", canvas(page))
         save(out, "lens.toml", page.eval("window.lensview.sceneToml()"))
-        panel_edits(page, a, out, report)
-        downloads(page, a, out, report)
-        bad_files(page, a, out)
+        if a.browser == "chromium":
+            panel_edits(page, a, out, report)
+            downloads(page, a, out, report)
+        if a.bad:
+            bad_files(page, a, out)
     for name in filter(None, a.presets.split(",")):
         base = url.split("?")[0]
         report[f"preset-{name}"], _ = open_page(page, f"{base}?scene={name}&{a.preset_query}", a)
-        save(out, f"preset-{name}.rgba", page.canvas())
+        save(out, f"preset-{name}.rgba", canvas(page))
 
 
 def main():
@@ -292,6 +310,8 @@ def main():
     ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
     ap.add_argument("--panel-bad", default="0.1", help="an r1 the panel must refuse")
     ap.add_argument("--panel-glass", default="N-SF5", help="the lens's glass picked in the panel")
+    ap.add_argument("--browser", choices=("chromium", "firefox"), default="chromium",
+                    help="firefox: the first picture, the keys, dropped files and presets (no panel, downloads or file input)")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.
@@ -299,14 +319,18 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     httpd = serve.server(a.dist, 0, not a.no_isolation)
     threading.Thread(target=httpd.serve_forever, daemon=True).start()
-    profile = tempfile.mkdtemp(prefix="lensview-chromium-")
-    chromium = None
-    report = {"console_errors": []}
+    profile = tempfile.mkdtemp(prefix=f"lensview-{a.browser}-")
+    browser = page = None
+    report = {"console_errors": [], "browser": a.browser}
     try:
-        chromium, port = start_chromium(profile)
-        page = Page(page_target(port))
-        for domain in ("Runtime", "Log", "Page", "DOM"):
-            page.call(f"{domain}.enable")
+        if a.browser == "firefox":
+            browser, ws_url = web_bidi.start_firefox(profile)
+            page = web_bidi.BidiPage(ws_url)
+        else:
+            browser, port = start_chromium(profile)
+            page = Page(page_target(port))
+            for domain in ("Runtime", "Log", "Page", "DOM"):
+                page.call(f"{domain}.enable")
         url = f"http://127.0.0.1:{httpd.server_address[1]}/?{a.query}"
         report["url"] = url
         try:
@@ -315,16 +339,17 @@ def main():
             report["console_errors"] = page.errors
             report["user_agent"] = page.eval("navigator.userAgent")
             report["cross_origin_isolated"] = page.eval("window.crossOriginIsolated")
+            page.close()
     finally:
         with open(os.path.join(a.out, "report.json"), "w") as f:
             json.dump(report, f, indent=1)
-        if chromium:
-            chromium.terminate()
+        if browser:
+            browser.terminate()
             try:
-                chromium.wait(10)
+                browser.wait(10)
             except subprocess.TimeoutExpired:
-                chromium.kill()
-                chromium.wait()
+                browser.kill()
+                browser.wait()
         httpd.shutdown()
         httpd.server_close()
         shutil.rmtree(profile, ignore_errors=True)
