@@ -26,11 +26,16 @@ function postPanel() {
 // changed.
 function edited(changed, t) {
   postMessage({ type: "edited", changed, message: app.message() });
-  if (changed) {
-    restart();
-    started = t;
-  }
+  if (changed) changedAt(t);
   postPanel();
+}
+
+// A new picture after a change made at `t`; a camera move's picture moved
+// into the new view (App.step's "reprojected" stage) is shown at once.
+function changedAt(t) {
+  restart();
+  started = t;
+  if (app.stage() === "reprojected") frame();
 }
 
 function frame() {
@@ -114,8 +119,7 @@ onmessage = async ({ data: d }) => {
     const changed = app.key(d.code);
     postMessage({ type: "key", changed, message: app.message() });
     if (changed) {
-      restart();
-      started = t;
+      changedAt(t);
       postPanel();
     }
   } else if (d.type === "open") {
