@@ -13,11 +13,14 @@
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
 //! native picture; no console error. The same in headless Firefox (over
-//! WebDriver BiDi: the first picture, W, the lens key, the dropped files
-//! and the presets, bit for bit; BiDi has no file-input or download
-//! commands, and the panel is Chromium's part). Then not isolated: one
+//! WebDriver BiDi) and in WebKitGTK's MiniBrowser, Safari's engine (over
+//! WebDriver, under Xvfb): the first picture, W, the lens key, the dropped
+//! files and the presets, bit for bit (their drivers have no file-input or
+//! download commands, and the panel is Chromium's part; WebKitGTK gives
+//! WebDriver no console, so there the page's error line stands for it). Then not isolated: one
 //! thread, a note that says so, and the same picture. Needs Debian's rustc-web,
-//! rust-web-src, rust-web-llvm, lld, chromium, firefox-esr, wasm-bindgen-cli and
+//! rust-web-src, rust-web-llvm, lld, chromium, firefox-esr, webkit2gtk-driver,
+//! xvfb-run, wasm-bindgen-cli and
 //! Python's websocket-client (`.ci/run` installs them); fails, naming what
 //! is missing, without them.
 
@@ -77,6 +80,9 @@ fn missing_tools() -> Vec<&'static str> {
     }
     if !has("firefox-esr", &["--version"]) {
         missing.push("firefox (apt-get install firefox-esr)");
+    }
+    if !Path::new("/usr/bin/WebKitWebDriver").exists() || !has("xvfb-run", &["--help"]) {
+        missing.push("WebKit's driver and xvfb-run (apt-get install webkit2gtk-driver xvfb xauth)");
     }
     if !has("python3", &["-c", "import websocket"]) {
         missing.push("Python's websocket-client (python3 -m pip install websocket-client)");
@@ -172,7 +178,14 @@ fn assert_same_picture(canvas: &[u8], native: &[u8], what: &str) {
 /// checked for console errors.
 fn drive(root: &Path, dist: &Path, out: &Path, args: &[&str]) -> String {
     let t = Instant::now();
-    let mut driver = Command::new("python3");
+    // WebKitGTK needs an X display: its own Xvfb, stopped with it.
+    let mut driver = if args.contains(&"webkit") {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "python3"]);
+        c
+    } else {
+        Command::new("python3")
+    };
     driver.arg(root.join("tools/web_page_test.py")).arg("--dist").arg(dist);
     driver.arg("--out").arg(out).args(args);
     run_bounded(
@@ -204,7 +217,13 @@ fn presets(root: &Path) -> Vec<String> {
 
 /// The threads the page reported, from the report's JSON.
 fn page_threads(report: &str) -> u32 {
-    let at = report.find("\"threads\": ").expect("the page reports its threads") + 11;
+    report_number(report, "threads")
+}
+
+/// The first number named `key` in the report's JSON.
+fn report_number(report: &str, key: &str) -> u32 {
+    let name = format!("\"{key}\": ");
+    let at = report.find(&name).unwrap_or_else(|| panic!("the report has no {key}")) + name.len();
     let digits: String = report[at..].chars().take_while(char::is_ascii_digit).collect();
     digits.parse().unwrap()
 }
@@ -326,12 +345,30 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
     let good = root.join("scenes/focal-spot.toml");
     let (bad_arg, good_arg) = (bad.to_str().unwrap(), good.to_str().unwrap());
     let presets = (names.join(","), PRESETS.query());
-    let args = ["--query", query, "--bad", bad_arg, "--good", good_arg, "--browser", browser];
+    let args = [
+        "--query",
+        query,
+        "--bad",
+        bad_arg,
+        "--good",
+        good_arg,
+        "--browser",
+        browser,
+    ];
     let more = ["--presets", &presets.0, "--preset-query", &presets.1];
     let report = drive(root, &work.join("dist"), &out, &[&args[..], &more[..]].concat());
-    assert!(report.contains("\"cross_origin_isolated\": true"), "{browser}: {report}");
+    assert!(
+        report.contains("\"cross_origin_isolated\": true"),
+        "{browser}: {report}"
+    );
+    // One thread a core as the browser counts them (WebKit rounds the
+    // count it gives pages: 4 on this 2-core machine).
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
-    assert_eq!(page_threads(&report), cores, "{browser}: threads: one a core");
+    let counted = report_number(&report, "hardware_concurrency");
+    assert_eq!(page_threads(&report), counted, "{browser}: threads: one a core");
+    if browser != "webkit" {
+        assert_eq!(counted, cores, "{browser}: hardwareConcurrency");
+    }
     let cubes = root.join("scenes/cubes.toml");
     let first = std::fs::read(out.join("first.rgba")).unwrap();
     let what = format!("cubes in {browser}");
@@ -351,7 +388,11 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
     assert_same_picture(&dropped, &native, "focal-spot.toml dropped on the page");
     let cli = cli_error(work);
     // Firefox's BiDi cannot fill a file input: the file is dropped there.
-    let files: &[&str] = if browser == "chromium" { &["error.txt", "dropped.txt"] } else { &["dropped.txt"] };
+    let files: &[&str] = if browser == "chromium" {
+        &["error.txt", "dropped.txt"]
+    } else {
+        &["dropped.txt"]
+    };
     for file in files {
         let page = std::fs::read_to_string(out.join(file)).unwrap();
         assert!(page.starts_with("error: bad.toml:"), "{browser} {file}: {page}");
@@ -384,6 +425,7 @@ fn the_page_renders_what_the_native_renderer_renders() {
     let query = format!("scene=cubes&{}", CUBES.query());
     assert_isolated_page(&root, &work, &query, "chromium");
     assert_isolated_page(&root, &work, &query, "firefox");
+    assert_isolated_page(&root, &work, &query, "webkit");
 
     // Not isolated: one thread, a note that says so, the same picture.
     let out = work.join("plain");

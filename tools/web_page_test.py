@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Drives lensview's web page in headless Chromium over the DevTools
 protocol (or, --browser firefox, in headless Firefox over WebDriver BiDi:
-tools/web_bidi.py), for tests/web.rs (and the figures of docs/web.md).
+tools/web_bidi.py; --browser webkit, in WebKitGTK's MiniBrowser, Safari's
+engine, over WebDriver: tools/web_webkit.py), for tests/web.rs (and the
+figures of docs/web.md).
 
 Serves DIST on 127.0.0.1 (a thread of this process, web/serve.py's server;
 with the COOP/COEP headers unless --no-isolation), starts Chromium with a
@@ -47,6 +49,7 @@ except ImportError:
     sys.exit("error: Python's websocket-client is missing: python3 -m pip install websocket-client (.ci/run does)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import web_bidi  # noqa: E402
+import web_webkit  # noqa: E402
 
 FLAGS = [
     "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -310,8 +313,9 @@ def main():
     ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
     ap.add_argument("--panel-bad", default="0.1", help="an r1 the panel must refuse")
     ap.add_argument("--panel-glass", default="N-SF5", help="the lens's glass picked in the panel")
-    ap.add_argument("--browser", choices=("chromium", "firefox"), default="chromium",
-                    help="firefox: the first picture, the keys, dropped files and presets (no panel, downloads or file input)")
+    ap.add_argument("--browser", choices=("chromium", "firefox", "webkit"), default="chromium",
+                    help="firefox, webkit: the first picture, the keys, dropped files and presets"
+                         " (no panel, downloads or file input); webkit needs an X display (xvfb-run)")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.
@@ -326,6 +330,9 @@ def main():
         if a.browser == "firefox":
             browser, ws_url = web_bidi.start_firefox(profile)
             page = web_bidi.BidiPage(ws_url)
+        elif a.browser == "webkit":
+            browser, base = web_webkit.start_webkit()
+            page = web_webkit.WebKitPage(base)
         else:
             browser, port = start_chromium(profile)
             page = Page(page_target(port))
@@ -337,7 +344,10 @@ def main():
             run(page, url, a, a.out, report)
         finally:
             report["console_errors"] = page.errors
+            # WebKitGTK gives WebDriver no console: only the page's error line.
+            report["console_read"] = a.browser != "webkit"
             report["user_agent"] = page.eval("navigator.userAgent")
+            report["hardware_concurrency"] = page.eval("navigator.hardwareConcurrency")
             report["cross_origin_isolated"] = page.eval("window.crossOriginIsolated")
             page.close()
     finally:

@@ -93,9 +93,17 @@ function restart() {
 }
 
 async function start(d) {
-  await init();
-  if (self.crossOriginIsolated && d.threads > 1) {
-    await initThreadPool(d.threads);
+  try {
+    await init();
+    if (self.crossOriginIsolated && d.threads > 1) {
+      await initThreadPool(d.threads);
+    }
+  } catch (err) {
+    // The module's memory is shared (threads): a browser that gives no
+    // shared WebAssembly memory cannot run it. Say so instead of waiting.
+    const shared = typeof SharedArrayBuffer === "function" ? "" : " (this browser gives no SharedArrayBuffer)";
+    postMessage({ type: "error", text: `error: the page's WebAssembly did not start${shared}: ${err}` });
+    return;
   }
   threads = App.threads();
   const t = performance.now();
