@@ -263,6 +263,15 @@ fn assert_keys_give_native(out: &Path) -> Vec<u8> {
         got.lenses,
         want.lenses
     );
+    // Mouse-look turns the camera as the desktop's drag (flight::look).
+    let looked = std::fs::read(out.join("looked.rgba")).unwrap();
+    assert_ne!(looked, lens, "mouse-look changed nothing on the page");
+    let native_looked = native_rgb(&out.join("looked.toml"), &out.join("looked.png"), CUBES);
+    assert_same_picture(&looked, &native_looked, "cubes after mouse-look");
+    let (turned, _) = lensview::scene::Scene::parse("looked", &text("looked.toml")).unwrap();
+    use lensview::edit::{Document, Source};
+    let pose = |s| Document::new(s, Source::Default).unwrap().camera_pose();
+    assert_eq!(pose(turned), lensview::flight::look(pose(got), 40.0, -10.0));
     lens
 }
 

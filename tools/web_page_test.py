@@ -12,6 +12,7 @@ writes what it saw into OUT:
   first.rgba       the canvas's RGBA bytes
   moved.rgba/.toml after pressing W: the canvas, and the page's scene file
   lens.rgba/.toml  then after the lens key 2 (lens d +): the same
+  looked.rgba/.toml then after mouse-look by (40, -10) pixels (then back)
   panel.rgba/.toml then after typing r1 = PANEL_R1 and Enter in the panel
   panel-error.txt  the page's error line after typing r1 = PANEL_BAD
   undone.rgba      the canvas after Ctrl+Z (the r1 edit undone)
@@ -288,6 +289,18 @@ def run(page, url, a, out, report):
         report["lens"] = press(page, a, "Digit2", "2", 50, 3, "the picture after the lens key 2")
         save(out, "lens.rgba", canvas(page))
         save(out, "lens.toml", page.eval("window.lensview.sceneToml()"))
+        # Mouse-look: what pointer-locked movement sends (headless browsers
+        # give no pointer lock).
+        renders = json.loads(page.eval(STATE))["renders"]
+        page.eval("window.lensview.lookBy(40, -10)")
+        page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done", "the picture after mouse-look",
+                  a.timeout)
+        report["looked"] = json.loads(page.eval(STATE))
+        save(out, "looked.rgba", canvas(page))
+        save(out, "looked.toml", page.eval("window.lensview.sceneToml()"))
+        page.eval("window.lensview.lookBy(-40, 10)")
+        page.wait(f"window.lensview.renders >= {renders + 2} && window.lensview.done", "the picture looked back",
+                  a.timeout)
         if a.browser == "chromium":
             panel_edits(page, a, out, report)
             downloads(page, a, out, report)

@@ -258,6 +258,20 @@ fn hermite(a: DVec3, b: DVec3, ta: DVec3, tb: DVec3, s: f64) -> DVec3 {
     a * (2.0 * s3 - 3.0 * s2 + 1.0) + ta * (s3 - 2.0 * s2 + s) + b * (-2.0 * s3 + 3.0 * s2) + tb * (s3 - s2)
 }
 
+/// Degrees per pixel of mouse-look (a drag on the desktop, pointer-locked
+/// movement on the web page).
+pub const DRAG_RATE: f64 = 0.15;
+/// Pitch stops short of straight up and down, where yaw is undefined.
+pub const MAX_PITCH: f64 = 89.0;
+
+/// The camera pose (position, rotation in degrees) turned by a mouse
+/// movement of (`dx`, `dy`) pixels: right turns right, down looks down.
+pub fn look((pos, mut rot): (DVec3, DVec3), dx: f64, dy: f64) -> (DVec3, DVec3) {
+    rot.y -= dx * DRAG_RATE;
+    rot.x = (rot.x - dy * DRAG_RATE).clamp(-MAX_PITCH, MAX_PITCH);
+    (pos, rot)
+}
+
 /// The rotation of the camera's angles ([`rotation_from_degrees`]:
 /// `Ry·Rx·Rz`) as a quaternion.
 pub fn quat(deg: [f64; 3]) -> DQuat {

@@ -10,6 +10,8 @@
 use super::keys::{self, Action};
 use glam::DVec3;
 use lensview::camera::Camera;
+use lensview::flight::MAX_PITCH;
+pub use lensview::flight::look;
 use std::collections::HashSet;
 use std::time::{Duration, Instant};
 use winit::keyboard::KeyCode;
@@ -17,9 +19,9 @@ use winit::keyboard::KeyCode;
 /// A camera pose: position, and rotation in degrees (pitch x, yaw y, roll z).
 pub type Pose = (DVec3, DVec3);
 
-/// Degrees per second of arrow-key turning; degrees per pixel of dragging.
+/// Degrees per second of arrow-key turning (a drag's degrees per pixel:
+/// `lensview::flight::look`, which the web page uses too).
 const TURN_RATE: f64 = 60.0;
-const DRAG_RATE: f64 = 0.15;
 /// Shift flies this much faster.
 const FAST: f64 = 4.0;
 /// Longest step in seconds: after a stall the camera does not leap. Steps
@@ -29,8 +31,6 @@ const MAX_DT: f64 = 0.25;
 /// Longest wait for the frame of the last step before the next step goes
 /// anyway (a frame that never comes: the window minimised, resized).
 pub const STEP_WAIT_LIMIT: Duration = Duration::from_secs(1);
-/// Pitch stops short of straight up and down, where yaw is undefined.
-const MAX_PITCH: f64 = 89.0;
 
 pub struct Flight {
     /// Units per second (the mouse wheel changes it).
@@ -174,14 +174,6 @@ pub fn step(held: &[Action], dt: f64, speed: f64, (mut pos, mut rot): Pose) -> P
     (pos, rot)
 }
 
-/// The pose turned by a mouse drag of (`dx`, `dy`) pixels: right turns
-/// right, down looks down.
-pub fn look((pos, mut rot): Pose, dx: f64, dy: f64) -> Pose {
-    rot.y -= dx * DRAG_RATE;
-    rot.x = (rot.x - dy * DRAG_RATE).clamp(-MAX_PITCH, MAX_PITCH);
-    (pos, rot)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,13 +207,6 @@ mod tests {
         assert_eq!(r.x, MAX_PITCH);
         let (_, r) = step(&[Action::LookDown, Action::LookRight], 10.0, 1.0, START);
         assert_eq!((r.x, r.y), (-MAX_PITCH, -600.0));
-    }
-
-    #[test]
-    fn dragging_turns_and_clamps_pitch() {
-        let (p, r) = look(START, 100.0, -20.0);
-        assert_eq!((p, r), (START.0, DVec3::new(3.0, -15.0, 0.0)));
-        assert_eq!(look(START, 0.0, 1e6).1.x, -MAX_PITCH);
     }
 
     #[test]

@@ -83,6 +83,18 @@ impl App {
         self.0.key(code)
     }
 
+    /// Mouse-look by (`dx`, `dy`) pixels of pointer-locked movement, as the
+    /// desktop's drag; whether the camera turned.
+    pub fn look(&mut self, dx: f64, dy: f64) -> bool {
+        self.0.look(dx, dy)
+    }
+
+    /// Ends a flight gesture (the pointer released): the next is a new
+    /// undo step.
+    pub fn seal(&mut self) {
+        self.0.seal()
+    }
+
     /// Opens a scene file's bytes; throws the CLI's one-line error.
     pub fn open(&mut self, name: &str, bytes: &[u8]) -> Result<(), JsValue> {
         self.0.open(name, bytes).map_err(|e| JsValue::from_str(&e))

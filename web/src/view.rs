@@ -12,6 +12,7 @@ use lensview::camera::Camera;
 use lensview::color::to_srgb8_toned;
 use lensview::edit::document::{Document, Source, to_toml};
 use lensview::edit::{Change, lens_key};
+use lensview::flight::look;
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
 use lensview::render::RenderSettings;
@@ -332,6 +333,25 @@ impl View {
         true
     }
 
+    /// Mouse-look (the pointer locked on the picture): the camera turned by
+    /// a movement of (`dx`, `dy`) pixels as the desktop's drag turns it
+    /// (`flight::look`); whether it turned.
+    pub fn look(&mut self, dx: f64, dy: f64) -> bool {
+        let (pos, rot) = look(self.doc.camera_pose(), dx, dy);
+        if (pos, rot) == self.doc.camera_pose() || self.doc.fly_camera(pos, rot).is_err() {
+            return false;
+        }
+        self.message = format!("camera pitch {:.1}°, yaw {:.1}°", rot.x, rot.y);
+        self.moved();
+        true
+    }
+
+    /// Ends the camera's flight gesture: the next flight or look is a new
+    /// undo step.
+    pub fn seal(&mut self) {
+        self.doc.seal();
+    }
+
     /// Opens scene file bytes (`name`: the file's name, for errors). A
     /// refusal is the one line `lensview render` prints for the same file,
     /// and the scene shown stays.
@@ -472,6 +492,30 @@ mod tests {
         finish(&mut c);
         assert!(c.key("KeyW") && c.step(1));
         assert_eq!(c.stage(), "8×8 blocks");
+    }
+
+    /// Mouse-look turns the camera as the desktop's drag does
+    /// (`flight::look`), shows the picture moved, and finishes as `render`'s
+    /// picture of the turned scene; no movement changes nothing.
+    #[test]
+    fn mouse_look_turns_as_the_desktop_and_renders() {
+        let mut v = View::new(Some("cubes"), (32, 24), 1, 6).unwrap();
+        finish(&mut v);
+        let before = v.doc.camera_pose();
+        assert!(!v.look(0.0, 0.0));
+        assert!(v.look(40.0, -10.0));
+        assert_eq!(v.doc.camera_pose(), look(before, 40.0, -10.0));
+        assert_eq!(v.stage(), "reprojected");
+        finish(&mut v);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), (32, 24), 1, 6));
+        // One gesture is one undo step, until sealed.
+        assert!(v.look(5.0, 0.0));
+        v.seal();
+        assert!(v.look(5.0, 0.0));
+        assert!(v.undo());
+        assert_eq!(v.doc.camera_pose(), look(look(before, 40.0, -10.0), 5.0, 0.0));
+        assert!(v.undo());
+        assert_eq!(v.doc.camera_pose(), before);
     }
 
     /// A lens key makes the desktop's edit (`edit::apply` of its

@@ -186,3 +186,39 @@ worker.postMessage({
   seed: num("seed", 0),
   threads,
 });
+
+// Mouse-look as on the desktop: click the picture to lock the pointer (Esc
+// releases it); its movement turns the camera (the library's flight::look,
+// the desktop drag's degrees a pixel). One look is in the worker at a time:
+// movement meanwhile is summed and sent when it answers, so a fast mouse
+// does not queue reprojections. Releasing the pointer ends the gesture
+// (one undo step).
+const look = { dx: 0, dy: 0, waiting: false };
+function sendLook() {
+  if (look.waiting || (look.dx === 0 && look.dy === 0)) return;
+  worker.postMessage({ type: "look", dx: look.dx, dy: look.dy });
+  [look.dx, look.dy, look.waiting] = [0, 0, true];
+}
+// What pointer-locked movement does (the browser test calls it: headless
+// browsers give no pointer lock).
+state.lookBy = (dx, dy) => {
+  look.dx += dx;
+  look.dy += dy;
+  sendLook();
+};
+canvas.addEventListener("click", () => {
+  if (state.ready && document.pointerLockElement !== canvas) canvas.requestPointerLock();
+});
+document.addEventListener("mousemove", (e) => {
+  if (document.pointerLockElement === canvas) state.lookBy(e.movementX, e.movementY);
+});
+document.addEventListener("pointerlockchange", () => {
+  state.pointerLocked = document.pointerLockElement === canvas;
+  if (!state.pointerLocked) worker.postMessage({ type: "seal" });
+});
+worker.addEventListener("message", ({ data: d }) => {
+  if (d.type !== "looked") return;
+  look.waiting = false;
+  if (d.changed) restarted(d.message);
+  sendLook();
+});

@@ -130,6 +130,16 @@ onmessage = async ({ data: d }) => {
       changedAt(t);
       postPanel();
     }
+  } else if (d.type === "look") {
+    const t = performance.now();
+    const changed = app.look(d.dx, d.dy);
+    postMessage({ type: "looked", changed, message: app.message() });
+    if (changed) {
+      changedAt(t);
+      postPanel();
+    }
+  } else if (d.type === "seal") {
+    app.seal();
   } else if (d.type === "open") {
     try {
       app.open(d.name, d.bytes);

@@ -196,3 +196,12 @@ fn a_trim_and_a_retime_fly_the_same_path() {
         assert!(f.retimed(from, to, speed).is_none(), "{from} {to} {speed}");
     }
 }
+
+#[test]
+fn mouse_look_turns_and_clamps_pitch() {
+    let start = (DVec3::new(1.0, 2.0, 3.0), DVec3::ZERO);
+    let (p, r) = look(start, 100.0, -20.0);
+    assert_eq!((p, r), (start.0, DVec3::new(3.0, -15.0, 0.0)));
+    assert_eq!(look(start, 0.0, 1e6).1.x, -MAX_PITCH);
+    assert_eq!(look(start, 0.0, -1e6).1.x, MAX_PITCH);
+}
