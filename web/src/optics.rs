@@ -111,8 +111,17 @@ mod tests {
         assert_eq!(label.at, at);
         assert_eq!(label.colour, "rgba(255,0,255,1.000)");
         assert!(o.segments.len() > 20, "{} segments", o.segments.len());
-        let axis = project(&scene.camera, fig.axis[0], (320, 240));
-        assert_eq!(Some([o.segments[0].0[0], o.segments[0].0[1]]), axis);
+        // The axis comes toward the camera (cut at its near plane): its
+        // first segment ends at the projection of its far end.
+        let far = project(&scene.camera, fig.axis[1], (320, 240));
+        assert_eq!(Some([o.segments[0].0[2], o.segments[0].0[3]]), far);
+        let segments = Projected::new(&scene.camera, (320, 240), &fig).segments;
+        let ends: Vec<[f64; 4]> = segments.iter().map(|(_, a, b)| [a[0], a[1], b[0], b[1]]).collect();
+        assert_eq!(
+            ends,
+            o.segments.iter().map(|s| s.0).collect::<Vec<_>>(),
+            "the desktop's segments"
+        );
         assert_eq!(
             o,
             overlay(scene, "camera", (320, 240), None),
