@@ -339,6 +339,34 @@ fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
     assert!(report.contains(&overlay), "the overlay: {report}");
 }
 
+/// A whole number after `"key": ` in the report's JSON.
+fn report_number(report: &str, key: &str) -> u64 {
+    let pattern = format!("\"{key}\": ");
+    let at = report.find(&pattern).unwrap_or_else(|| panic!("no {key} in {report}")) + pattern.len();
+    let digits: String = report[at..].chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().unwrap()
+}
+
+/// F6 and F7 on the page (after the panel's edits): the optics overlay's
+/// canvas has drawn pixels, F′ among its labels; the analysis panel shows
+/// the library's SVG figures (the cross-section, LSA, spot and distortion;
+/// a second spot with the field at 5°); the picture's canvas and its
+/// renders are untouched (display only).
+fn assert_optics(report: &str) {
+    let pixels = report_number(report, "overlay_pixels");
+    assert!(pixels > 200, "the optics overlay drew {pixels} pixels: {report}");
+    assert!(report.contains("\"F'\""), "no F' label in the overlay: {report}");
+    assert_eq!(report_number(report, "svgs"), 4, "the analysis's figures: {report}");
+    assert_eq!(report_number(report, "svgs_at_5_deg"), 5, "the spot at 5°: {report}");
+    for unchanged in ["renders_unchanged", "canvas_unchanged", "renders_unchanged_at_5_deg"] {
+        assert!(
+            report.contains(&format!("\"{unchanged}\": true")),
+            "{unchanged}: the optics touched the picture: {report}"
+        );
+    }
+    assert!(report.contains("Longitudinal spherical aberration"), "{report}");
+}
+
 /// RGBA bytes as RGB (for [`assert_same_picture`]'s native side).
 fn rgb_of(rgba: &[u8]) -> Vec<u8> {
     rgba.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
@@ -370,6 +398,9 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
         report.contains("\"cross_origin_isolated\": true"),
         "{browser}: {report}"
     );
+    if browser == "chromium" {
+        assert_optics(&report);
+    }
     // One thread a core as the browser counts them (WebKit rounds the
     // count it gives pages: 4 on this 2-core machine).
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;

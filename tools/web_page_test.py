@@ -19,12 +19,15 @@ writes what it saw into OUT:
   redone.rgba      the canvas after the panel's Redo button
   glass.rgba/.toml then after picking the glass PANEL_GLASS in the panel
   saved.toml/.png  what the page's Save buttons downloaded then
+  optics.png       a screenshot after F6 and F7 (the optics overlay and the
+                   analysis panel), then the field set to 5°
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
   good.rgba        the canvas after dropping GOOD on the page then
   preset-NAME.rgba each preset of --presets opened with ?scene=NAME&PRESET_QUERY
   report.json      times, sizes, threads and every console error or exception
---measure: only the first picture (no key, no file). Exits 0 when the page
+--measure: only the first picture (no key, no file; with --optics, then
+F6 and F7 and the screenshot). Exits 0 when the page
 ran; the caller judges the pictures. Chromium and the server are stopped
 on every exit (and the caller kills the process group on a timeout)."""
 
@@ -106,10 +109,12 @@ class Page:
         self.call("Page.navigate", url=url)
 
     def key(self, code, key, vk, modifiers=0):
-        """One key pressed and released, as the keyboard sends it."""
+        """One key pressed and released, as the keyboard sends it (a
+        character key types its character; F6, or with Ctrl, none)."""
+        types = len(key) == 1 and not modifiers
         for kind in ("keyDown", "keyUp"):
             self.call("Input.dispatchKeyEvent", type=kind, code=code, key=key, windowsVirtualKeyCode=vk,
-                      modifiers=modifiers, **({"text": key} if kind == "keyDown" and not modifiers else {}))
+                      modifiers=modifiers, **({"text": key} if kind == "keyDown" and types else {}))
 
     def close(self):
         pass
@@ -225,6 +230,47 @@ def panel_edits(page, a, out, report):
     report["overlay"] = page.eval("document.getElementById('overlay').textContent")
 
 
+OVERLAY_PIXELS = """(() => {
+    const c = document.getElementById('optics');
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 3; i < d.length; i += 4) n += d[i] > 0;
+    return n;
+})()"""
+SVGS = "document.querySelectorAll('#analysis-figures svg').length"
+
+
+def optics(page, a, out, report):
+    """F6 and F7 as a user presses them: the overlay canvas gets pixels,
+    the analysis panel its SVG figures, and the picture (its canvas and
+    the renders count) stays as it was; then the analysis's field set to
+    5° adds the spot at 5°. A screenshot of the page into optics.png."""
+    before, picture = json.loads(page.eval(STATE)), canvas(page)
+    for code, vk in (("F6", 117), ("F7", 118)):
+        page.eval("document.getElementById('view').focus()")
+        page.key(code, code, vk)
+    page.wait(f"window.lensview.optics.segments > 0 && {SVGS} > 0", "the optics overlay and the analysis", a.timeout)
+    # Two frames: the canvas drawn and composited.
+    page.eval("new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    state = json.loads(page.eval(STATE))
+    report["optics"] = {
+        "overlay_pixels": page.eval(OVERLAY_PIXELS),
+        "svgs": page.eval(SVGS),
+        "labels": state["optics"]["labels"],
+        "renders_unchanged": state["renders"] == before["renders"] and state["done"],
+        "canvas_unchanged": canvas(page) == picture,
+        "analysis": page.eval("document.getElementById('analysis-figures').textContent.slice(0, 300)"),
+    }
+    shot = page.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)
+    save(out, "optics.png", base64.b64decode(shot["data"]))
+    page.eval("""(() => { const f = document.getElementById('an-field');
+        f.value = '5'; f.dispatchEvent(new Event('input')); })()""")
+    page.wait("document.getElementById('analysis-figures').textContent.includes('Spot, field 5')",
+              "the spot at 5 degrees", a.timeout)
+    report["optics"]["svgs_at_5_deg"] = page.eval(SVGS)
+    report["optics"]["renders_unchanged_at_5_deg"] = json.loads(page.eval(STATE))["renders"] == before["renders"]
+
+
 def downloads(page, a, out, report):
     """Clicks Save scene and Save PNG; keeps the files the browser saved."""
     folder = os.path.join(out, "downloads")
@@ -282,6 +328,8 @@ def run(page, url, a, out, report):
     report["first"], report["first_wall_s"] = open_page(page, url, a)
     report["note"] = page.eval("document.getElementById('note').textContent")
     save(out, "first.rgba", canvas(page))
+    if a.measure and a.optics:
+        optics(page, a, out, report)
     if not a.measure:
         report["moved"] = press(page, a, "KeyW", "w", 87, 2, "the picture after W")
         save(out, "moved.rgba", canvas(page))
@@ -303,6 +351,7 @@ def run(page, url, a, out, report):
                   a.timeout)
         if a.browser == "chromium":
             panel_edits(page, a, out, report)
+            optics(page, a, out, report)
             downloads(page, a, out, report)
         if a.bad:
             bad_files(page, a, out)
@@ -320,6 +369,7 @@ def main():
     ap.add_argument("--bad", help="a scene file the page must refuse")
     ap.add_argument("--good", help="a scene file to drop on the page after the bad one")
     ap.add_argument("--measure", action="store_true")
+    ap.add_argument("--optics", action="store_true", help="with --measure: F6, F7 and optics.png")
     ap.add_argument("--no-isolation", action="store_true", help="serve without COOP/COEP (one thread)")
     ap.add_argument("--presets", default="", help="presets to open after the first page, comma-separated")
     ap.add_argument("--preset-query", default="w=64&h=48&spp=2&seed=3")

@@ -73,7 +73,8 @@
 //! | the viewer's shell, flight, refinement, statistics; its heap policy | `viewer/{mod,flight,refine,stats,session,screen,input,heap}.rs` (binary) |
 //! | when the window presents; when a resized surface is configured; the watchdog of `--exit-after`; the overlay and key help (egui); the X11 environment | `viewer/{pacing,settle,watchdog,overlay,platform}.rs` (binary) |
 //! | each panel section | `viewer/panel/{add,objects,material,camera,lens,light,render,menu,file_dialog,confirm}.rs` (binary) |
-//! | optics over the picture (F6); the lens analysis window (F7) and its plots | `viewer/optics.rs`; `viewer/panel/{analysis,plots}.rs` (binary) |
+//! | optics over the picture (F6): its figure and projection; painted by the viewer and the page | `lens_tools/overlay.rs`; `viewer/optics.rs` (binary), `web/src/optics.rs` |
+//! | the lens analysis (F7): its figures; drawn by the viewer (egui) and as SVG for the page | `lens_tools/{analysis,chart}.rs`; `viewer/panel/{analysis,system_analysis,plots}.rs` (binary) |
 //! | the limits of every command; atomic, safe file writes | `limits.rs`, `output.rs` |
 //! | each command (`render`, `lens`, `bench`, `converge`, `view`) | `cli/*.rs` (binary) |
 

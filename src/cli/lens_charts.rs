@@ -8,6 +8,7 @@
 //! curve over the field with a marker at each field angle listed.
 
 use anyhow::{Result, anyhow, bail};
+use lensview::lens_tools::chart::{line_colour, range, tick};
 use lensview::output::write_file;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -72,13 +73,10 @@ fn err<E: std::fmt::Debug>(path: &Path) -> impl Fn(E) -> anyhow::Error + '_ {
     move |e| anyhow!("cannot draw {}: {e:?}", path.display())
 }
 
-/// The colour of a line's dots (the window's colours).
+/// The colour of a line's dots (the page's analysis uses the same).
 fn colour(line: &str) -> RGBColor {
-    match line {
-        "C" => RGBColor(214, 39, 40),
-        "d" => RGBColor(44, 160, 44),
-        _ => RGBColor(31, 119, 180),
-    }
+    let [r, g, b] = line_colour(line);
+    RGBColor(r, g, b)
 }
 
 /// A line's marker, in pixels about its point: C a hollow circle, d a
@@ -181,17 +179,6 @@ where
     Ok(())
 }
 
-/// A tick label: short, and 0 for rounding noise about zero.
-fn tick(v: f64) -> String {
-    if v.abs() < 1e-15 {
-        "0".into()
-    } else if v.abs() >= 1e-3 && v.abs() < 1e4 {
-        format!("{}", (v * 1e6).round() / 1e6)
-    } else {
-        format!("{v:.2e}")
-    }
-}
-
 /// The distortion curve (field °, %) with its points marked, `title` above.
 pub fn distortion_chart(path: &Path, title: &str, points: &[(f64, f64)]) -> Result<()> {
     write_chart(
@@ -232,7 +219,7 @@ where
         .y_label_formatter(&|v| tick(*v))
         .draw()
         .map_err(&e)?;
-    let blue = RGBColor(31, 119, 180);
+    let blue = colour("F");
     chart
         .draw_series(LineSeries::new(pts.iter().copied(), blue.stroke_width(2)))
         .map_err(&e)?;
@@ -241,14 +228,4 @@ where
         .map_err(&e)?;
     root.present().map_err(&e)?;
     Ok(())
-}
-
-/// An axis range over `v` with a margin; a unit span about a lone value.
-fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |a, x| (a.0.min(x), a.1.max(x)));
-    if !(lo.is_finite() && hi.is_finite()) {
-        return (-1.0, 1.0);
-    }
-    let span = (hi - lo).max(1e-9 * hi.abs().max(lo.abs())).max(1e-12);
-    (lo - 0.06 * span, hi + 0.06 * span)
 }

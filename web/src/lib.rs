@@ -9,6 +9,7 @@
 //! [`App::set`]; [`App::undo`] and [`App::redo`] step the document's
 //! history (`panel.rs`).
 
+pub mod optics;
 pub mod panel;
 pub mod view;
 
@@ -126,5 +127,39 @@ impl App {
 
     pub fn redo(&mut self) -> bool {
         self.0.redo()
+    }
+}
+
+// The optics overlay (F6) and the analysis panel (F7): `optics.rs`; the
+// page's `www/main.js` draws them (its optics block). Display only.
+#[wasm_bindgen]
+impl App {
+    /// The overlay of the selected lens or system (`selected`: the panel's
+    /// item id) as JSON segments and labels in picture pixels; the object
+    /// `object_distance` before the first vertex (NaN: at infinity).
+    pub fn optics(&self, selected: &str, object_distance: f64) -> String {
+        let object = (!object_distance.is_nan()).then_some(object_distance);
+        let o = optics::overlay(self.0.scene(), selected, self.0.size(), object);
+        serde_json::to_string(&o).unwrap_or_default()
+    }
+
+    /// The analysis of the selected lens or system as HTML with SVG
+    /// figures, `width` pixels wide (`object_distance` NaN: at infinity).
+    pub fn analysis(
+        &self,
+        selected: &str,
+        object_distance: f64,
+        field_deg: f64,
+        defocus: f64,
+        rings: u32,
+        width: f64,
+    ) -> String {
+        let settings = lensview::lens_tools::analysis::Settings {
+            object_distance: (!object_distance.is_nan()).then_some(object_distance),
+            field_deg,
+            defocus,
+            rings: rings.clamp(1, 16),
+        };
+        optics::analysis(self.0.scene(), selected, &settings, width)
     }
 }

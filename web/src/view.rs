@@ -225,6 +225,12 @@ impl View {
         &self.rgba
     }
 
+    /// The scene as the document built it (the optics overlay's and the
+    /// analysis's).
+    pub fn scene(&self) -> &Scene {
+        self.doc.built()
+    }
+
     pub fn size(&self) -> (u32, u32) {
         self.size
     }

@@ -221,4 +221,103 @@ worker.addEventListener("message", ({ data: d }) => {
   look.waiting = false;
   if (d.changed) restarted(d.message);
   sendLook();
+
+// ---- The optics overlay (F6) and the analysis panel (F7) ----
+// The desktop viewer's: the selected lens's (or system's) axis, vertices,
+// F, F', H, H' and a real ray fan, stroked on a transparent canvas over
+// the picture (the picture's own canvas is untouched), and the analysis
+// figures (the library's SVG) below the picture, with the desktop window's
+// object distance, field, defocus and rings. Both come from the worker
+// (App.optics, App.analysis) after every change; toggling never restarts
+// the picture.
+const opticsCanvas = document.getElementById("optics");
+const opticsCtx = opticsCanvas.getContext("2d");
+const showOptics = document.getElementById("show-optics");
+const showAnalysis = document.getElementById("show-analysis");
+const analysisPanel = document.getElementById("analysis");
+const analysisFigures = document.getElementById("analysis-figures");
+const an = (id) => document.getElementById(`an-${id}`);
+state.optics = { overlay: false, analysis: false, segments: 0, labels: [], analyses: 0 };
+
+function drawOptics(o) {
+  opticsCtx.clearRect(0, 0, opticsCanvas.width, opticsCanvas.height);
+  if (!state.optics.overlay) return;
+  opticsCtx.lineCap = "round";
+  for (const [[x0, y0, x1, y1], colour, width] of o.segments) {
+    opticsCtx.strokeStyle = colour;
+    opticsCtx.lineWidth = width;
+    opticsCtx.beginPath();
+    opticsCtx.moveTo(x0, y0);
+    opticsCtx.lineTo(x1, y1);
+    opticsCtx.stroke();
+  }
+  opticsCtx.font = "13px sans-serif";
+  for (const l of o.labels) {
+    if (l.disc) {
+      opticsCtx.fillStyle = l.colour;
+      opticsCtx.beginPath();
+      opticsCtx.arc(l.at[0], l.at[1], 5, 0, 2 * Math.PI);
+      opticsCtx.fill();
+    }
+    const w = opticsCtx.measureText(l.text).width;
+    opticsCtx.fillStyle = "rgba(0,0,0,0.67)";
+    opticsCtx.fillRect(l.spot[0] - 2, l.spot[1] - 13, w + 4, 16);
+    opticsCtx.fillStyle = l.colour;
+    opticsCtx.fillText(l.text, l.spot[0], l.spot[1]);
+  }
+  state.optics.segments = o.segments.length;
+  state.optics.labels = o.labels.map((l) => l.text);
+}
+
+function opticsSettings() {
+  const num = (id, d) => (Number.isFinite(Number(an(id).value)) ? Number(an(id).value) : d);
+  return {
+    overlay: state.optics.overlay,
+    analysis: state.optics.analysis,
+    object: an("infinity").checked ? NaN : num("distance", 20),
+    field: num("field", 0),
+    defocus: num("defocus", 0),
+    rings: Math.round(num("rings", 6)),
+    width: Math.max(400, Math.min(1100, document.body.clientWidth - 40)),
+  };
+}
+const sendOptics = () => worker.postMessage({ type: "optics", settings: opticsSettings() });
+
+function setOptics(overlay, analysis) {
+  state.optics.overlay = showOptics.checked = overlay;
+  state.optics.analysis = showAnalysis.checked = analysis;
+  analysisPanel.hidden = !analysis;
+  an("field-value").textContent = `${an("field").value}°`;
+  if (!overlay) drawOptics({ segments: [], labels: [] });
+  if (state.ready) sendOptics();
+}
+showOptics.addEventListener("change", () => setOptics(showOptics.checked, state.optics.analysis));
+showAnalysis.addEventListener("change", () => setOptics(state.optics.overlay, showAnalysis.checked));
+for (const id of ["infinity", "distance", "field", "defocus", "rings"]) {
+  an(id).addEventListener(id === "field" ? "input" : "change", () => setOptics(state.optics.overlay, state.optics.analysis));
+}
+// F6 and F7 before the page's key handler (which sends keys to the worker).
+window.addEventListener(
+  "keydown",
+  (e) => {
+    if (e.code !== "F6" && e.code !== "F7") return;
+    e.preventDefault();
+    e.stopPropagation();
+    if (e.code === "F6") setOptics(!state.optics.overlay, state.optics.analysis);
+    else setOptics(state.optics.overlay, !state.optics.analysis);
+  },
+  true,
+);
+worker.addEventListener("message", ({ data: d }) => {
+  if (d.type === "ready") {
+    opticsCanvas.width = d.width;
+    opticsCanvas.height = d.height;
+    if (state.optics.overlay || state.optics.analysis) sendOptics();
+  } else if (d.type === "optics") {
+    drawOptics(JSON.parse(d.json));
+  } else if (d.type === "analysis") {
+    if (!state.optics.analysis) return;
+    analysisFigures.innerHTML = d.html;
+    state.optics.analyses += 1;
+  }
 });

@@ -20,6 +20,7 @@ function postPanel() {
   const json = app.panel(selected);
   selected = JSON.parse(json).selected;
   postMessage({ type: "panel", json });
+  postOptics();
 }
 
 // Posts what a panel edit, undo or redo did; restarts the picture if it
@@ -168,3 +169,24 @@ onmessage = async ({ data: d }) => {
     postMessage({ type: "toml", id: d.id, text: app.sceneToml() });
   }
 };
+
+// The optics overlay (F6) and the analysis panel (F7): main.js switches
+// them and sends the analysis settings; while on, the worker posts the
+// selected lens's overlay (App.optics's JSON) and analysis (App.analysis's
+// HTML) after every change the panel is posted for (keys, edits, undo,
+// files, selection). Display only: nothing here restarts the picture.
+const optics = { overlay: false, analysis: false, object: NaN, field: 0, defocus: 0, rings: 6, width: 640 };
+function postOptics() {
+  if (!app) return;
+  if (optics.overlay) postMessage({ type: "optics", json: app.optics(selected, optics.object) });
+  if (optics.analysis) {
+    const o = optics;
+    postMessage({ type: "analysis", html: app.analysis(selected, o.object, o.field, o.defocus, o.rings, o.width) });
+  }
+}
+addEventListener("message", ({ data: d }) => {
+  if (d.type === "optics") {
+    Object.assign(optics, d.settings);
+    postOptics();
+  }
+});

@@ -3,12 +3,17 @@
 //! with its real marginal-ray focus and axial colour; and the figures of
 //! `lensview lens fan`, `spot` and `distortion` (`setup.rs`: the bench and
 //! the pupil; `fan.rs`: ray fan, cardinal points and LSA; `spot.rs`: spot
-//! diagram; `distortion.rs`; `sketch.rs`: the cross-section and its SVG).
+//! diagram; `distortion.rs`; `sketch.rs`: the cross-section and its SVG;
+//! `overlay.rs`: the optics overlay over the picture; `analysis.rs`: the
+//! analysis window's figures, `chart.rs` their SVG).
 
+pub mod analysis;
 pub mod bench;
+pub mod chart;
 pub mod distortion;
 pub mod fan;
 pub mod image;
+pub mod overlay;
 pub mod setup;
 pub mod sketch;
 pub mod spot;

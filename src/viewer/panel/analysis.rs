@@ -4,16 +4,16 @@
 //! marginal focus M; the longitudinal spherical aberration; the spot
 //! diagram for the C, d and F lines at a chosen image plane; distortion
 //! against field angle (for a selected lens system: `system_analysis.rs`).
-//! Everything is computed by `lensview::lens_tools`
-//! (every ray by `Lens::trace`) from the lens as it is in this very UI pass,
-//! so an edit by key, panel or undo shows in the same frame.
+//! Everything is computed by `lensview::lens_tools::analysis` (every ray
+//! by `Lens::trace` or `LensSystem::trace`; the web page's analysis panel
+//! shows the same figures) from the lens as it is in this very UI pass, so
+//! an edit by key, panel or undo shows in the same frame; this draws them.
 
 use super::Ctx;
 use super::plots::{Series, plot, sketch};
 use egui::{Color32, Vec2};
 use egui_plot::MarkerShape;
-use lensview::lens_tools::bench::Bench;
-use lensview::lens_tools::{Setup, distortion, fan, spot_diagram};
+use lensview::lens_tools::analysis::{FieldSpot, Figures, Settings, lens_figures, plane_words, system_figures};
 
 /// The optics display state (not part of the scene).
 pub struct AnalysisState {
@@ -48,6 +48,16 @@ impl AnalysisState {
     /// The object distance the figures use (`None`: at infinity).
     pub fn object(&self) -> Option<f64> {
         (!self.infinity).then_some(self.object_distance)
+    }
+
+    /// The library's settings of the figures.
+    pub fn settings(&self) -> Settings {
+        Settings {
+            object_distance: self.object(),
+            field_deg: self.field_deg,
+            defocus: self.defocus,
+            rings: self.rings,
+        }
     }
 }
 
@@ -96,21 +106,21 @@ pub fn window(ctx: &egui::Context, cx: &mut Ctx) {
             // distortion are below the fold).
             let scroll = egui::ScrollArea::vertical().auto_shrink([false, false]);
             scroll.show(ui, |ui| {
-                if let Some(sys) = &system {
-                    controls(ui, &mut cx.ui.analysis);
-                    placed = super::system_analysis::figures(ui, sys, &cx.ui.analysis);
-                    return;
-                }
-                let Some(lens) = lens else {
+                if system.is_none() && lens.is_none() {
                     ui.label("No lens in this scene.");
                     return;
-                };
+                }
                 controls(ui, &mut cx.ui.analysis);
-                let a = &cx.ui.analysis;
-                match Setup::new(lens.d, lens.r1, lens.r2, lens.index, a.object(), a.field_deg) {
-                    Ok(s) => placed = figures(ui, &s, a),
+                let a = cx.ui.analysis.settings();
+                let figures = match (&system, &lens) {
+                    (Some(sys), _) => system_figures(sys, &a),
+                    (None, Some(lens)) => lens_figures(lens, &a),
+                    (None, None) => return,
+                };
+                match figures {
+                    Ok(f) => placed = self::figures(ui, &f),
                     Err(e) => {
-                        ui.colored_label(super::ERROR, e.to_string());
+                        ui.colored_label(super::ERROR, e);
                     }
                 }
             });
@@ -172,112 +182,31 @@ fn controls(ui: &mut egui::Ui, a: &mut AnalysisState) {
     });
 }
 
-/// The lens's figures; returns where they are (for `--ui-log`).
-fn figures(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState) -> super::system_analysis::Placed {
+/// The figures of a lens or a system; returns where they are (for
+/// `--ui-log`).
+fn figures(ui: &mut egui::Ui, f: &Figures) -> super::system_analysis::Placed {
     let width = ui.available_width().max(150.0);
-    let (sketch_h, size) = figure_sizes(width, 3);
+    let plots = if f.axial_colour.is_some() { 5 } else { 3 };
+    let (sketch_h, size) = figure_sizes(width, plots);
     let mut placed = Vec::new();
-    match fan(s, 7, None) {
-        Ok(f) => {
-            let c = &f.cardinal.info;
-            let opt = |x: Option<f64>| x.map_or("—".into(), |x| format!("{x:.5}"));
-            ui.label(format!(
-                "EFL {}   BFD {}   FFD {}   marginal focus M {} from V2",
-                opt(c.efl),
-                opt(c.bfd),
-                opt(c.ffd),
-                opt(f.cardinal.object_marginal_focus_from_v2)
-            ));
-            placed.push(("analysis sketch", sketch(ui, &f.sketch(s), width, sketch_h)));
-            ui.with_layout(figure_row(), |ui| {
-                let lsa: Vec<[f64; 2]> = f.lsa.iter().filter_map(|p| Some([p.lsa?, p.height])).collect();
-                let r = lsa_plot(ui, size, lsa);
-                placed.push(("analysis LSA", r));
-                placed.extend(spot(ui, s, a, size).map(|r| ("analysis spot", r)));
-                placed.extend(distortion_plot(ui, s, size).map(|r| ("analysis distortion", r)));
-            });
-        }
-        Err(e) => {
-            ui.colored_label(super::ERROR, e.to_string());
-        }
-    }
-    placed
-}
-
-fn spot(ui: &mut egui::Ui, s: &Setup, a: &AnalysisState, size: Vec2) -> Option<egui::Rect> {
-    let diagrams = s.image_plane(None).ok().and_then(|paraxial| {
-        let plane = spot_plane(paraxial, a.defocus);
-        (spot_fields(a.field_deg).into_iter())
-            .map(|f| {
-                let d = spot_diagram(&s.at_field(f), plane, a.rings).ok()?;
-                let lines = d
-                    .spots
-                    .iter()
-                    .map(|sp| SpotLine::of::<Setup>(sp.line, &sp.rays, sp.rms_radius, sp.centroid));
-                Some((d.field_deg, d.image_plane_from_v2, lines.collect()))
-            })
-            .collect()
+    ui.label(f.header.as_str());
+    placed.push(("analysis sketch", sketch(ui, &f.sketch, width, sketch_h)));
+    // Three plots, for a dispersive system five with the axial and lateral
+    // colour: all in a row if they fit, wrapped (and scrolled) if not.
+    ui.with_layout(figure_row(), |ui| {
+        placed.push(("analysis LSA", lsa_plot(ui, size, f.lsa.clone())));
+        placed.extend(spot_figure(ui, size, f.spots.as_deref(), f.last).map(|r| ("analysis spot", r)));
+        placed.extend(distortion_curve(ui, size, f.distortion.clone()).map(|r| ("analysis distortion", r)));
+        placed.extend(super::system_analysis::colour_plots(ui, f, size));
     });
-    spot_figure(ui, size, diagrams, "V2")
-}
-
-/// The plane the window's spot is traced to, from the paraxial image
-/// `paraxial` (from the last vertex): a real one moved by the defocus (the
-/// spot refuses it at or before the last vertex), a magnifier's virtual
-/// image as it is (`None`: the figures' own image).
-pub(super) fn spot_plane(paraxial: f64, defocus: f64) -> Option<f64> {
-    (paraxial > 0.0).then_some(paraxial + defocus)
-}
-
-/// The field angles the window's spot shows: the axis, and the chosen
-/// field beside it when it is off the axis.
-pub(super) fn spot_fields(field_deg: f64) -> Vec<f64> {
-    if field_deg == 0.0 {
-        vec![0.0]
-    } else {
-        vec![0.0, field_deg]
-    }
-}
-
-/// An image plane from the last vertex `last`, in words, rounded.
-pub(super) fn plane_words(from_last: f64, last: &str) -> String {
-    if from_last < 0.0 {
-        format!("virtual image {:.4} before {last}", -from_last)
-    } else {
-        format!("plane {from_last:.4} after {last}")
-    }
-}
-
-/// One wavelength's spot as the window shows it.
-pub(super) struct SpotLine {
-    pub line: &'static str,
-    pub points: Vec<Option<[f64; 3]>>,
-    pub rms: Option<f64>,
-    pub centroid: Option<[f64; 2]>,
-}
-
-impl SpotLine {
-    /// A line's spot from its listed rays (the lens's or a system's).
-    pub fn of<B: Bench>(line: &'static str, rays: &[B::Ray], rms: Option<f64>, centroid: Option<[f64; 2]>) -> SpotLine {
-        SpotLine {
-            line,
-            points: rays.iter().map(B::image_point).collect(),
-            rms,
-            centroid,
-        }
-    }
+    placed
 }
 
 /// The spot plots of `diagrams` (each: field angle, image plane from the
 /// last vertex `last`, lines) side by side, each with its lines' RMS
 /// radius and centroid below, or why there are none; returns where they
 /// are together.
-pub(super) fn spot_figure(
-    ui: &mut egui::Ui,
-    size: Vec2,
-    diagrams: Option<Vec<(f64, f64, Vec<SpotLine>)>>,
-    last: &str,
-) -> Option<egui::Rect> {
+fn spot_figure(ui: &mut egui::Ui, size: Vec2, diagrams: Option<&[FieldSpot]>, last: &str) -> Option<egui::Rect> {
     let Some(diagrams) = diagrams else {
         ui.allocate_ui(size, |ui| {
             ui.label(format!(
@@ -287,14 +216,19 @@ pub(super) fn spot_figure(
         return None;
     };
     let mut all: Option<egui::Rect> = None;
-    for (field_deg, plane, lines) in diagrams {
+    for FieldSpot {
+        field_deg,
+        plane_from_last: plane,
+        lines,
+    } in diagrams
+    {
         // Its size with the lines below, so that a wrapping row wraps before it.
         let tall = size + Vec2::new(0.0, 80.0);
         let r = ui.allocate_ui_with_layout(tall, egui::Layout::top_down(egui::Align::Min), |ui| {
             let series = spot_series(lines.iter().map(|l| l.points.iter().copied()));
             let title = format!("Spot, field {field_deg}°");
             let rect = plot(ui, size, &title, ("x (units)", "y (units)"), &series, true);
-            ui.small(plane_words(plane, last));
+            ui.small(plane_words(*plane, last));
             for (l, colour) in lines.iter().zip(LINES) {
                 let c = l
                     .centroid
@@ -309,22 +243,13 @@ pub(super) fn spot_figure(
     all
 }
 
-fn distortion_plot(ui: &mut egui::Ui, s: &Setup, size: Vec2) -> Option<egui::Rect> {
-    let points = distortion(s, 30.0, 30).ok().map(|d| {
-        (d.points.iter())
-            .filter_map(|p| Some([p.field_deg, p.distortion_percent?]))
-            .collect()
-    });
-    distortion_curve(ui, size, points)
-}
-
 /// The plots' row: left to right, wrapped, their tops aligned.
-pub(super) fn figure_row() -> egui::Layout {
+fn figure_row() -> egui::Layout {
     egui::Layout::left_to_right(egui::Align::Min).with_main_wrap(true)
 }
 
 /// The longitudinal spherical aberration (the lens's and a system's).
-pub(super) fn lsa_plot(ui: &mut egui::Ui, size: Vec2, points: Vec<[f64; 2]>) -> egui::Rect {
+fn lsa_plot(ui: &mut egui::Ui, size: Vec2, points: Vec<[f64; 2]>) -> egui::Rect {
     let series = [Series {
         colour: LINES[1],
         points,
@@ -344,7 +269,7 @@ pub(super) fn lsa_plot(ui: &mut egui::Ui, size: Vec2, points: Vec<[f64; 2]>) -> 
 
 /// The spot plot's series (the lens's and a system's): where each line's
 /// rays meet the image plane, as dots in the line's colour (C, d, F).
-pub(super) fn spot_series<I>(lines: impl IntoIterator<Item = I>) -> Vec<Series>
+fn spot_series<I>(lines: impl IntoIterator<Item = I>) -> Vec<Series>
 where
     I: IntoIterator<Item = Option<[f64; 3]>>,
 {
@@ -369,7 +294,7 @@ const SPOT_MARKS: [(&str, MarkerShape); 3] = [
 /// The distortion plot of `points` (field °, %) from the axis, or why
 /// there is none (no real paraxial image): the lens's and a system's.
 /// Returns where the plot is on screen.
-pub(super) fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) -> Option<egui::Rect> {
+fn distortion_curve(ui: &mut egui::Ui, size: Vec2, points: Option<Vec<[f64; 2]>>) -> Option<egui::Rect> {
     let Some(points) = points else {
         ui.allocate_ui(size, |ui| {
             ui.label("Distortion: no real paraxial image.");
