@@ -9,7 +9,9 @@
 //! lens's r1 (the native picture again), refuses a bad r1 in one line,
 //! Ctrl+Z and Redo bring back each picture bit for bit, and a glass picked
 //! from its catalogue list is the native picture again; Save scene and
-//! Save PNG download the edited scene and the canvas; a bad scene file, opened or dropped,
+//! Save PNG download the edited scene and the canvas; a sphere from the
+//! panel's Add menu is the desktop's new sphere and the native picture,
+//! its Delete button the native picture again, and Undo brings it back; a bad scene file, opened or dropped,
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
 //! native picture; no console error. Then not isolated: one thread, a note
@@ -239,6 +241,7 @@ fn assert_keys_give_native(work: &Path, out: &Path) {
         want.lenses
     );
     assert_panel_edits(work, out, &lens);
+    assert_panel_adds(work, out);
 }
 
 /// The r1 the page's panel test types, and the one it must refuse
@@ -303,6 +306,44 @@ fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
     assert!(png == glass, "Save PNG: the file is not the canvas");
     let overlay = format!("\"overlay\": \"{0} spp of {0} spp (done), ", CUBES.spp);
     assert!(report.contains(&overlay), "the overlay: {report}");
+}
+
+/// The panel's Add menu, a sphere: the desktop's *Add* form's (the
+/// library's `NewItem::of` and `Document::add_new`) in the scene the page
+/// had, and the native picture of the page's scene; its Delete button
+/// removes it (`Document::delete`, the native picture again), and Undo
+/// brings the sphere's picture back bit for bit.
+fn assert_panel_adds(work: &Path, out: &Path) {
+    use lensview::edit::document::{NEW_DISTANCE, NewItem};
+    use lensview::edit::{Document, Placement, Source};
+    use lensview::scene::Scene;
+    let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
+    let (before, _) = Scene::parse("glass", &text("glass.toml")).unwrap();
+    let mut doc = Document::new(before, Source::Default).unwrap();
+    let at = doc.place(Placement::InFrontOfCamera(NEW_DISTANCE));
+    let sphere = doc.add_new(NewItem::of("sphere", "", at).unwrap()).unwrap();
+    let (got, _) = Scene::parse("added", &text("added.toml")).unwrap();
+    assert!(&got == doc.scene(), "the panel's sphere: objects {:?}", got.objects);
+    let report = text("report.json");
+    let lensview::edit::Item::Object(i) = sphere else {
+        unreachable!()
+    };
+    assert!(
+        report.contains(&format!("\"added_selected\": \"object:{i}\"")),
+        "the new sphere is selected: {report}"
+    );
+    let added = std::fs::read(out.join("added.rgba")).unwrap();
+    let native = native_rgb(&out.join("added.toml"), &work.join("added.png"), CUBES);
+    assert_same_picture(&added, &native, "cubes after adding a sphere in the panel");
+    doc.delete(sphere).unwrap();
+    let (got, _) = Scene::parse("deleted", &text("deleted.toml")).unwrap();
+    assert!(&got == doc.scene(), "the panel's Delete: objects {:?}", got.objects);
+    let deleted = std::fs::read(out.join("deleted.rgba")).unwrap();
+    assert_ne!(deleted, added, "Delete changed nothing on the page");
+    let native = native_rgb(&out.join("deleted.toml"), &work.join("deleted.png"), CUBES);
+    assert_same_picture(&deleted, &native, "cubes after deleting the sphere in the panel");
+    let undeleted = std::fs::read(out.join("undeleted.rgba")).unwrap();
+    assert!(undeleted == added, "Undo after Delete: not the sphere's picture");
 }
 
 /// RGBA bytes as RGB (for [`assert_same_picture`]'s native side).

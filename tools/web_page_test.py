@@ -15,6 +15,9 @@ writes what it saw into OUT:
   redone.rgba      the canvas after the panel's Redo button
   glass.rgba/.toml then after picking the glass PANEL_GLASS in the panel
   saved.toml/.png  what the page's Save buttons downloaded then
+  added.rgba/.toml then after picking a sphere in the panel's Add menu
+  deleted.rgba/.toml then after its Delete button (the sphere selected)
+  undeleted.rgba   then after the Undo button
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
   good.rgba        the canvas after dropping GOOD on the page then
@@ -224,6 +227,39 @@ def downloads(page, a, out, report):
     report["downloads"] = sorted(os.listdir(folder))
 
 
+def act_and_wait(page, a, js, renders, what):
+    """Runs `js` (a panel button or menu, as a user clicks it); waits for
+    the finished picture it starts (the page's `renders`-th)."""
+    page.eval(js)
+    page.wait(f"window.lensview.renders >= {renders} && window.lensview.done", what, a.timeout)
+
+
+def panel_adds(page, a, out, report):
+    """The Add menu's sphere, its Delete button, then Undo; optionally a
+    screenshot of the panel with the sphere's material and the menu."""
+    renders = json.loads(page.eval(STATE))["renders"]
+    act_and_wait(page, a, """(() => { const s = document.getElementById('add');
+        s.value = 'add:sphere'; s.dispatchEvent(new Event('change')); })()""", renders + 1, "the added sphere")
+    report["added_selected"] = page.eval("window.lensview.panel.selected")
+    save(out, "added.rgba", page.canvas())
+    save(out, "added.toml", page.eval("window.lensview.sceneToml()"))
+    act_and_wait(page, a, "document.getElementById('action-delete').click()", renders + 2, "the sphere deleted")
+    save(out, "deleted.rgba", page.canvas())
+    save(out, "deleted.toml", page.eval("window.lensview.sceneToml()"))
+    act_and_wait(page, a, "document.getElementById('undo').click()", renders + 3, "the delete undone")
+    save(out, "undeleted.rgba", page.canvas())
+    if a.screenshot:
+        # The sphere selected (its material's rows), the Add menu open as a list.
+        page.eval("""(() => { const s = document.getElementById('items');
+            s.value = [...s.options].find((o) => o.text.startsWith('sphere')).value;
+            s.dispatchEvent(new Event('change')); })()""")
+        page.wait("!!document.getElementById('field-shininess')", "the sphere's material", a.timeout)
+        page.eval("document.getElementById('add').size = 12")
+        shot = page.call("Page.captureScreenshot", format="png")["data"]
+        with open(a.screenshot, "wb") as f:
+            f.write(base64.b64decode(shot))
+
+
 def bad_files(page, a, out):
     """The bad scene file through the file input, then dropped on the page;
     then the good one (--good) dropped."""
@@ -271,6 +307,7 @@ def run(page, url, a, out, report):
         save(out, "lens.toml", page.eval("window.lensview.sceneToml()"))
         panel_edits(page, a, out, report)
         downloads(page, a, out, report)
+        panel_adds(page, a, out, report)
         bad_files(page, a, out)
     for name in filter(None, a.presets.split(",")):
         base = url.split("?")[0]
@@ -292,6 +329,7 @@ def main():
     ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
     ap.add_argument("--panel-bad", default="0.1", help="an r1 the panel must refuse")
     ap.add_argument("--panel-glass", default="N-SF5", help="the lens's glass picked in the panel")
+    ap.add_argument("--screenshot", help="a PNG of the page with the added sphere's material and the Add menu")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.
