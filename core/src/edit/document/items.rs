@@ -29,7 +29,8 @@ pub enum NewItem {
     /// A primitive and the colour of its own new material.
     Primitive(ObjectFile, V3),
     Lens(LensFile),
-    System(SystemFile),
+    /// Boxed: a system's record is several times a lens's.
+    System(Box<SystemFile>),
 }
 
 impl NewItem {
@@ -51,8 +52,8 @@ impl NewItem {
         let axis = [0.0, 0.0, 1.0];
         match what {
             "lens" => Some(NewItem::Lens(new_lens(position, axis))),
-            "preset" => super::new_preset_system(preset, position, axis).map(NewItem::System),
-            _ => super::new_system(what, position, axis).map(NewItem::System),
+            "preset" => super::new_preset_system(preset, position, axis).map(|s| NewItem::System(Box::new(s))),
+            _ => super::new_system(what, position, axis).map(|s| NewItem::System(Box::new(s))),
         }
     }
 }
@@ -65,7 +66,7 @@ impl Document {
         match new {
             NewItem::Primitive(o, colour) => self.add_primitive(o, colour),
             NewItem::Lens(l) => self.add_lens_facing_camera(l),
-            NewItem::System(s) => self.add_system_facing_camera(s),
+            NewItem::System(s) => self.add_system_facing_camera(*s),
         }
     }
 
