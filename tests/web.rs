@@ -9,7 +9,9 @@
 //! lens's r1 (the native picture again), refuses a bad r1 in one line,
 //! Ctrl+Z and Redo bring back each picture bit for bit, and a glass picked
 //! from its catalogue list is the native picture again; Save scene and
-//! Save PNG download the edited scene and the canvas; a bad scene file, opened or dropped,
+//! Save PNG download the edited scene and the canvas; a sphere from the
+//! panel's Add menu is the desktop's new sphere and the native picture,
+//! its Delete button the native picture again, and Undo brings it back; a bad scene file, opened or dropped,
 //! gets the command line's one-line error in the page, and a good one
 //! dropped is rendered as natively; every preset is the
 //! native picture; no console error. The same in headless Firefox (over
@@ -339,14 +341,6 @@ fn assert_panel_edits(work: &Path, out: &Path, lens: &[u8]) {
     assert!(report.contains(&overlay), "the overlay: {report}");
 }
 
-/// A whole number after `"key": ` in the report's JSON.
-fn report_number(report: &str, key: &str) -> u64 {
-    let pattern = format!("\"{key}\": ");
-    let at = report.find(&pattern).unwrap_or_else(|| panic!("no {key} in {report}")) + pattern.len();
-    let digits: String = report[at..].chars().take_while(char::is_ascii_digit).collect();
-    digits.parse().unwrap()
-}
-
 /// F6 and F7 on the page (after the panel's edits): the optics overlay's
 /// canvas has drawn pixels, F′ among its labels; the analysis panel shows
 /// the library's SVG figures (the cross-section, LSA, spot and distortion;
@@ -365,6 +359,44 @@ fn assert_optics(report: &str) {
         );
     }
     assert!(report.contains("Longitudinal spherical aberration"), "{report}");
+}
+
+/// The panel's Add menu, a sphere: the desktop's *Add* form's (the
+/// library's `NewItem::of` and `Document::add_new`) in the scene the page
+/// had, and the native picture of the page's scene; its Delete button
+/// removes it (`Document::delete`, the native picture again), and Undo
+/// brings the sphere's picture back bit for bit.
+fn assert_panel_adds(work: &Path, out: &Path) {
+    use lensview::edit::document::{NEW_DISTANCE, NewItem};
+    use lensview::edit::{Document, Placement, Source};
+    use lensview::scene::Scene;
+    let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
+    let (before, _) = Scene::parse("glass", &text("glass.toml")).unwrap();
+    let mut doc = Document::new(before, Source::Default).unwrap();
+    let at = doc.place(Placement::InFrontOfCamera(NEW_DISTANCE));
+    let sphere = doc.add_new(NewItem::of("sphere", "", at).unwrap()).unwrap();
+    let (got, _) = Scene::parse("added", &text("added.toml")).unwrap();
+    assert!(&got == doc.scene(), "the panel's sphere: objects {:?}", got.objects);
+    let report = text("report.json");
+    let lensview::edit::Item::Object(i) = sphere else {
+        unreachable!()
+    };
+    assert!(
+        report.contains(&format!("\"added_selected\": \"object:{i}\"")),
+        "the new sphere is selected: {report}"
+    );
+    let added = std::fs::read(out.join("added.rgba")).unwrap();
+    let native = native_rgb(&out.join("added.toml"), &work.join("added.png"), CUBES);
+    assert_same_picture(&added, &native, "cubes after adding a sphere in the panel");
+    doc.delete(sphere).unwrap();
+    let (got, _) = Scene::parse("deleted", &text("deleted.toml")).unwrap();
+    assert!(&got == doc.scene(), "the panel's Delete: objects {:?}", got.objects);
+    let deleted = std::fs::read(out.join("deleted.rgba")).unwrap();
+    assert_ne!(deleted, added, "Delete changed nothing on the page");
+    let native = native_rgb(&out.join("deleted.toml"), &work.join("deleted.png"), CUBES);
+    assert_same_picture(&deleted, &native, "cubes after deleting the sphere in the panel");
+    let undeleted = std::fs::read(out.join("undeleted.rgba")).unwrap();
+    assert!(undeleted == added, "Undo after Delete: not the sphere's picture");
 }
 
 /// RGBA bytes as RGB (for [`assert_same_picture`]'s native side).
@@ -416,6 +448,7 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
     let lens = assert_keys_give_native(&out);
     if browser == "chromium" {
         assert_panel_edits(work, &out, &lens);
+        assert_panel_adds(work, &out);
     }
     for name in &names {
         let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();

@@ -21,6 +21,9 @@ writes what it saw into OUT:
   saved.toml/.png  what the page's Save buttons downloaded then
   optics.png       a screenshot after F6 and F7 (the optics overlay and the
                    analysis panel), then the field set to 5°
+  added.rgba/.toml then after picking a sphere in the panel's Add menu
+  deleted.rgba/.toml then after its Delete button (the sphere selected)
+  undeleted.rgba   then after the Undo button
   error.txt        the page's error line after opening BAD with its file input
   dropped.txt      the same after dropping BAD on the page
   good.rgba        the canvas after dropping GOOD on the page then
@@ -288,6 +291,39 @@ def downloads(page, a, out, report):
     report["downloads"] = sorted(os.listdir(folder))
 
 
+def act_and_wait(page, a, js, renders, what):
+    """Runs `js` (a panel button or menu, as a user clicks it); waits for
+    the finished picture it starts (the page's `renders`-th)."""
+    page.eval(js)
+    page.wait(f"window.lensview.renders >= {renders} && window.lensview.done", what, a.timeout)
+
+
+def panel_adds(page, a, out, report):
+    """The Add menu's sphere, its Delete button, then Undo; optionally a
+    screenshot of the panel with the sphere's material and the menu."""
+    renders = json.loads(page.eval(STATE))["renders"]
+    act_and_wait(page, a, """(() => { const s = document.getElementById('add');
+        s.value = 'add:sphere'; s.dispatchEvent(new Event('change')); })()""", renders + 1, "the added sphere")
+    report["added_selected"] = page.eval("window.lensview.panel.selected")
+    save(out, "added.rgba", canvas(page))
+    save(out, "added.toml", page.eval("window.lensview.sceneToml()"))
+    act_and_wait(page, a, "document.getElementById('action-delete').click()", renders + 2, "the sphere deleted")
+    save(out, "deleted.rgba", canvas(page))
+    save(out, "deleted.toml", page.eval("window.lensview.sceneToml()"))
+    act_and_wait(page, a, "document.getElementById('undo').click()", renders + 3, "the delete undone")
+    save(out, "undeleted.rgba", canvas(page))
+    if a.screenshot:
+        # The sphere selected (its material's rows), the Add menu open as a list.
+        page.eval("""(() => { const s = document.getElementById('items');
+            s.value = [...s.options].find((o) => o.text.startsWith('sphere')).value;
+            s.dispatchEvent(new Event('change')); })()""")
+        page.wait("!!document.getElementById('field-shininess')", "the sphere's material", a.timeout)
+        page.eval("document.getElementById('add').size = 12")
+        shot = page.call("Page.captureScreenshot", format="png")["data"]
+        with open(a.screenshot, "wb") as f:
+            f.write(base64.b64decode(shot))
+
+
 def bad_files(page, a, out):
     """The bad scene file through the file input (Chromium: Firefox's BiDi
     has no file-input command), then dropped on the page; then the good one
@@ -353,6 +389,7 @@ def run(page, url, a, out, report):
             panel_edits(page, a, out, report)
             optics(page, a, out, report)
             downloads(page, a, out, report)
+            panel_adds(page, a, out, report)
         if a.bad:
             bad_files(page, a, out)
     for name in filter(None, a.presets.split(",")):
@@ -379,6 +416,7 @@ def main():
     ap.add_argument("--browser", choices=("chromium", "firefox", "webkit"), default="chromium",
                     help="firefox, webkit: the first picture, the keys, dropped files and presets"
                          " (no panel, downloads or file input); webkit needs an X display (xvfb-run)")
+    ap.add_argument("--screenshot", help="a PNG of the page with the added sphere's material and the Add menu")
     ap.add_argument("--timeout", type=float, default=240)
     a = ap.parse_args()
     # SIGTERM (a timeout) ends through the `finally` below.

@@ -120,6 +120,16 @@ impl App {
         self.0.set(id, key, value).map_err(|e| JsValue::from_str(&e))
     }
 
+    /// Does a panel button's `action` (the *Add* menu's `add:…`,
+    /// `delete`, `duplicate`, `own-material`) with item `id` selected.
+    /// Returns JSON: whether the picture starts over (`changed`) and the
+    /// item to select now (`selected`). Throws the library's one-line
+    /// refusal (the scene stays).
+    pub fn act(&mut self, id: &str, action: &str) -> Result<String, JsValue> {
+        let (changed, selected) = self.0.act(id, action).map_err(|e| JsValue::from_str(&e))?;
+        Ok(serde_json::json!({ "changed": changed, "selected": selected }).to_string())
+    }
+
     /// Undoes the newest edit; whether the picture starts over.
     pub fn undo(&mut self) -> bool {
         self.0.undo()

@@ -1,16 +1,24 @@
 //! The page's editing panel without the browser: the scene's items (the
-//! camera, the lights, the primitives, the lenses and the lens systems)
-//! and the fields of the selected one, as plain rows that `www/panel.js`
-//! turns into inputs. Values go back as text to [`set`] (`panel/edit.rs`),
-//! which parses them and makes the desktop panel's edit through the
-//! library's `edit::Document` (`set_lens`, `set_system`, `set_light`, …):
-//! validated by the scene's own checks, one undo step each. Nothing here
-//! knows optics; the readouts (EFL, f-number) are the library's.
+//! camera, the render settings, the lights, the primitives, the lenses and
+//! the lens systems) and the fields of the selected one, as plain rows
+//! that `www/panel.js` turns into inputs (`panel/rows.rs` has the lens
+//! camera's, the render settings' and a material's). Values go back as
+//! text to [`set`] (`panel/edit.rs`, `panel/settings.rs`), which parses
+//! them and makes the desktop panel's edit through the library's
+//! `edit::Document` (`set_lens`, `set_system`, `set_light`, …); buttons
+//! (the *Add* menu, *Delete*, *Duplicate*) go to [`act`] (`panel/act.rs`).
+//! Each is validated by the scene's own checks and is one undo step.
+//! Nothing here knows optics; the readouts (EFL, f-number) are the
+//! library's.
 
+mod act;
 mod edit;
+mod rows;
+mod settings;
 #[cfg(test)]
 mod tests;
 
+pub use act::{act, adds};
 pub use edit::set;
 
 use lensview::edit::document::system_kind_label;
@@ -19,7 +27,7 @@ use lensview::glass::CATALOGUE;
 use lensview::optics::{Index, ThickLens, WAVELENGTH_D_UM};
 use lensview::prescription::PRESETS;
 use lensview::scene::SYSTEM_KINDS;
-use lensview::scene::file::{IndexFile, LensFile, LightKind, MaterialFile, ObjectFile, ShapeKind, SystemFile, V3};
+use lensview::scene::file::{IndexFile, LensFile, LightKind, ObjectFile, ShapeKind, SystemFile, V3};
 use serde::Serialize;
 
 /// One row of the panel.
@@ -29,7 +37,8 @@ pub struct Field {
     pub key: String,
     pub label: String,
     /// `"number"`, `"vec3"` (three numbers, comma separated), `"choice"`
-    /// (one of `options`) or `"readout"` (shown, not edited).
+    /// (one of `options`), `"text"` (a line: a name), `"lines"` (a
+    /// prescription's table) or `"readout"` (shown, not edited).
     pub kind: &'static str,
     pub value: String,
     /// A choice's values and what the list shows for each.
@@ -38,29 +47,37 @@ pub struct Field {
 }
 
 /// What the page shows: the items (id, label), the selected one's fields,
-/// and what Undo and Redo would undo and redo.
+/// the buttons of what can be done to it (action, label: [`act`]), what
+/// the *Add* menu adds (action, label), and what Undo and Redo would undo
+/// and redo.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Panel {
     pub items: Vec<(String, String)>,
     pub selected: String,
     pub fields: Vec<Field>,
+    pub actions: Vec<(String, String)>,
+    pub adds: Vec<(String, String)>,
     pub undo: Option<String>,
     pub redo: Option<String>,
 }
 
-/// An item of the panel's list, by its id: `camera`, `light:K`,
-/// `object:I`, `lens:I`, `system:I`.
+/// An item of the panel's list, by its id: `camera`, `render` (the
+/// scene's render settings and ambient light), `light:K`, `object:I`,
+/// `lens:I`, `system:I`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Target {
     Camera,
+    Render,
     Light(usize),
     Item(Item),
 }
 
 impl Target {
     pub fn parse(id: &str) -> Option<Target> {
-        if id == "camera" {
-            return Some(Target::Camera);
+        match id {
+            "camera" => return Some(Target::Camera),
+            "render" => return Some(Target::Render),
+            _ => {}
         }
         let (kind, i) = id.split_once(':')?;
         let i: usize = i.parse().ok()?;
@@ -76,6 +93,7 @@ impl Target {
     pub fn id(self) -> String {
         match self {
             Target::Camera => "camera".into(),
+            Target::Render => "render".into(),
             Target::Light(k) => format!("light:{k}"),
             Target::Item(Item::Object(i)) => format!("object:{i}"),
             Target::Item(Item::Lens(i)) => format!("lens:{i}"),
@@ -86,7 +104,7 @@ impl Target {
     /// Whether the document has it.
     fn exists(self, doc: &Document) -> bool {
         match self {
-            Target::Camera => true,
+            Target::Camera | Target::Render => true,
             Target::Light(k) => k < doc.scene().lights.len(),
             Target::Item(item) => doc.contains(item),
         }
@@ -96,6 +114,7 @@ impl Target {
     pub fn path(self) -> String {
         match self {
             Target::Camera => "camera".into(),
+            Target::Render => "render".into(),
             Target::Light(k) => format!("lights[{k}]"),
             Target::Item(Item::Object(i)) => format!("objects[{i}]"),
             Target::Item(Item::Lens(i)) => format!("lenses[{i}]"),
@@ -123,6 +142,8 @@ pub fn panel(doc: &Document, selected: &str) -> Panel {
         items: items(doc),
         selected: target.id(),
         fields: fields(doc, target),
+        actions: act::actions(doc, target),
+        adds: adds(),
         undo: doc.undo_label().map(str::to_string),
         redo: doc.redo_label().map(str::to_string),
     }
@@ -132,7 +153,10 @@ pub fn panel(doc: &Document, selected: &str) -> Panel {
 /// desktop's *Objects* list names them), each with its kind.
 pub fn items(doc: &Document) -> Vec<(String, String)> {
     let s = doc.scene();
-    let mut v = vec![("camera".to_string(), "camera".to_string())];
+    let mut v = vec![
+        ("camera".to_string(), "camera".to_string()),
+        ("render".to_string(), "render settings".to_string()),
+    ];
     for (k, l) in s.lights.iter().enumerate() {
         let kind = if l.kind == LightKind::Point {
             "point"
@@ -170,6 +194,10 @@ fn vec3(key: &str, label: &str, v: V3) -> Field {
     row(key, label, "vec3", v3(v))
 }
 
+fn text(key: &str, label: &str, value: &str) -> Field {
+    row(key, label, "text", value.into())
+}
+
 fn readout(label: &str, value: String) -> Field {
     row("", label, "readout", value)
 }
@@ -202,7 +230,11 @@ pub fn fields(doc: &Document, target: Target) -> Vec<Field> {
                 vec3("rotation", "rotation °", r.to_array()),
                 number("fov", "fov °", s.camera.fov),
             ]
+            .into_iter()
+            .chain(rows::camera_lens(doc))
+            .collect()
         }
+        Target::Render => rows::render(doc),
         Target::Light(k) => {
             let l = &s.lights[k];
             let kinds = [("point", "point"), ("directional", "directional")];
@@ -230,6 +262,7 @@ fn pairs(v: &[(&str, &str)]) -> Vec<(String, String)> {
 
 fn object_fields(doc: &Document, o: &ObjectFile) -> Vec<Field> {
     let mut v = vec![
+        text("name", "name", o.name.as_deref().unwrap_or_default()),
         readout("type", o.kind.name().into()),
         vec3("position", "position", o.position),
         vec3("rotation", "rotation °", o.rotation),
@@ -242,17 +275,7 @@ fn object_fields(doc: &Document, o: &ObjectFile) -> Vec<Field> {
             v.push(number("height", "height", o.height.unwrap_or(1.0)));
         }
     }
-    let material = o
-        .material
-        .as_ref()
-        .and_then(|m| Some((m, doc.scene().materials.get(m)?)));
-    let colour = material.map_or(MaterialFile::default().color, |(_, m)| m.color);
-    let label = match material {
-        Some((name, _)) if doc.material_users(name) > 1 => format!("colour (material {name}, shared)"),
-        Some((name, _)) => format!("colour (material {name})"),
-        None => "colour (built-in grey)".into(),
-    };
-    v.push(vec3("color", &label, colour));
+    v.extend(rows::material(doc, o));
     v
 }
 
@@ -285,6 +308,7 @@ pub fn nominal(n: IndexFile) -> f64 {
 
 fn lens_fields(l: &LensFile) -> Vec<Field> {
     let mut v = vec![
+        text("name", "name", l.name.as_deref().unwrap_or_default()),
         vec3("center", "centre", l.center),
         vec3("axis", "axis", l.axis),
         number("d", "diameter d", l.d),
@@ -305,12 +329,18 @@ fn lens_fields(l: &LensFile) -> Vec<Field> {
 
 fn system_fields(doc: &Document, i: usize, s: &SystemFile) -> Vec<Field> {
     let kinds: Vec<(String, String)> = SYSTEM_KINDS.iter().map(|k| (k.to_string(), k.to_string())).collect();
-    let mut v = vec![choice("kind", "kind", &s.kind, kinds)];
+    let name = s.name.as_deref().unwrap_or_default();
+    let mut v = vec![text("name", "name", name), choice("kind", "kind", &s.kind, kinds)];
     if s.kind == "preset" {
         let presets = PRESETS.iter().map(|(p, _)| (p.to_string(), p.to_string())).collect();
         v.push(choice("preset", "preset", s.preset.as_deref().unwrap_or(""), presets));
     }
     v.extend(s.scale.map(|x| number("scale", "scale", x)));
+    if s.kind == "prescription" {
+        let table = s.prescription.as_deref().unwrap_or_default();
+        let label = "prescription (radius, thickness, n, aperture diameter per line)";
+        v.push(row("prescription", label, "lines", table.into()));
+    }
     v.extend(s.center.map(|p| vec3("center", "centre", p)));
     v.extend(s.vertex.map(|p| vec3("vertex", "first vertex", p)));
     v.push(vec3("axis", "axis", s.axis));

@@ -270,6 +270,16 @@ impl View {
         Ok(self.changed(change))
     }
 
+    /// A panel button ([`panel::act`]: the *Add* menu's items, *Delete*,
+    /// *Duplicate*, a material of its own) with item `id` selected;
+    /// whether the picture starts over, and the item to select then. A
+    /// refusal is one line, and the scene stays.
+    pub fn act(&mut self, id: &str, action: &str) -> Result<(bool, String), String> {
+        let (msg, selected, change) = panel::act(&mut self.doc, id, action)?;
+        self.message = msg;
+        Ok((self.changed(change), selected))
+    }
+
     /// Undoes the newest edit (a panel field, a key, a flight); whether
     /// the picture starts over.
     pub fn undo(&mut self) -> bool {

@@ -3,7 +3,9 @@
 // Undo and Redo). It parses nothing and checks nothing: a value goes to the
 // worker as typed (App.set), which makes the desktop panel's Document edit
 // and answers with a new panel, or with the library's one-line error.
-// send(message) posts to the render worker (main.js).
+// send(message) posts to the render worker (main.js). Buttons (the Add
+// menu, Delete, Duplicate, …) go as actions (App.act), which answer with
+// the item to select.
 
 export function createPanel(root, send) {
   const items = root.querySelector("#items");
@@ -13,6 +15,20 @@ export function createPanel(root, send) {
   items.addEventListener("change", () => send({ type: "select", id: items.value }));
   undo.addEventListener("click", () => send({ type: "undo" }));
   redo.addEventListener("click", () => send({ type: "redo" }));
+
+  // The Add menu and the selected item's buttons, made here (before the
+  // fields) so the page's HTML needs nothing for them.
+  const add = document.createElement("select");
+  add.id = "add";
+  const actions = document.createElement("div");
+  actions.id = "actions";
+  const addRow = document.createElement("div");
+  addRow.append("Add: ", add);
+  fields.before(addRow, actions);
+  add.addEventListener("change", () => {
+    if (add.value) send({ type: "act", id: items.value, action: add.value });
+    add.value = "";
+  });
 
   // One input for a field: text for numbers and vectors (sent on Enter or
   // leaving it), a list for a choice, plain text for a readout.
@@ -26,10 +42,15 @@ export function createPanel(root, send) {
     if (f.kind === "choice") {
       el = document.createElement("select");
       for (const [value, label] of f.options) el.add(new Option(label, value));
+    } else if (f.kind === "lines") {
+      // A prescription's table: sent on leaving it.
+      el = document.createElement("textarea");
+      el.rows = 6;
+      el.cols = 36;
     } else {
       el = document.createElement("input");
       el.type = "text";
-      el.size = f.kind === "vec3" ? 24 : 10;
+      el.size = f.kind === "vec3" || f.kind === "text" ? 24 : 10;
     }
     el.id = `field-${f.key}`;
     el.value = f.value;
@@ -45,6 +66,17 @@ export function createPanel(root, send) {
     redo.disabled = !p.redo;
     undo.title = p.undo ? `undo: ${p.undo}` : "nothing to undo";
     redo.title = p.redo ? `redo: ${p.redo}` : "nothing to redo";
+    add.replaceChildren(new Option("(choose what to add)", ""), ...p.adds.map(([a, label]) => new Option(label, a)));
+    add.value = "";
+    actions.replaceChildren(
+      ...p.actions.map(([a, label]) => {
+        const b = document.createElement("button");
+        b.id = `action-${a}`;
+        b.textContent = label;
+        b.addEventListener("click", () => send({ type: "act", id: p.selected, action: a }));
+        return b;
+      }),
+    );
     fields.replaceChildren(
       ...p.fields.map((f) => {
         const tr = document.createElement("tr");

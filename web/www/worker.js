@@ -162,6 +162,18 @@ onmessage = async ({ data: d }) => {
       postMessage({ type: "error", text: String(err) });
       postPanel();
     }
+  } else if (d.type === "act") {
+    // A panel button (Add, Delete, Duplicate, …): the document's edit, and
+    // the item it selects.
+    const t = performance.now();
+    try {
+      const r = JSON.parse(app.act(d.id, d.action));
+      selected = r.selected;
+      edited(r.changed, t);
+    } catch (err) {
+      postMessage({ type: "error", text: String(err) });
+      postPanel();
+    }
   } else if (d.type === "undo" || d.type === "redo") {
     const t = performance.now();
     edited(d.type === "undo" ? app.undo() : app.redo(), t);

@@ -29,7 +29,10 @@ pub use camera_lens::DEFAULT_CAMERA_LENS;
 pub use unsaved::Unsaved;
 
 pub use files::{ReloadError, SaveError, to_toml};
-pub use items::{Placement, free_name, in_front_of_camera, new_lens, new_material, new_object, unique_key};
+pub use items::{
+    NEW_COLOUR, NEW_DISTANCE, NewItem, Placement, free_name, in_front_of_camera, new_lens, new_material, new_object,
+    unique_key,
+};
 pub use scene_edits::{
     axis_angles, axis_from_angles, index_with_dispersion, new_point_light, set_camera_pose, switch_light_kind,
 };

@@ -1,12 +1,12 @@
 //! The *Add* section: a form per kind of item (its sizes kept per kind),
-//! where to put it, and the button. The new item itself is made by
-//! `Document::add_primitive` / `add_lens_facing_camera` /
-//! `add_system_facing_camera`.
+//! where to put it, and the button. The new item itself is the library's
+//! (`NewItem::of`, its sizes then set from the form) and added by
+//! `Document::add_new`, as the page's *Add* menu does.
 
 use super::Ctx;
 use super::widgets::{Field, positive, vec3};
 use lensview::edit::Placement;
-use lensview::edit::document::{new_lens, new_object, new_preset_system, new_system};
+use lensview::edit::document::{NEW_COLOUR, NEW_DISTANCE, NewItem};
 use lensview::prescription::PRESETS;
 use lensview::scene::SYSTEM_KINDS;
 use lensview::scene::file::{IndexFile, ShapeKind, V3};
@@ -41,16 +41,6 @@ impl AddKind {
             AddKind::System => "system",
         }
     }
-
-    fn shape(self) -> Option<ShapeKind> {
-        match self {
-            AddKind::Cuboid => Some(ShapeKind::Cuboid),
-            AddKind::Prism => Some(ShapeKind::Prism),
-            AddKind::Sphere => Some(ShapeKind::Sphere),
-            AddKind::Pyramid => Some(ShapeKind::Pyramid),
-            AddKind::Lens | AddKind::System => None,
-        }
-    }
 }
 
 /// The *Add* form: parameters kept per kind.
@@ -82,9 +72,9 @@ impl Default for AddForm {
             lens: [2.0, 5.0, 5.0, 1.5],
             system: "biconvex",
             preset: PRESETS[0].0,
-            color: [0.8, 0.25, 0.15],
+            color: NEW_COLOUR.map(|x| x as f32),
             in_front: true,
-            distance: 6.0,
+            distance: NEW_DISTANCE,
             position: [0.0, 0.5, 0.0],
         }
     }
@@ -224,35 +214,30 @@ fn add_from_form(cx: &mut Ctx) {
     let s = &mut *cx.session;
     let f = &s.ui.add;
     let position: V3 = s.doc.place(f.placement());
-    let result = match f.kind.shape() {
-        Some(kind) => {
-            let mut o = new_object(kind, position);
-            match kind {
+    let what = if f.kind == AddKind::System {
+        f.system
+    } else {
+        f.kind.name()
+    };
+    let Some(mut new) = NewItem::of(what, f.preset, position) else {
+        return;
+    };
+    match &mut new {
+        NewItem::Primitive(o, colour) => {
+            match o.kind {
                 ShapeKind::Cuboid => o.size = Some(f.size),
                 ShapeKind::Sphere => o.radius = Some(f.radius),
                 ShapeKind::Prism => (o.side, o.height) = (Some(f.prism[0]), Some(f.prism[1])),
                 ShapeKind::Pyramid => (o.side, o.height) = (Some(f.pyramid[0]), Some(f.pyramid[1])),
             }
-            let colour = f.color.map(|x| x as f64);
-            s.doc.add_primitive(o, colour)
+            *colour = f.color.map(|x| x as f64);
         }
-        None if f.kind == AddKind::System => {
-            let new = if f.system == "preset" {
-                new_preset_system(f.preset, position, [0.0, 0.0, 1.0])
-            } else {
-                new_system(f.system, position, [0.0, 0.0, 1.0])
-            };
-            match new {
-                Some(sys) => s.doc.add_system_facing_camera(sys),
-                None => return,
-            }
-        }
-        None => {
-            let mut l = new_lens(position, [0.0, 0.0, 1.0]);
+        NewItem::Lens(l) => {
             (l.d, l.r1, l.r2, l.n) = (f.lens[0], f.lens[1], f.lens[2], IndexFile::Constant(f.lens[3]));
-            s.doc.add_lens_facing_camera(l)
         }
-    };
+        NewItem::System(_) => {}
+    }
+    let result = s.doc.add_new(new);
     match result {
         Ok(item) => {
             s.select(item);

@@ -6,13 +6,13 @@
 //! committed. A value the scene's checks refuse leaves the document as it
 //! was and comes back as the one-line error the page shows.
 
-use super::Target;
+use super::{Target, settings};
 use glam::DVec3;
-use lensview::edit::document::{new_preset_system, new_system, switch_light_kind, unique_key};
+use lensview::edit::document::{new_preset_system, new_system, switch_light_kind};
 use lensview::edit::{Change, Document, Item};
 use lensview::glass;
 use lensview::scene::escape_controls;
-use lensview::scene::file::{IndexFile, LensFile, LightFile, LightKind, MaterialFile, ObjectFile, SystemFile, V3};
+use lensview::scene::file::{IndexFile, LensFile, LightFile, LightKind, ObjectFile, SystemFile, V3};
 
 /// Sets field `key` of item `id` to `value` (text, as typed). Returns what
 /// was done and what changed, or the one line (`error: …`) saying why not.
@@ -23,12 +23,15 @@ pub fn set(doc: &mut Document, id: &str, key: &str, value: &str) -> Result<(Stri
     let path = format!("{}.{key}", target.path());
     let r = match target {
         Target::Camera => set_camera(doc, key, value, &path)?,
+        Target::Render => settings::render(doc, key, value, &path)?,
         Target::Light(k) => {
             let mut l = doc.scene().lights[k].clone();
             light_field(&mut l, key, value, &path)?;
             doc.set_light(k, l)
         }
-        Target::Item(Item::Object(i)) if key == "color" => set_colour(doc, i, parse_v3(&path, value)?),
+        Target::Item(Item::Object(i)) if settings::MATERIAL_KEYS.contains(&key) => {
+            settings::material(doc, i, key, value, &path)?
+        }
         Target::Item(Item::Object(i)) => {
             let mut o = doc.scene().objects[i].clone();
             object_field(&mut o, key, value, &path)?;
@@ -50,12 +53,12 @@ pub fn set(doc: &mut Document, id: &str, key: &str, value: &str) -> Result<(Stri
 }
 
 /// `value` for an error line: controls escaped, at most 40 characters.
-fn shown(value: &str) -> String {
+pub(super) fn shown(value: &str) -> String {
     let cut: String = value.chars().take(40).collect();
     escape_controls(&cut).into_owned()
 }
 
-fn unknown(path: &str) -> String {
+pub(super) fn unknown(path: &str) -> String {
     format!("error: {path}: no such field")
 }
 
@@ -94,7 +97,7 @@ fn set_camera(
         "position" => pos = DVec3::from(parse_v3(path, value)?),
         "rotation" => rot = DVec3::from(parse_v3(path, value)?),
         "fov" => fov = parse_num(path, value)?,
-        _ => return Err(unknown(path)),
+        _ => return settings::camera_lens(doc, key, value, path),
     }
     Ok(doc.set_camera(pos, rot, fov))
 }
@@ -115,8 +118,15 @@ fn light_field(l: &mut LightFile, key: &str, value: &str, path: &str) -> Result<
     Ok(())
 }
 
+/// A name as typed; blank: none (the renderer's own).
+fn named(value: &str) -> Option<String> {
+    (!value.trim().is_empty()).then(|| value.to_string())
+}
+
 fn object_field(o: &mut ObjectFile, key: &str, value: &str, path: &str) -> Result<(), String> {
     match key {
+        "name" => o.name = named(value),
+        "material" => o.material = named(value),
         "position" => o.position = parse_v3(path, value)?,
         "rotation" => o.rotation = parse_v3(path, value)?,
         "size" => o.size = Some(parse_v3(path, value)?),
@@ -128,32 +138,10 @@ fn object_field(o: &mut ObjectFile, key: &str, value: &str, path: &str) -> Resul
     Ok(())
 }
 
-/// The colour of primitive `i`'s material (every primitive sharing it
-/// changes too, as on the desktop); a primitive with the built-in grey
-/// gets a material of its own in the same undo step.
-fn set_colour(doc: &mut Document, i: usize, colour: V3) -> Result<Change, lensview::edit::Rejected> {
-    let named = doc.scene().objects[i].material.clone();
-    if let Some(name) = named.filter(|m| doc.scene().materials.contains_key(m)) {
-        let mut m = doc.scene().materials[&name].clone();
-        m.color = colour;
-        return doc.set_material(&name, m);
-    }
-    let base = doc.item_name(Item::Object(i));
-    doc.edit("material colour", |sf| {
-        let name = unique_key(&sf.materials, &base);
-        let m = MaterialFile {
-            color: colour,
-            ..MaterialFile::default()
-        };
-        sf.materials.insert(name.clone(), m);
-        sf.objects[i].material = Some(name);
-    })
-}
-
 /// An index's fields: `KEY` (a number: the index becomes that constant)
 /// or `KEY.glass` (a catalogue glass; empty: the glass's nd as a number,
 /// rounded to 5 decimals as the desktop's *number* button does).
-fn index_field(n: &mut IndexFile, glass_key: bool, value: &str, path: &str) -> Result<(), String> {
+pub(super) fn index_field(n: &mut IndexFile, glass_key: bool, value: &str, path: &str) -> Result<(), String> {
     if !glass_key {
         *n = IndexFile::Constant(parse_num(path, value)?);
     } else if value.trim().is_empty() {
@@ -175,6 +163,7 @@ fn index_field(n: &mut IndexFile, glass_key: bool, value: &str, path: &str) -> R
 
 fn lens_field(l: &mut LensFile, key: &str, value: &str, path: &str) -> Result<(), String> {
     match key {
+        "name" => l.name = named(value),
         "center" => l.center = parse_v3(path, value)?,
         "axis" => l.axis = parse_v3(path, value)?,
         "tint" => l.tint = parse_v3(path, value)?,
@@ -201,6 +190,8 @@ fn system_field(mut s: SystemFile, key: &str, value: &str, path: &str) -> Result
         "kind" if value == s.kind => {}
         "kind" => return renew(new_system(value, place, s.axis), "system kind"),
         "preset" => return renew(new_preset_system(value, place, s.axis), "preset"),
+        "name" => s.name = named(value),
+        "prescription" => s.prescription = Some(value.to_string()),
         "center" => s.center = Some(parse_v3(path, value)?),
         "vertex" => s.vertex = Some(parse_v3(path, value)?),
         "axis" => s.axis = parse_v3(path, value)?,

@@ -5,7 +5,7 @@
 
 use super::{Change, Document, Item, Rejected};
 use crate::scene::Scene;
-use crate::scene::file::{IndexFile, LensFile, MaterialFile, ObjectFile, ShapeKind, V3};
+use crate::scene::file::{IndexFile, LensFile, MaterialFile, ObjectFile, ShapeKind, SystemFile, V3};
 
 /// Where the *Add* form puts a new item.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,7 +16,60 @@ pub enum Placement {
     At(V3),
 }
 
+/// How far in front of the camera the *Add* form puts a new item unless
+/// told otherwise.
+pub const NEW_DISTANCE: f64 = 6.0;
+
+/// The *Add* form's colour of a new primitive.
+pub const NEW_COLOUR: V3 = [0.8, 0.25, 0.15];
+
+/// What the *Add* form adds ([`Document::add_new`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NewItem {
+    /// A primitive and the colour of its own new material.
+    Primitive(ObjectFile, V3),
+    Lens(LensFile),
+    /// Boxed: a system's record is several times a lens's.
+    System(Box<SystemFile>),
+}
+
+impl NewItem {
+    /// The *Add* form's item named `what` at `position`, of the form's
+    /// default sizes ([`new_object`], [`new_lens`], [`new_system`]): a
+    /// primitive's kind (of [`NEW_COLOUR`]), `lens`, a system kind, or
+    /// `preset` (the system preset `preset`). `None`: no such kind or
+    /// preset.
+    pub fn of(what: &str, preset: &str, position: V3) -> Option<NewItem> {
+        let shapes = [
+            ShapeKind::Cuboid,
+            ShapeKind::Prism,
+            ShapeKind::Sphere,
+            ShapeKind::Pyramid,
+        ];
+        if let Some(kind) = shapes.into_iter().find(|k| k.name() == what) {
+            return Some(NewItem::Primitive(new_object(kind, position), NEW_COLOUR));
+        }
+        let axis = [0.0, 0.0, 1.0];
+        match what {
+            "lens" => Some(NewItem::Lens(new_lens(position, axis))),
+            "preset" => super::new_preset_system(preset, position, axis).map(|s| NewItem::System(Box::new(s))),
+            _ => super::new_system(what, position, axis).map(|s| NewItem::System(Box::new(s))),
+        }
+    }
+}
+
 impl Document {
+    /// Adds the *Add* form's item: a primitive named after its kind with a
+    /// material of its own ([`Document::add_primitive`]), a lens or a
+    /// system turned to face the camera. Returns the new item.
+    pub fn add_new(&mut self, new: NewItem) -> Result<Item, Rejected> {
+        match new {
+            NewItem::Primitive(o, colour) => self.add_primitive(o, colour),
+            NewItem::Lens(l) => self.add_lens_facing_camera(l),
+            NewItem::System(s) => self.add_system_facing_camera(*s),
+        }
+    }
+
     /// The items of the *Objects* list: primitives, then lenses, then lens
     /// systems, with the names the renderer uses.
     pub fn items(&self) -> Vec<(Item, String)> {

@@ -451,3 +451,33 @@ fn drags_move_items_and_lights_in_one_undo_step_each() {
     }
     assert_eq!(*doc.scene(), before);
 }
+
+#[test]
+fn the_add_forms_new_items_are_named_kinds_at_the_forms_defaults() {
+    let at = [1.0, 2.0, 3.0];
+    for kind in [
+        ShapeKind::Cuboid,
+        ShapeKind::Prism,
+        ShapeKind::Sphere,
+        ShapeKind::Pyramid,
+    ] {
+        let want = NewItem::Primitive(new_object(kind, at), NEW_COLOUR);
+        assert_eq!(NewItem::of(kind.name(), "", at), Some(want));
+    }
+    assert_eq!(
+        NewItem::of("lens", "", at),
+        Some(NewItem::Lens(new_lens(at, [0.0, 0.0, 1.0])))
+    );
+    assert!(matches!(NewItem::of("doublet", "", at), Some(NewItem::System(s)) if s.kind == "doublet"));
+    let preset = NewItem::of("preset", "cooke-triplet-100mm", at);
+    assert!(matches!(preset, Some(NewItem::System(ref s)) if s.preset.as_deref() == Some("cooke-triplet-100mm")));
+    assert_eq!(NewItem::of("blimp", "", at), None);
+    assert_eq!(NewItem::of("preset", "no-such-lens", at), None);
+    // Added: the system faces the camera, as the desktop's form adds it.
+    let mut doc = cubes();
+    let item = doc.add_new(preset.unwrap()).unwrap();
+    let Item::System(i) = item else { panic!("{item:?}") };
+    let facing = (-doc.built().camera.forward()).to_array();
+    assert_eq!(doc.scene().systems[i].axis, facing);
+    assert_eq!(doc.undo_depth(), 1);
+}
