@@ -103,8 +103,11 @@ class Page:
     def wait(self, expr, what, timeout):
         end = time.monotonic() + timeout
         while time.monotonic() < end:
-            if self.eval(expr):
-                return
+            try:
+                if self.eval(expr):
+                    return
+            except RuntimeError:
+                pass  # the page is loading (again: it may reload itself)
             time.sleep(0.05)
         raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('JSON.stringify(window.lensview)')}")
 
@@ -170,7 +173,10 @@ STATE = "JSON.stringify(window.lensview)"
 
 def open_page(page, url, a):
     """Opens `url` and waits for its finished first picture (or an error);
-    returns the page's state and the wall time it took."""
+    returns the page's state and the wall time it took. The page before is
+    left for about:blank first, so that its workers (the render worker and
+    its thread pool) are gone before the new page starts its own."""
+    page.navigate("about:blank")
     t0 = time.monotonic()
     page.navigate(url)
     page.wait("window.lensview && (window.lensview.done || window.lensview.error !== '')", "its first picture", a.timeout)

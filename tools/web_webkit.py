@@ -93,8 +93,11 @@ class WebKitPage:
     def wait(self, expr, what, timeout):
         end = time.monotonic() + timeout
         while time.monotonic() < end:
-            if self.eval(expr):
-                return
+            try:
+                if self.eval(expr):
+                    return
+            except RuntimeError:
+                pass  # the page is loading (again: it may reload itself)
             time.sleep(0.05)
         raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('window.lensview')}")
 

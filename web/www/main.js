@@ -18,6 +18,7 @@ const messageLine = document.getElementById("message");
 const overlay = document.getElementById("overlay");
 const state = (window.lensview = {
   ready: false,
+  retried: params.has("retry"),
   done: false,
   renders: 0,
   error: "",
@@ -28,9 +29,26 @@ const state = (window.lensview = {
 });
 
 // Threads need cross-origin isolation (SharedArrayBuffer); say so without.
-const threads = self.crossOriginIsolated ? navigator.hardwareConcurrency || 1 : 1;
+// `threads=N` caps them (the page sets threads=1 itself after its thread
+// pool twice failed to start: below).
+const threads = self.crossOriginIsolated ? Math.max(1, num("threads", navigator.hardwareConcurrency || 1)) : 1;
 if (!self.crossOriginIsolated) {
   document.getElementById("note").textContent = "one thread: serve with COOP/COEP for threads";
+} else if (threads === 1 && params.has("threads")) {
+  document.getElementById("note").textContent = "one thread: the thread pool did not start";
+}
+
+// wasm-bindgen-rayon's thread pool sometimes never starts (Firefox ESR 153,
+// about one page load in 30 here: initThreadPool's promise never settles,
+// no error). Stuck there for START_LIMIT_MS, the page loads itself again;
+// stuck a second time, it loads on one thread (and says so).
+const START_LIMIT_MS = 15000;
+function stuckStarting() {
+  if (state.ready || state.starting !== "threads") return;
+  const next = new URLSearchParams(location.search);
+  if (next.has("retry")) next.set("threads", "1");
+  else next.set("retry", "1");
+  location.search = next.toString();
 }
 
 const worker = new Worker("worker.js", { type: "module" });
@@ -115,6 +133,11 @@ worker.onmessage = ({ data: d }) => {
     state.done = false;
     sceneName = d.name.replace(/\.toml$/, "");
     showError("");
+  } else if (d.type === "starting") {
+    // Where the worker's start is (the module, its threads, the scene).
+    state.starting = d.step;
+    statusLine.textContent = `loading: ${d.step}…`;
+    if (d.step === "threads") setTimeout(stuckStarting, START_LIMIT_MS);
   } else if (d.type === "error") {
     showError(d.text);
     if (!state.ready) statusLine.textContent = "";
@@ -221,6 +244,7 @@ worker.addEventListener("message", ({ data: d }) => {
   look.waiting = false;
   if (d.changed) restarted(d.message);
   sendLook();
+});
 
 // ---- The optics overlay (F6) and the analysis panel (F7) ----
 // The desktop viewer's: the selected lens's (or system's) axis, vertices,

@@ -95,10 +95,13 @@ function restart() {
 
 async function start(d) {
   try {
+    postMessage({ type: "starting", step: "module" });
     await init();
     if (self.crossOriginIsolated && d.threads > 1) {
+      postMessage({ type: "starting", step: "threads" });
       await initThreadPool(d.threads);
     }
+    postMessage({ type: "starting", step: "scene" });
   } catch (err) {
     // The module's memory is shared (threads): a browser that gives no
     // shared WebAssembly memory cannot run it. Say so instead of waiting.
