@@ -93,8 +93,11 @@ fn missing_tools() -> Vec<&'static str> {
 }
 
 /// Runs `cmd` to the end or for `limit`, killing its whole process group
-/// then (the page driver's Chromium and server with it).
+/// then (the page driver's browser and server with it). Its output is read
+/// as it comes (threads), so a child that writes more than a pipe holds
+/// never blocks on it.
 fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, String) {
+    use std::io::Read;
     use std::os::unix::process::CommandExt;
     let out = cmd
         .process_group(0)
@@ -102,9 +105,21 @@ fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, Strin
         .stderr(Stdio::piped())
         .spawn();
     let mut child = out.unwrap_or_else(|e| panic!("{what}: cannot start: {e}"));
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            let _ = pipe.read_to_end(&mut bytes);
+            String::from_utf8_lossy(&bytes).into_owned()
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
     let pid = child.id() as i32;
     let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
         if start.elapsed() > limit {
             // SAFETY: kill(2) on the process group this test created for
             // the child (negative pid); no memory is involved.
@@ -113,13 +128,13 @@ fn run_bounded(cmd: &mut Command, limit: Duration, what: &str) -> (String, Strin
             panic!("{what}: still running after {limit:?}; killed");
         }
         std::thread::sleep(Duration::from_millis(100));
-    }
-    let o = child.wait_with_output().unwrap();
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    );
-    assert!(o.status.success(), "{what} failed ({}):\n{stdout}\n{stderr}", o.status);
+    };
+    // Whatever the child left running in its group (a browser's helper
+    // process) goes too, and with it the last holder of its pipes.
+    // SAFETY: as above.
+    unsafe { libc::kill(-pid, libc::SIGKILL) };
+    let (stdout, stderr) = (stdout.join().unwrap(), stderr.join().unwrap());
+    assert!(status.success(), "{what} failed ({status}):\n{stdout}\n{stderr}");
     (stdout, stderr)
 }
 
