@@ -475,6 +475,18 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
         let native = native_rgb(&scene, &out.join(format!("{name}.png")), PRESETS);
         assert_same_picture(&page, &native, &format!("{name} in {browser}"));
     }
+    if browser == "chromium" {
+        // The Presets menu lists every shipped scene and opens the one picked.
+        assert_eq!(
+            report_number(&report, "menu_options") as usize,
+            names.len() + 1,
+            "{report}"
+        );
+        let page = std::fs::read(out.join("menu-focal-spot.rgba")).unwrap();
+        let scene = root.join("scenes/focal-spot.toml");
+        let native = native_rgb(&scene, &out.join("menu-focal-spot.png"), PRESETS);
+        assert_same_picture(&page, &native, "focal-spot picked from the Presets menu");
+    }
     let dropped = std::fs::read(out.join("good.rgba")).unwrap();
     let native = native_rgb(&good, &out.join("good.png"), CUBES);
     assert_same_picture(&dropped, &native, "focal-spot.toml dropped on the page");

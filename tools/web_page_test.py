@@ -402,6 +402,14 @@ def run(page, url, a, out, report):
         base = url.split("?")[0]
         report[f"preset-{name}"], _ = open_page(page, f"{base}?scene={name}&{a.preset_query}", a)
         save(out, f"preset-{name}.rgba", canvas(page))
+    if a.browser == "chromium" and a.presets:
+        # The Presets menu, as a user picks from it: the page opens ?scene= it.
+        page.eval("""(() => { const s = document.getElementById('presets');
+            s.value = 'focal-spot'; s.dispatchEvent(new Event('change')); })()""")
+        page.wait("location.search.includes('scene=focal-spot') && window.lensview && window.lensview.done",
+                  "the preset picked from the menu", a.timeout)
+        report["menu_options"] = page.eval("document.getElementById('presets').options.length")
+        save(out, "menu-focal-spot.rgba", canvas(page))
 
 
 def main():

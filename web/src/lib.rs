@@ -42,6 +42,17 @@ impl App {
         rayon::current_num_threads() as u32
     }
 
+    /// The shipped scenes for the page's *Presets* menu, as JSON: `[[what
+    /// ?scene= takes, the menu's name, what it shows], …]` (the desktop
+    /// *Presets* menu's list).
+    pub fn presets() -> String {
+        let list: Vec<[&str; 3]> = lensview::edit::presets::PRESETS
+            .iter()
+            .map(|p| [p.file.trim_end_matches(".toml"), p.name, p.about])
+            .collect();
+        serde_json::to_string(&list).unwrap_or_default()
+    }
+
     /// What the picture shows: "8×8 blocks", "3 spp".
     pub fn stage(&self) -> String {
         self.0.stage()

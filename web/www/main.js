@@ -345,3 +345,25 @@ worker.addEventListener("message", ({ data: d }) => {
     state.optics.analyses += 1;
   }
 });
+
+// The *Presets* menu, as the desktop's: the shipped scenes (App.presets,
+// sent with "ready"); picking one opens the page with ?scene= it, the
+// picture's size, spp and seed kept.
+const presetMenu = document.getElementById("presets");
+worker.addEventListener("message", ({ data: d }) => {
+  if (d.type !== "ready" || !d.presets) return;
+  const current = params.get("scene") || "";
+  presetMenu.replaceChildren(new Option(current ? "" : "(default scene)", ""));
+  for (const [stem, name, about] of JSON.parse(d.presets)) {
+    const o = new Option(name, stem, false, stem === current || name === current);
+    o.title = about;
+    presetMenu.add(o);
+  }
+});
+presetMenu.addEventListener("change", () => {
+  if (!presetMenu.value) return;
+  const next = new URLSearchParams(location.search);
+  next.set("scene", presetMenu.value);
+  next.delete("retry");
+  location.search = next.toString();
+});

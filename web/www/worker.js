@@ -117,7 +117,7 @@ async function start(d) {
     postMessage({ type: "error", text: String(err) });
     return;
   }
-  postMessage({ type: "ready", threads, width: app.width(), height: app.height() });
+  postMessage({ type: "ready", threads, width: app.width(), height: app.height(), presets: App.presets() });
   postPanel();
   restart();
   started = t;
