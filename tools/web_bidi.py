@@ -16,6 +16,8 @@ import time
 
 import websocket  # websocket-client, from PyPI
 
+from web_page_base import PageBase
+
 # Prefs for a quiet test profile: nothing fetched from the network, no
 # first-run pages (the remote agent's recommended prefs add the rest).
 PREFS = {
@@ -57,7 +59,7 @@ def start_firefox(profile):
     sys.exit("error: firefox did not open its WebDriver BiDi port in 60 s")
 
 
-class BidiPage:
+class BidiPage(PageBase):
     """One BiDi session on Firefox's first tab: commands, and the console
     errors and uncaught exceptions seen (log.entryAdded of level error)."""
 
@@ -104,17 +106,6 @@ class BidiPage:
             raise RuntimeError(f"{expr}: {r.get('exceptionDetails', {}).get('text')}")
         v = r.get("result", {})
         return json.loads(v["value"]) if v.get("type") == "string" else None
-
-    def wait(self, expr, what, timeout):
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            try:
-                if self.eval(expr):
-                    return
-            except RuntimeError:
-                pass  # the page is loading (again: it may reload itself)
-            time.sleep(0.05)
-        raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('window.lensview')}")
 
     def navigate(self, url):
         self.call("browsingContext.navigate", context=self.context, url=url, wait="complete")

@@ -56,6 +56,7 @@ except ImportError:
     sys.exit("error: Python's websocket-client is missing: python3 -m pip install websocket-client (.ci/run does)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import web_bidi  # noqa: E402
+from web_page_base import PageBase  # noqa: E402
 import web_webkit  # noqa: E402
 
 FLAGS = [
@@ -65,7 +66,7 @@ FLAGS = [
 ]
 
 
-class Page:
+class Page(PageBase):
     """One DevTools connection to a page: commands, and the events seen."""
 
     def __init__(self, ws_url):
@@ -99,17 +100,6 @@ class Page:
         if "exceptionDetails" in r:
             raise RuntimeError(f"{expr}: {r['exceptionDetails']}")
         return r["result"].get("value")
-
-    def wait(self, expr, what, timeout):
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            try:
-                if self.eval(expr):
-                    return
-            except RuntimeError:
-                pass  # the page is loading (again: it may reload itself)
-            time.sleep(0.05)
-        raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('JSON.stringify(window.lensview)')}")
 
     def navigate(self, url):
         self.call("Page.navigate", url=url)
@@ -208,11 +198,14 @@ def type_field(page, key, text):
 
 def panel_edits(page, a, out, report):
     """The panel: the lens selected, r1 typed, a refused r1, Ctrl+Z, Redo."""
-    renders = json.loads(page.eval(STATE))["renders"]
+    state = json.loads(page.eval(STATE))
+    renders, panels = state["renders"], state.get("panels", 0)
     page.eval("""(() => { const s = document.getElementById('items');
         s.value = 'lens:0'; s.dispatchEvent(new Event('change')); })()""")
-    page.wait("window.lensview.panel.selected === 'lens:0' && !!document.getElementById('field-r1')",
-              "the lens in the panel", a.timeout)
+    # The panel the worker sends for the selection (the lens may be shown
+    # already: a panel arriving later would rebuild the field being typed).
+    page.wait(f"window.lensview.panels > {panels} && window.lensview.panel.selected === 'lens:0'"
+              " && !!document.getElementById('field-r1')", "the lens in the panel", a.timeout)
     type_field(page, "r1", a.panel_r1)
     page.wait(f"window.lensview.renders >= {renders + 1} && window.lensview.done", "the picture after r1", a.timeout)
     report["panel"] = json.loads(page.eval(STATE))

@@ -23,6 +23,8 @@ import time
 import urllib.error
 import urllib.request
 
+from web_page_base import PageBase
+
 MINIBROWSER = "/usr/lib/x86_64-linux-gnu/webkit2gtk-4.1/MiniBrowser"
 
 
@@ -58,7 +60,7 @@ def start_webkit():
     sys.exit("error: WebKitWebDriver did not answer in 30 s")
 
 
-class WebKitPage:
+class WebKitPage(PageBase):
     """One WebDriver session: MiniBrowser's one window."""
 
     def __init__(self, base):
@@ -89,17 +91,6 @@ class WebKitPage:
         if "e" in r:
             raise RuntimeError(f"{expr}: {r['e']}")
         return r.get("v")
-
-    def wait(self, expr, what, timeout):
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            try:
-                if self.eval(expr):
-                    return
-            except RuntimeError:
-                pass  # the page is loading (again: it may reload itself)
-            time.sleep(0.05)
-        raise TimeoutError(f"the page did not get {what} in {timeout} s; state: {self.eval('window.lensview')}")
 
     def navigate(self, url):
         self.call("POST", "/url", {"url": url})

@@ -127,6 +127,7 @@ worker.onmessage = ({ data: d }) => {
     state.message = d.message;
   } else if (d.type === "panel") {
     state.panel = JSON.parse(d.json);
+    state.panels = (state.panels || 0) + 1; // panels shown (the test waits on it)
     showPanel(state.panel);
   } else if (d.type === "opened") {
     picture += 1;
