@@ -109,8 +109,7 @@ impl View {
     /// the camera changed; the photon map does not depend on the camera),
     /// the block previews, then sample by sample.
     fn restart(&mut self, light: bool) {
-        let scene = self.doc.built();
-        let spp = if self.spp == 0 { scene.spp } else { self.spp };
+        let (scene, spp) = (self.doc.built(), self.target_spp());
         if light {
             let photons = CausticSettings {
                 seed: self.seed,
@@ -126,16 +125,21 @@ impl View {
         self.previews.reverse();
         self.shown = None;
         self.progressive.reset(self.size.0, self.size.1, self.seed);
-        self.new_samples(spp);
+        self.new_samples();
+    }
+
+    /// The samples a pixel gets: the page's, or (0) the scene's own.
+    fn target_spp(&self) -> u32 {
+        if self.spp == 0 { self.doc.built().spp } else { self.spp }
     }
 
     /// Full samples start over (the picture shown stays until their bands
     /// replace it).
-    fn new_samples(&mut self, spp: u32) {
+    fn new_samples(&mut self) {
         self.steps = Steps::new(RenderSettings {
             width: self.size.0,
             height: self.size.1,
-            spp,
+            spp: self.target_spp(),
             seed: self.seed,
         });
         self.pictured = self.doc.built().clone();
@@ -170,7 +174,7 @@ impl View {
         self.progressive.write_rgba8(&mut self.rgba, scene.tone);
         self.previews.clear();
         self.shown = Some(Stage::Reprojected);
-        self.new_samples(if self.spp == 0 { scene.spp } else { self.spp });
+        self.new_samples();
         true
     }
 
