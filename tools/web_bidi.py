@@ -16,7 +16,7 @@ import time
 
 import websocket  # websocket-client, from PyPI
 
-from web_page_base import PageBase
+from web_page_base import SocketPage
 
 # Prefs for a quiet test profile: nothing fetched from the network, no
 # first-run pages (the remote agent's recommended prefs add the rest).
@@ -59,36 +59,28 @@ def start_firefox(profile):
     sys.exit("error: firefox did not open its WebDriver BiDi port in 60 s")
 
 
-class BidiPage(PageBase):
+class BidiPage(SocketPage):
     """One BiDi session on Firefox's first tab: commands, and the console
     errors and uncaught exceptions seen (log.entryAdded of level error)."""
 
     def __init__(self, ws_url):
-        self.ws = None
+        ws = None
         for _ in range(100):
             try:
-                self.ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
+                ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
                 break
             except OSError:
                 time.sleep(0.1)
-        if self.ws is None:
+        if ws is None:
             raise RuntimeError(f"cannot connect to {ws_url}")
-        self.next_id = 0
-        self.errors = []
+        super().__init__(ws)
         self.call("session.new", capabilities={"alwaysMatch": {"acceptInsecureCerts": True}})
         self.context = self.call("browsingContext.getTree")["contexts"][0]["context"]
         self.call("session.subscribe", events=["log.entryAdded"])
 
-    def call(self, method, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
-        while True:
-            msg = json.loads(self.ws.recv())
-            if msg.get("id") == self.next_id:
-                if msg.get("type") == "error":
-                    raise RuntimeError(f"{method}: {msg.get('error')}: {msg.get('message')}")
-                return msg.get("result", {})
-            self.event(msg)
+    @staticmethod
+    def failure(msg):
+        return f"{msg.get('error')}: {msg.get('message')}" if msg.get("type") == "error" else None
 
     def event(self, msg):
         if msg.get("method") == "log.entryAdded":

@@ -56,7 +56,7 @@ except ImportError:
     sys.exit("error: Python's websocket-client is missing: python3 -m pip install websocket-client (.ci/run does)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import web_bidi  # noqa: E402
-from web_page_base import PageBase  # noqa: E402
+from web_page_base import SocketPage  # noqa: E402
 import web_webkit  # noqa: E402
 
 FLAGS = [
@@ -66,24 +66,15 @@ FLAGS = [
 ]
 
 
-class Page(PageBase):
+class Page(SocketPage):
     """One DevTools connection to a page: commands, and the events seen."""
 
     def __init__(self, ws_url):
-        self.ws = websocket.create_connection(ws_url, timeout=60, suppress_origin=True)
-        self.next_id = 0
-        self.errors = []
+        super().__init__(websocket.create_connection(ws_url, timeout=60, suppress_origin=True))
 
-    def call(self, method, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
-        while True:
-            msg = json.loads(self.ws.recv())
-            if msg.get("id") == self.next_id:
-                if "error" in msg:
-                    raise RuntimeError(f"{method}: {msg['error']}")
-                return msg.get("result", {})
-            self.event(msg)
+    @staticmethod
+    def failure(msg):
+        return msg.get("error")
 
     def event(self, msg):
         m, p = msg.get("method"), msg.get("params", {})
