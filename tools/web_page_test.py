@@ -202,8 +202,12 @@ def panel_edits(page, a, out, report):
     report["panel"] = json.loads(page.eval(STATE))
     save(out, "panel.rgba", canvas(page))
     save(out, "panel.toml", page.eval("window.lensview.sceneToml()"))
+    panels = page.eval("window.lensview.panels")
     type_field(page, "r1", a.panel_bad)
-    page.wait("window.lensview.error !== ''", "an error line for the refused r1", a.timeout)
+    # The error line, then the panel the worker sends after it (the field
+    # shows the document's value again only then).
+    page.wait(f"window.lensview.error !== '' && window.lensview.panels > {panels}",
+              "an error line and the panel for the refused r1", a.timeout)
     save(out, "panel-error.txt", page.eval("document.getElementById('error').textContent"))
     report["panel_field_after_error"] = page.eval("document.getElementById('field-r1').value")
     page.eval("document.getElementById('view').focus()")
