@@ -7,9 +7,11 @@
 //!     cargo build --release --example stage_cost
 //!     target/release/examples/stage_cost MODE SCENE WIDTH HEIGHT RUNS
 //!
-//! MODE: `bench`, `stage`, `send` or `warp` (a reprojection after a step):
-//! the median time of RUNS runs (after
-//! one warm-up); `alt`: `bench` and `stage` frames in turn, both medians;
+//! MODE: `bench`, `stage`, `send`, `blocks2` (a fresh 2×2 block level),
+//! `blocks8send` (a fresh 8×8 level and its 8-bit frame) or
+//! `warp` (a reprojection after a step): the median time of RUNS runs
+//! (after one warm-up); `alt`: `bench` and `stage` frames in turn, both
+//! medians; `altblocks`: `blocks2` and `stage` in turn;
 //! `hash`: two hashes per stage, of its picture (means, sample counts,
 //! 8-bit frame) and of its first hits (recorded for a picture of samples)
 //! through the schedule to 16 spp, a camera step (reprojection) and the
@@ -24,7 +26,9 @@ use std::time::Instant;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let [_, mode, scene, w, h, runs] = &args[..] else {
-        eprintln!("usage: stage_cost bench|stage|send SCENE WIDTH HEIGHT RUNS");
+        eprintln!(
+            "usage: stage_cost bench|stage|send|blocks2|blocks8send|warp|alt|altblocks|hash SCENE WIDTH HEIGHT RUNS"
+        );
         std::process::exit(2);
     };
     let number = |s: &str| -> u32 {
@@ -60,6 +64,18 @@ fn main() {
             render_into(&scene, &s, None, &mut img);
             std::hint::black_box(&img.pixels);
         }
+        "blocks2" => {
+            prog.reset(w, h, 0);
+            prog.run(&scene, Stage::Blocks(2), &|| false);
+            std::hint::black_box(prog.image());
+        }
+        "blocks8send" => {
+            prog.reset(w, h, 0);
+            prog.run(&scene, Stage::Blocks(8), &|| false);
+            let mut rgba = Vec::new();
+            prog.write_rgba8(&mut rgba, Default::default());
+            std::hint::black_box(rgba);
+        }
         "stage" | "send" => {
             prog.reset(w, h, 0);
             prog.run(&scene, Stage::Samples(1), &|| false);
@@ -74,10 +90,11 @@ fn main() {
             std::process::exit(2)
         }
     };
-    if mode == "alt" {
+    if mode == "alt" || mode == "altblocks" {
+        let first = if mode == "alt" { "bench" } else { "blocks2" };
         let (mut b, mut st) = (Vec::new(), Vec::new());
         for _ in 0..=runs {
-            for (m, v) in [("bench", &mut b), ("stage", &mut st)] {
+            for (m, v) in [(first, &mut b), ("stage", &mut st)] {
                 let t = Instant::now();
                 frame(m);
                 v.push(t.elapsed().as_secs_f64() * 1e3);
@@ -90,7 +107,7 @@ fn main() {
         };
         let (mb, ms) = (med(&mut b), med(&mut st));
         println!(
-            "{w}x{h}: bench {mb:.2} ms, stage {ms:.2} ms (medians of {runs}): bench/stage {:.1} %",
+            "{w}x{h}: {first} {mb:.2} ms, stage {ms:.2} ms (medians of {runs}): {first}/stage {:.1} %",
             100.0 * mb / ms
         );
         return;

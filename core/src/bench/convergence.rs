@@ -157,6 +157,10 @@ pub fn converge_step(
         r.fill_s * 1e3,
         l = r.level,
     );
+    eprintln!(
+        "fresh at the new view instead (one block level alone, as the viewer may show it): {}",
+        fresh_levels(after, reference, sampling).join(", ")
+    );
     let mut push = |p: &Progressive, stage: Stage, stage_ms: f64, elapsed_ms: f64| {
         rows.push(row(p, stage, (stage_ms, elapsed_ms), reference));
     };
@@ -169,6 +173,30 @@ pub fn converge_step(
         push(&p, stage, stage_ms, elapsed_ms);
     }
     rows
+}
+
+/// The 4×4 and 2×2 block levels of `scene` each run alone on a fresh
+/// picture (the second of two runs, so its buffers are warm as the
+/// reprojection's are), as "N×N blocks T ms at P dB" against `reference`.
+fn fresh_levels(scene: &Scene, reference: &Image, sampling: Sampling) -> Vec<String> {
+    let (w, h) = (reference.width, reference.height);
+    let mut p = Progressive::new(w, h, 0).with_sampling(sampling);
+    [4, 2]
+        .into_iter()
+        .map(|n| {
+            let mut ms = 0.0;
+            for _ in 0..2 {
+                p.reset(w, h, 0);
+                let t0 = web_time::Instant::now();
+                p.run(scene, Stage::Blocks(n), &|| false);
+                ms = t0.elapsed().as_secs_f64() * 1e3;
+            }
+            format!(
+                "{n}×{n} blocks {ms:.1} ms at {:.2} dB",
+                psnr(rmse(&p.image(), reference))
+            )
+        })
+        .collect()
 }
 
 /// What [`at_multiple`] counts work in.

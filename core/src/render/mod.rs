@@ -13,6 +13,7 @@ pub mod progressive;
 pub mod reproject;
 mod sparse;
 pub mod steps;
+pub mod upsample;
 pub mod worker;
 
 pub use adaptive::Adaptive;

@@ -10,13 +10,12 @@
 //! (uniform waves) the same whether it got there in one wave or many.
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
-use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits, sample_packet};
+use super::upsample::{block_centres, upsample};
+use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits};
 use crate::color::{Rgb, Srgb8, Tone};
 use crate::integrator::Lit;
-use crate::integrator::PacketScratch;
 use crate::sampling::Pattern;
 use crate::scene::Scene;
-use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
 
@@ -49,7 +48,8 @@ impl Sampling {
 /// One step of the schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// One sample per `n × n` block, drawn as a flat block.
+    /// One sample per `n × n` block, at its centre; every pixel drawn as
+    /// the bilinear blend of the centres around it (`upsample`).
     Blocks(u32),
     /// Full resolution, accumulated until every pixel has this many samples.
     Samples(u32),
@@ -156,6 +156,8 @@ pub struct Progressive {
     preview: Vec<Rgb>,
     /// Block size of the last block stage drawn into `preview`.
     block: usize,
+    /// That stage's block centres, row-major (kept for the next).
+    coarse: Vec<Rgb>,
     /// Where the last reprojection's time went.
     pub reprojection: ReprojectTimes,
 }
@@ -189,6 +191,7 @@ impl Progressive {
             splat: Default::default(),
             preview: vec![Rgb::ZERO; n],
             block: 1,
+            coarse: Vec::new(),
             reprojection: ReprojectTimes::default(),
         }
     }
@@ -371,31 +374,16 @@ impl Progressive {
                 self.block = n;
                 (self.reprojected, self.first_ok) = (false, false);
                 self.samples_cast += stage.cost(self.width, self.height, 0);
-                self.preview.par_chunks_mut(w * n).enumerate().all(|(by, rows)| {
-                    if cancelled() {
-                        return false;
-                    }
-                    let y0 = by * n;
-                    let rows_here = rows.len() / w;
-                    let cy = (y0 + n / 2).min(h - 1);
-                    let blocks = w.div_ceil(n);
-                    let mut scratch = PacketScratch::default();
-                    // Block centres, eight to a packet.
-                    for b0 in (0..blocks).step_by(LANES) {
-                        let k = (blocks - b0).min(LANES);
-                        let xs = std::array::from_fn(|l| ((b0 + l) * n + n / 2).min(w - 1) as f64 + 0.5);
-                        let ys = [cy as f64 + 0.5; LANES];
-                        let c = sample_packet(scene, &xs, &ys, k, self.width, self.height, &mut scratch);
-                        for (l, &c) in c.iter().enumerate().take(k) {
-                            let x0 = (b0 + l) * n;
-                            for r in 0..rows_here {
-                                let row = &mut rows[r * w..(r + 1) * w];
-                                row[x0..(x0 + n).min(w)].fill(c);
-                            }
-                        }
-                    }
-                    true
-                })
+                let (bw, bh) = (w.div_ceil(n), h.div_ceil(n));
+                let mut coarse = std::mem::take(&mut self.coarse);
+                coarse.resize(bw * bh, Rgb::ZERO);
+                // The block centres, then every pixel blended from those
+                // around it.
+                let done = block_centres(scene, (self.width, self.height), n, &mut coarse, cancelled);
+                // The pixels are blended from the centres when they are
+                // read ([`Self::image`], [`Self::write_rgba8`]).
+                self.coarse = coarse;
+                done
             }
             Stage::Samples(target) => self.run_samples(scene, target, cancelled),
             Stage::Reprojected => true,
@@ -509,6 +497,13 @@ impl Progressive {
         ok.then(|| (target - from) as u64 * (w * self.height as usize) as u64)
     }
 
+    /// The last block level's centres, their grid and the block size,
+    /// while it is the picture (no samples, nothing reprojected since).
+    fn blocks(&self) -> Option<(&[Rgb], (usize, usize), usize)> {
+        let (w, h, n) = (self.width as usize, self.height as usize, self.block);
+        (self.spp == 0 && n > 1).then(|| (&self.coarse[..], (w.div_ceil(n), h.div_ceil(n)), n))
+    }
+
     /// The current picture: the mean of the samples when there are any,
     /// else the block preview.
     pub fn image(&self) -> super::Image {
@@ -518,6 +513,10 @@ impl Progressive {
                 .zip(&self.count)
                 .map(|(c, &n)| mean(*c, n))
                 .collect()
+        } else if let Some((coarse, size, n)) = self.blocks() {
+            let mut pixels = vec![Rgb::ZERO; self.preview.len()];
+            upsample(coarse, size, n, self.width as usize, &mut pixels, |c| c);
+            pixels
         } else {
             self.preview.clone()
         };
@@ -534,12 +533,15 @@ impl Progressive {
         let n = self.width as usize * self.height as usize;
         out.resize(n * 4, 255);
         let srgb = Toned::new(tone);
-        if self.spp == 0 && self.block > 1 {
-            return self.write_blocks_rgba8(out, srgb);
-        }
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
+        if self.spp == 0
+            && let Some((coarse, size, n)) = self.blocks()
+        {
+            let (px, _) = out.as_chunks_mut::<4>();
+            return upsample(coarse, size, n, self.width as usize, px, |c| srgb.rgba(c));
+        }
         if self.spp == 0 {
             return out
                 .par_chunks_mut(4 * CHUNK)
@@ -591,30 +593,6 @@ impl Toned {
 #[inline]
 pub(super) fn mean(sum: Rgb, n: u32) -> Rgb {
     sum * (1.0 / n.max(1) as f64)
-}
-
-impl Progressive {
-    /// [`Progressive::write_rgba8`] for a block preview: one conversion per
-    /// block, then whole rows copied (the first frame after an input should
-    /// not spend its budget converting 64 equal pixels 64 times).
-    fn write_blocks_rgba8(&self, out: &mut [u8], srgb: Toned) {
-        let (w, n) = (self.width as usize, self.block);
-        out.par_chunks_mut(4 * w * n)
-            .zip(self.preview.par_chunks(w * n))
-            .for_each(|(o, src)| {
-                let row0 = &mut o[..4 * w];
-                for bx in 0..w.div_ceil(n) {
-                    let px = srgb.rgba(src[bx * n]);
-                    for x in bx * n..((bx + 1) * n).min(w) {
-                        row0[4 * x..4 * x + 4].copy_from_slice(&px);
-                    }
-                }
-                let (first, rest) = o.split_at_mut(4 * w);
-                for row in rest.chunks_exact_mut(4 * w) {
-                    row.copy_from_slice(first);
-                }
-            });
-    }
 }
 
 #[cfg(test)]

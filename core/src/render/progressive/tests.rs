@@ -237,8 +237,22 @@ fn block_preview_fills_every_pixel() {
     let mut p = Progressive::new(37, 23, 0);
     assert!(p.run(&s, Stage::Blocks(8), &|| false));
     let img = p.image();
-    // Blocks are flat, and the last partial block is filled too.
-    assert_eq!(img.get(0, 0), img.get(7, 7));
+    // Each block's centre pixel is the sample cast there (in a tile of
+    // packets, as `sample` gives it), the pixels between centres blend
+    // them, and the last partial block is filled too.
+    let at = |x: u32, y: u32| crate::render::sample(&s, x as f64 + 0.5, y as f64 + 0.5, 37, 23);
+    for (x, y) in [(4, 4), (12, 12), (28, 12), (36, 20)] {
+        assert_eq!(img.get(x, y), at(x, y), "({x}, {y})");
+    }
+    let mut differ = 0;
+    for y in [4, 12, 20] {
+        for x in [8, 16, 24, 32] {
+            let (a, b) = (at(x - 4, y), at(x + 4, y));
+            assert_eq!(img.get(x, y), a * 0.5 + b * 0.5, "({x}, {y})");
+            differ += usize::from(a != b);
+        }
+    }
+    assert!(differ > 0, "every centre the same colour");
     assert_ne!(img.get(36, 22), Rgb::ZERO);
     let mut rgba = Vec::new();
     p.write_rgba8(&mut rgba, Default::default());
@@ -287,6 +301,31 @@ fn a_reprojection_records_the_first_hits_it_needs() {
     assert!(early.reproject(&b, &a, |_| 1));
     assert_eq!(late.image().pixels, early.image().pixels);
     assert_eq!(late.first_hits(), early.first_hits());
+}
+
+/// Through a lens camera a block level samples each block's centre at its
+/// pixel's first pupil point, as the sample stages' first sample does.
+#[test]
+fn a_lens_cameras_block_centres_are_its_first_samples() {
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
+    let (_, s) = Scene::parse("lens", text).unwrap();
+    let mut p = Progressive::new(24, 16, 0);
+    assert!(p.run(&s, Stage::Blocks(4), &|| false));
+    let lit = crate::integrator::Lit::from(&s);
+    let lens = s.lens.as_ref().unwrap();
+    for (x, y) in [(2, 2), (10, 6), (22, 14)] {
+        let pixel = y as u64 * 24 + x as u64;
+        let want = crate::render::lens_sample(
+            &lit,
+            lens,
+            (x as f64 + 0.5, y as f64 + 0.5),
+            (24, 16),
+            crate::sampling::lens_point(0, pixel, 0),
+        );
+        assert_eq!(p.image().get(x, y), want, "({x}, {y})");
+    }
 }
 
 /// A lens camera's picture is never warped (the warp assumes a pinhole):

@@ -5,6 +5,7 @@
 use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::render::sparse::{Batch, FirstHit, Seen};
+use crate::render::upsample::axis;
 use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
@@ -70,20 +71,13 @@ pub fn fill<'a>(
 }
 
 /// Bilinear between the traced block centres around pixel `(x, y)` (its
-/// own block's is always one of them).
+/// own block's is always one of them), placed as [`axis`] places them.
 fn interpolate(coarse: &[Option<Rgb>], (bw, bh): (usize, usize), n: usize, (x, y): (usize, usize)) -> Rgb {
-    // The pixel's centre in units of blocks, from the first block's centre.
-    let at = |p: usize| (p as f64 - (n / 2) as f64) / n as f64;
-    let (gx, gy) = (at(x), at(y));
-    let (x0, y0) = (gx.floor(), gy.floor());
-    let (fx, fy) = (gx - x0, gy - y0);
+    let (x0, x1, fx) = axis(x, n, bw);
+    let (y0, y1, fy) = axis(y, n, bh);
     let (mut sum, mut weight) = (Rgb::ZERO, 0.0);
-    for (by, wy) in [(y0, 1.0 - fy), (y0 + 1.0, fy)] {
-        for (bx, wx) in [(x0, 1.0 - fx), (x0 + 1.0, fx)] {
-            let (bx, by) = (
-                bx.clamp(0.0, (bw - 1) as f64) as usize,
-                by.clamp(0.0, (bh - 1) as f64) as usize,
-            );
+    for (by, wy) in [(y0, 1.0 - fy), (y1, fy)] {
+        for (bx, wx) in [(x0, 1.0 - fx), (x1, fx)] {
             if let Some(c) = coarse[by * bw + bx] {
                 sum += c * (wx * wy);
                 weight += wx * wy;
