@@ -515,7 +515,7 @@ impl Progressive {
                 .collect()
         } else if let Some((coarse, size, n)) = self.blocks() {
             let mut pixels = vec![Rgb::ZERO; self.preview.len()];
-            upsample(coarse, size, n, self.width as usize, &mut pixels, |c| c);
+            upsample(coarse, size, n, (self.width as usize, 1), &mut pixels, |c, o| o[0] = c);
             pixels
         } else {
             self.preview.clone()
@@ -539,8 +539,8 @@ impl Progressive {
         if self.spp == 0
             && let Some((coarse, size, n)) = self.blocks()
         {
-            let (px, _) = out.as_chunks_mut::<4>();
-            return upsample(coarse, size, n, self.width as usize, px, |c| srgb.rgba(c));
+            let put = |c, o: &mut [u8]| o.copy_from_slice(&srgb.rgba(c));
+            return upsample(coarse, size, n, (self.width as usize, 4), out, put);
         }
         if self.spp == 0 {
             return out

@@ -93,8 +93,8 @@ fn lerp(a: Rgb, b: Rgb, f: f64) -> Rgb {
 }
 
 /// Every pixel of `out` (`w` wide, rows of `n`-pixel blocks) from the
-/// block centres `coarse` (`bw × bh`, row-major), as `put` makes it of
-/// the blended colour: first down the column between the two rows of
+/// block centres `coarse` (`bw × bh`, row-major), each pixel `per`
+/// items of `out` that `put` writes from the blended colour: first down the column between the two rows of
 /// centres around the pixel's row, then along the row (the four weights
 /// are separable, so this is the bilinear blend, rounded in that order).
 /// Written straight into a frame's 8-bit pixels, a preview costs no
@@ -104,23 +104,23 @@ pub fn upsample<T: Send>(
     coarse: &[Rgb],
     (bw, bh): (usize, usize),
     n: usize,
-    w: usize,
+    (w, per): (usize, usize),
     out: &mut [T],
-    put: impl Fn(Rgb) -> T + Sync,
+    put: impl Fn(Rgb, &mut [T]) + Sync,
 ) {
-    if w == 0 || bw == 0 || bh == 0 {
+    if w == 0 || per == 0 || bw == 0 || bh == 0 {
         return;
     }
     let cols: Vec<(usize, usize, f64)> = (0..w).map(|x| axis(x, n, bw)).collect();
-    out.par_chunks_mut(w).enumerate().for_each_init(
+    out.par_chunks_mut(w * per).enumerate().for_each_init(
         || Vec::with_capacity(bw),
         |line: &mut Vec<Rgb>, (y, row)| {
             let (y0, y1, fy) = axis(y, n, bh);
             let (r0, r1) = (&coarse[y0 * bw..(y0 + 1) * bw], &coarse[y1 * bw..(y1 + 1) * bw]);
             line.clear();
             line.extend(r0.iter().zip(r1).map(|(&a, &b)| lerp(a, b, fy)));
-            for (o, &(x0, x1, fx)) in row.iter_mut().zip(&cols) {
-                *o = put(lerp(line[x0], line[x1], fx));
+            for (o, &(x0, x1, fx)) in row.chunks_exact_mut(per).zip(&cols) {
+                put(lerp(line[x0], line[x1], fx), o);
             }
         },
     );
@@ -158,7 +158,7 @@ mod tests {
             .map(|i| Rgb::new(i as f64, (i * i) as f64, 1.0 / (1.0 + i as f64)))
             .collect();
         let mut out = vec![Rgb::ZERO; w * h];
-        upsample(&coarse, (bw, bh), n, w, &mut out, |c| c);
+        upsample(&coarse, (bw, bh), n, (w, 1), &mut out, |c, o| o[0] = c);
         for y in 0..h {
             for x in 0..w {
                 let (x0, x1, fx) = axis(x, n, bw);
@@ -173,7 +173,7 @@ mod tests {
         assert_eq!(out[6 * w + 10], coarse[5]);
         let mut inf = coarse.clone();
         inf[1] = Rgb::splat(f64::INFINITY);
-        upsample(&inf, (bw, bh), n, w, &mut out, |c| c);
+        upsample(&inf, (bw, bh), n, (w, 1), &mut out, |c, o| o[0] = c);
         assert_eq!(out[2 * w + 2], coarse[0]);
     }
 }
