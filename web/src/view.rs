@@ -327,8 +327,8 @@ impl View {
         &self.message
     }
 
-    /// W/S forward and back, A/D left and right, R/F up and down, the
-    /// arrows turn; whether it moved the camera.
+    /// W/S forward and back, A/D left and right, Q/E down and up (the
+    /// desktop's keys), the arrows turn; whether it moved the camera.
     fn fly(&mut self, code: &str) -> bool {
         let (mut pos, mut rot) = self.doc.camera_pose();
         let cam = Camera::new(pos, rot, 45.0);
@@ -338,8 +338,8 @@ impl View {
             "KeyS" => pos -= f * MOVE_STEP,
             "KeyA" => pos -= r * MOVE_STEP,
             "KeyD" => pos += r * MOVE_STEP,
-            "KeyR" => pos += DVec3::Y * MOVE_STEP,
-            "KeyF" => pos -= DVec3::Y * MOVE_STEP,
+            "KeyE" => pos += DVec3::Y * MOVE_STEP,
+            "KeyQ" => pos -= DVec3::Y * MOVE_STEP,
             "ArrowLeft" => rot.y += TURN_STEP,
             "ArrowRight" => rot.y -= TURN_STEP,
             "ArrowUp" => rot.x = (rot.x + TURN_STEP).min(89.0),
@@ -454,8 +454,15 @@ mod tests {
         finish(&mut v);
         assert_ne!(v.rgba(), &before[..]);
         assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 2, 1));
-        assert!(!v.key("KeyQ"));
+        assert!(!v.key("KeyG"));
         assert!(v.scene_toml().unwrap().contains("[camera]"));
+        // Q and E fly down and up, as on the desktop.
+        let y = v.doc.camera_pose().0.y;
+        assert!(v.key("KeyQ"));
+        assert!(v.doc.camera_pose().0.y < y);
+        assert!(v.key("KeyE"));
+        assert!(v.key("KeyE"));
+        assert!(v.doc.camera_pose().0.y > y);
     }
 
     /// The mean absolute difference of two RGB(A) pictures, per channel.
