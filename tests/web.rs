@@ -19,8 +19,9 @@
 //! WebDriver, under Xvfb): the first picture, W, the lens key, the dropped
 //! files and the presets, bit for bit (their drivers have no file-input or
 //! download commands, and the panel is Chromium's part; WebKitGTK gives
-//! WebDriver no console, so there the page's error line stands for it). Then not isolated: one
-//! thread, a note that says so, and the same picture. Needs Debian's rustc-web,
+//! WebDriver no console, so there the page's error line stands for it). Then not isolated, in
+//! each of the three (WebKitGTK also without SharedArrayBuffer): the page's
+//! one-thread build (no shared memory), a note that says so, and the same picture. Needs Debian's rustc-web,
 //! rust-web-src, rust-web-llvm, lld, chromium, firefox-esr, webkit2gtk-driver,
 //! xvfb-run, wasm-bindgen-cli and
 //! Python's websocket-client (`.ci/run` installs them); fails, naming what
@@ -531,20 +532,31 @@ fn the_page_renders_what_the_native_renderer_renders() {
     assert_isolated_page(&root, &work, &query, "firefox");
     assert_isolated_page(&root, &work, &query, "webkit");
 
-    // Not isolated: one thread, a note that says so, the same picture.
-    let out = work.join("plain");
-    let report = drive(&root, &dist, &out, &["--query", &query, "--measure", "--no-isolation"]);
-    assert!(report.contains("\"cross_origin_isolated\": false"), "{report}");
-    assert_eq!(page_threads(&report), 1, "{report}");
+    for browser in ["chromium", "firefox", "webkit"] {
+        assert_plain_page(&root, &work, &query, browser);
+    }
+}
+
+/// Not isolated (`work/dist` served without COOP/COEP; WebKitGTK without
+/// `JSC_useSharedArrayBuffer` too): the worker loads the one-thread build
+/// (`pkg-st`, no shared memory), which Firefox and WebKit run where they
+/// refuse the threaded one; the note says so; cubes is native's picture;
+/// no console error (`drive`).
+fn assert_plain_page(root: &Path, work: &Path, query: &str, browser: &str) {
+    let out = work.join(format!("plain-{browser}"));
+    let args = ["--query", query, "--measure", "--no-isolation", "--browser", browser];
+    let report = drive(root, &work.join("dist"), &out, &args);
+    assert!(
+        report.contains("\"cross_origin_isolated\": false"),
+        "{browser}: {report}"
+    );
+    assert_eq!(page_threads(&report), 1, "{browser}: {report}");
     assert!(
         report.contains("\"note\": \"one thread: serve with COOP/COEP for threads\""),
-        "{report}"
+        "{browser}: {report}"
     );
     let cubes = root.join("scenes/cubes.toml");
     let plain = std::fs::read(out.join("first.rgba")).unwrap();
-    assert_same_picture(
-        &plain,
-        &native_rgb(&cubes, &work.join("plain.png"), CUBES),
-        "cubes, one thread",
-    );
+    let native = native_rgb(&cubes, &out.join("first.png"), CUBES);
+    assert_same_picture(&plain, &native, &format!("cubes, one thread, {browser}"));
 }

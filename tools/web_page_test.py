@@ -409,7 +409,8 @@ def main():
     ap.add_argument("--good", help="a scene file to drop on the page after the bad one")
     ap.add_argument("--measure", action="store_true")
     ap.add_argument("--optics", action="store_true", help="with --measure: F6, F7 and optics.png")
-    ap.add_argument("--no-isolation", action="store_true", help="serve without COOP/COEP (one thread)")
+    ap.add_argument("--no-isolation", action="store_true",
+                    help="serve without COOP/COEP (one thread); webkit: without JSC_useSharedArrayBuffer too")
     ap.add_argument("--presets", default="", help="presets to open after the first page, comma-separated")
     ap.add_argument("--preset-query", default="w=64&h=48&spp=2&seed=3")
     ap.add_argument("--panel-r1", default="3.5", help="the lens's r1 typed into the panel")
@@ -434,7 +435,7 @@ def main():
             browser, ws_url = web_bidi.start_firefox(profile)
             page = web_bidi.BidiPage(ws_url)
         elif a.browser == "webkit":
-            browser, base = web_webkit.start_webkit()
+            browser, base = web_webkit.start_webkit(shared=not a.no_isolation)
             page = web_webkit.WebKitPage(base)
         else:
             browser, port = start_chromium(profile)

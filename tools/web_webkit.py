@@ -34,15 +34,17 @@ def free_port():
         return s.getsockname()[1]
 
 
-def start_webkit():
-    """Starts WebKitWebDriver; returns it and its base URL."""
+def start_webkit(shared=True):
+    """Starts WebKitWebDriver; returns it and its base URL. shared=False
+    leaves JSC_useSharedArrayBuffer unset (no SharedArrayBuffer: the page
+    loads its one-thread build)."""
     exe = shutil.which("WebKitWebDriver")
     if not exe or not os.path.exists(MINIBROWSER):
         sys.exit("error: WebKit is missing: apt-get install webkit2gtk-driver (.ci/run does)")
     if not os.environ.get("DISPLAY"):
         sys.exit("error: WebKit needs an X display: run under xvfb-run")
     port = free_port()
-    env = dict(os.environ, JSC_useSharedArrayBuffer="1")
+    env = dict(os.environ, JSC_useSharedArrayBuffer="1") if shared else dict(os.environ)
     proc = subprocess.Popen([exe, f"--port={port}", "--host=127.0.0.1"], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     base = f"http://127.0.0.1:{port}"

@@ -5,7 +5,8 @@
 # Installs what is missing first (apt as root; wasm-bindgen-cli with the
 # rustup cargo at Cargo.lock's wasm-bindgen version). Recipe and figures:
 # docs/web.md. Threads and SIMD128: web/.cargo/config.toml. Cold build on 2
-# busy cores: about 8.5-10 minutes; after a change to web/, seconds.
+# busy cores: about 8.5-10 minutes for each of the two; after a change to
+# web/, seconds.
 set -euo pipefail
 web="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$web")"
@@ -40,10 +41,21 @@ fi
 
 cd "$web"
 # rustup's ~/.cargo/bin shadows /usr/bin: Debian's cargo and rustc by path.
-RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1 /usr/bin/cargo build --release
+export RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1
+# Two builds (docs/web.md). pkg/: threads (feature `threads`: the pool),
+# atomics and a shared memory (.cargo/config.toml's rustflags), for
+# cross-origin isolated pages. pkg-st/: one thread, no atomics and a plain
+# memory, for pages that are not (browsers other than Chromium refuse a
+# shared memory there); RUSTFLAGS replaces the config's rustflags (SIMD128
+# alone: the same kernel, the same bits) and its std is built apart, in
+# target-st (Debian's rustc-web ships no wasm32 std).
+/usr/bin/cargo build --release --features threads
+RUSTFLAGS="-C target-feature=+simd128" /usr/bin/cargo build --release --target-dir target-st
 rm -rf "$out"
 mkdir -p "$out"
 wasm-bindgen --target web --no-typescript --remove-name-section --out-dir "$out/pkg" \
     target/wasm32-unknown-unknown/release/lensview_web.wasm
+wasm-bindgen --target web --no-typescript --remove-name-section --out-dir "$out/pkg-st" \
+    target-st/wasm32-unknown-unknown/release/lensview_web.wasm
 cp www/index.html www/main.js www/worker.js www/panel.js "$out/"
-echo "built $out ($(du -b "$out/pkg/lensview_web_bg.wasm" | cut -f1) bytes of wasm); serve it with web/serve.sh"
+echo "built $out ($(du -b "$out/pkg/lensview_web_bg.wasm" | cut -f1) bytes of wasm with threads, $(du -b "$out/pkg-st/lensview_web_bg.wasm" | cut -f1) on one thread); serve it with web/serve.sh"

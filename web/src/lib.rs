@@ -14,6 +14,7 @@ pub mod panel;
 pub mod view;
 
 use wasm_bindgen::prelude::*;
+#[cfg(feature = "threads")]
 pub use wasm_bindgen_rayon::init_thread_pool;
 
 #[wasm_bindgen]

@@ -20,7 +20,7 @@ use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
 use lensview::render::first_frame::hole_level;
 use lensview::render::progressive::{Progressive, Sampling, Stage, schedule};
 use lensview::render::steps::Steps;
-use lensview::scene::{Scene, escape_controls};
+use lensview::scene::{SCENE_FILE_CAP, Scene, SceneError, escape_controls};
 use std::sync::Arc;
 
 /// Units a flight key moves the camera per press (the desktop viewer's
@@ -327,8 +327,8 @@ impl View {
         &self.message
     }
 
-    /// W/S forward and back, A/D left and right, R/F up and down, the
-    /// arrows turn; whether it moved the camera.
+    /// W/S forward and back, A/D left and right, Q/E down and up (the
+    /// desktop's keys), the arrows turn; whether it moved the camera.
     fn fly(&mut self, code: &str) -> bool {
         let (mut pos, mut rot) = self.doc.camera_pose();
         let cam = Camera::new(pos, rot, 45.0);
@@ -338,8 +338,8 @@ impl View {
             "KeyS" => pos -= f * MOVE_STEP,
             "KeyA" => pos -= r * MOVE_STEP,
             "KeyD" => pos += r * MOVE_STEP,
-            "KeyR" => pos += DVec3::Y * MOVE_STEP,
-            "KeyF" => pos -= DVec3::Y * MOVE_STEP,
+            "KeyE" => pos += DVec3::Y * MOVE_STEP,
+            "KeyQ" => pos -= DVec3::Y * MOVE_STEP,
             "ArrowLeft" => rot.y += TURN_STEP,
             "ArrowRight" => rot.y -= TURN_STEP,
             "ArrowUp" => rot.x = (rot.x + TURN_STEP).min(89.0),
@@ -374,8 +374,16 @@ impl View {
 
     /// Opens scene file bytes (`name`: the file's name, for errors). A
     /// refusal is the one line `lensview render` prints for the same file,
-    /// and the scene shown stays.
+    /// and the scene shown stays; so is a file over `Scene::load`'s cap
+    /// ([`SCENE_FILE_CAP`]), refused before it is parsed.
     pub fn open(&mut self, name: &str, bytes: &[u8]) -> Result<(), String> {
+        if bytes.len() as u64 > SCENE_FILE_CAP {
+            let file = name.to_string();
+            return Err(error_line(&SceneError::TooLarge {
+                file,
+                cap: SCENE_FILE_CAP,
+            }));
+        }
         let (sf, _) = Scene::from_bytes(name, bytes).map_err(|e| error_line(&e))?;
         self.doc = Document::new(sf, Source::File(name.into())).map_err(|e| rejected(&e))?;
         self.restart(true);
@@ -453,8 +461,15 @@ mod tests {
         finish(&mut v);
         assert_ne!(v.rgba(), &before[..]);
         assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 2, 1));
-        assert!(!v.key("KeyQ"));
+        assert!(!v.key("KeyG"));
         assert!(v.scene_toml().unwrap().contains("[camera]"));
+        // Q and E fly down and up, as on the desktop.
+        let y = v.doc.camera_pose().0.y;
+        assert!(v.key("KeyQ"));
+        assert!(v.doc.camera_pose().0.y < y);
+        assert!(v.key("KeyE"));
+        assert!(v.key("KeyE"));
+        assert!(v.doc.camera_pose().0.y > y);
     }
 
     /// The mean absolute difference of two RGB(A) pictures, per channel.
@@ -594,5 +609,22 @@ mod tests {
                 assert!(View::new(Some(name), (4, 4), 1, 0).is_ok(), "{name}");
             }
         }
+    }
+
+    /// A file over `Scene::load`'s cap gets its line (as `lensview render`
+    /// prints for such a file) and the scene stays; one at the cap is parsed.
+    #[test]
+    fn a_file_over_the_scene_cap_is_refused_as_scene_load_does() {
+        let mut v = View::new(None, (16, 12), 1, 0).unwrap();
+        let before = v.scene_toml().unwrap();
+        let big = vec![b' '; SCENE_FILE_CAP as usize + 1];
+        let e = v.open("big.toml", &big).unwrap_err();
+        assert_eq!(
+            e,
+            "error: big.toml: not read: larger than the 128 MiB limit for this input"
+        );
+        assert_eq!(v.scene_toml().unwrap(), before);
+        let e = v.open("big.toml", &big[1..]).unwrap_err();
+        assert!(!e.contains("limit"), "{e}");
     }
 }

@@ -115,6 +115,11 @@ worker.onmessage = ({ data: d }) => {
     picture = 1;
     state.threads = d.threads;
     state.ready = true;
+    // Isolated, but the browser made no shared memory: the worker loaded
+    // the one-thread build (WebKitGTK without useSharedArrayBuffer).
+    if (d.threads === 1 && threads > 1) {
+      document.getElementById("note").textContent = "one thread: this browser gives no shared memory";
+    }
   } else if (d.type === "key") {
     if (d.changed) restarted(d.message);
     messageLine.textContent = d.message;

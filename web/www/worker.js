@@ -5,7 +5,20 @@
 // blocks this worker while they do, which the page's main thread may not.
 // The panel: the worker posts App.panel's JSON for the selected item after
 // every change, and hands the page's edits, undo and redo to the App.
-import init, { App, initThreadPool } from "./pkg/lensview_web.js";
+// Two builds of the module (web/build.sh): pkg/ with threads (atomics, a
+// shared memory, the pool) where the page is cross-origin isolated and the
+// browser makes a shared memory; pkg-st/ (one thread, a plain memory)
+// otherwise: Firefox, Safari and WebKitGTK refuse a shared memory on a page
+// that is not isolated.
+function sharedMemory() {
+  try {
+    return new WebAssembly.Memory({ initial: 1, maximum: 1, shared: true }).buffer instanceof SharedArrayBuffer;
+  } catch {
+    return false;
+  }
+}
+const threaded = self.crossOriginIsolated === true && typeof SharedArrayBuffer === "function" && sharedMemory();
+let App = null; // the module's App class, once loaded
 
 let app = null;
 let threads = 1;
@@ -96,17 +109,16 @@ function restart() {
 async function start(d) {
   try {
     postMessage({ type: "starting", step: "module" });
-    await init();
-    if (self.crossOriginIsolated && d.threads > 1) {
+    const pkg = await import(threaded ? "./pkg/lensview_web.js" : "./pkg-st/lensview_web.js");
+    await pkg.default();
+    App = pkg.App;
+    if (threaded && d.threads > 1) {
       postMessage({ type: "starting", step: "threads" });
-      await initThreadPool(d.threads);
+      await pkg.initThreadPool(d.threads);
     }
     postMessage({ type: "starting", step: "scene" });
   } catch (err) {
-    // The module's memory is shared (threads): a browser that gives no
-    // shared WebAssembly memory cannot run it. Say so instead of waiting.
-    const shared = typeof SharedArrayBuffer === "function" ? "" : " (this browser gives no SharedArrayBuffer)";
-    postMessage({ type: "error", text: `error: the page's WebAssembly did not start${shared}: ${err}` });
+    postMessage({ type: "error", text: `error: the page's WebAssembly did not start: ${err}` });
     return;
   }
   threads = App.threads();
