@@ -293,6 +293,27 @@ fn assert_keys_give_native(out: &Path) -> Vec<u8> {
     lens
 }
 
+/// The light key L on the page: the desktop's edit (the library's scene
+/// key, through a document) of the scene before, and its native picture.
+fn assert_light_key(out: &Path) {
+    use lensview::edit::{Document, KeyState, Source, scene_key};
+    let text = |name: &str| std::fs::read_to_string(out.join(name)).unwrap();
+    let (before, _) = lensview::scene::Scene::parse("unlit", &text("unlit.toml")).unwrap();
+    let mut doc = Document::new(before, Source::Default).unwrap();
+    doc.scene_key(scene_key("KeyL").unwrap(), &mut KeyState::default())
+        .unwrap();
+    let (got, _) = lensview::scene::Scene::parse("light", &text("light.toml")).unwrap();
+    assert!(
+        got.lights == doc.scene().lights,
+        "the page's light key is not the desktop's: {:?}, want {:?}",
+        got.lights,
+        doc.scene().lights
+    );
+    let light = std::fs::read(out.join("light.rgba")).unwrap();
+    let native = native_rgb(&out.join("light.toml"), &out.join("light.png"), CUBES);
+    assert_same_picture(&light, &native, "cubes after the light key L");
+}
+
 /// The r1 the page's panel test types, and the one it must refuse
 /// (tools/web_page_test.py's defaults).
 const PANEL_R1: f64 = 3.5;
@@ -469,6 +490,7 @@ fn assert_isolated_page(root: &Path, work: &Path, query: &str, browser: &str) {
     if browser == "chromium" {
         assert_panel_edits(work, &out, &lens);
         assert_panel_adds(work, &out);
+        assert_light_key(&out);
     }
     for name in &names {
         let page = std::fs::read(out.join(format!("preset-{name}.rgba"))).unwrap();

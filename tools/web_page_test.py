@@ -178,6 +178,16 @@ def press(page, a, code, key, vk, renders, what):
     return json.loads(page.eval(STATE))
 
 
+def light_key(page, a, out, report):
+    """The desktop's light key L: the scene file before and the picture
+    and file after."""
+    save(out, "unlit.toml", page.eval("window.lensview.sceneToml()"))
+    renders = json.loads(page.eval(STATE))["renders"]
+    report["light"] = press(page, a, "KeyL", "l", 76, renders + 1, "the picture after the light key L")
+    save(out, "light.rgba", canvas(page))
+    save(out, "light.toml", page.eval("window.lensview.sceneToml()"))
+
+
 def type_field(page, key, text):
     """Types `text` into the panel's field `key` (replacing it) and Enter."""
     page.eval(f"(() => {{ const i = document.getElementById('field-{key}'); i.focus(); i.select(); }})()")
@@ -384,6 +394,7 @@ def run(page, url, a, out, report):
             optics(page, a, out, report)
             downloads(page, a, out, report)
             panel_adds(page, a, out, report)
+            light_key(page, a, out, report)
         if a.bad:
             bad_files(page, a, out)
     for name in filter(None, a.presets.split(",")):

@@ -12,8 +12,10 @@
 
 pub mod document;
 pub mod presets;
+mod scene_keys;
 mod system_keys;
 
+pub use scene_keys::{KeyOutcome, KeyRefused, KeyState, SCENE_KEYS, SceneKey, TEMPERATURE_RANGE, scene_key};
 pub use system_keys::apply_system;
 
 pub use document::{Change, Document, Item, Placement, Rejected, Source, Unsaved};

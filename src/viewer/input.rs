@@ -7,8 +7,7 @@ use super::Viewer;
 use super::keys::{self, Action};
 use super::panel::{Answer, DialogMode};
 use super::session::Command;
-use glam::DVec3;
-use lensview::edit::{Edit, LIGHT_PRESETS};
+use lensview::edit::{Edit, SceneKey};
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta};
 use winit::keyboard::{KeyCode, PhysicalKey};
 
@@ -91,27 +90,12 @@ impl Viewer {
         self.settle();
     }
 
-    /// The document edit of a scene-edit key; the colour keys step the
-    /// preset and the temperature the panel shares.
+    /// The document edit of a lens key.
     fn key_edit(&mut self, a: Action) -> Option<Edit> {
-        let ui = &mut self.session.ui;
-        Some(match a {
-            Action::LightX(d) => Edit::LightMove(DVec3::X * d),
-            Action::LightY(d) => Edit::LightMove(DVec3::Y * d),
-            Action::LightZ(d) => Edit::LightMove(DVec3::Z * d),
-            Action::LightIntensity(f) => Edit::LightIntensity(f),
-            Action::LightPreset => {
-                ui.preset = (ui.preset + 1) % LIGHT_PRESETS.len();
-                Edit::LightPreset(ui.preset)
-            }
-            Action::LightWarmer | Action::LightCooler => {
-                let k = ui.temperature + if a == Action::LightWarmer { -500.0 } else { 500.0 };
-                ui.temperature = k.clamp(1000.0, 40000.0);
-                Edit::LightTemperature(ui.temperature)
-            }
-            Action::LensKey(code) => return lensview::edit::lens_key(code),
-            _ => return None,
-        })
+        match a {
+            Action::LensKey(code) => lensview::edit::lens_key(code),
+            _ => None,
+        }
     }
 
     /// The keys of session commands and display switches.
@@ -137,17 +121,11 @@ impl Viewer {
             Action::TogglePanel => s.ask(Command::ShowPanel(!self.display.panel)),
             Action::Pause => s.ask(Command::TogglePause),
             Action::ToggleCaustics => s.toggle_caustics(),
-            Action::ToggleLensCamera => {
-                let r = s.doc.toggle_lens_camera();
-                s.key_result(Some(r));
-            }
-            Action::Focus(f) => {
-                let r = s.doc.step_focus(f);
-                s.key_result(r);
-            }
-            Action::FNumber(stops) => {
-                let r = s.doc.step_f_number(stops);
-                s.key_result(r);
+            Action::ToggleLensCamera => s.scene_key(SceneKey::LensCamera),
+            Action::SceneKey(code) => {
+                if let Some(k) = lensview::edit::scene_key(code) {
+                    s.scene_key(k);
+                }
             }
             Action::Exposure(d) => {
                 let stops = s.doc.scene().display.exposure + d;

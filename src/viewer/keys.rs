@@ -19,13 +19,9 @@ pub enum Action {
     LookUp,
     LookDown,
     // Pressed: scene edits (restart refinement).
-    LightX(f64),
-    LightY(f64),
-    LightZ(f64),
-    LightIntensity(f64),
-    LightPreset,
-    LightWarmer,
-    LightCooler,
+    /// A light or lens camera key: its code in the library's table
+    /// (`edit::SCENE_KEYS`), which holds what it does.
+    SceneKey(&'static str),
     /// A lens key: its code in the library's table (`edit::LENS_KEYS`),
     /// which holds the edit.
     LensKey(&'static str),
@@ -33,8 +29,6 @@ pub enum Action {
     Reload,
     // Pressed: the lens camera (issue #32).
     ToggleLensCamera,
-    Focus(f64),
-    FNumber(f64),
     // Pressed: editing (undo history, files, the panel); each restarts
     // refinement by itself when, and only when, the picture changes.
     Undo,
@@ -126,27 +120,32 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (KeyCode::ArrowRight, "Right", Action::LookRight, "turn right"),
     (KeyCode::ArrowUp, "Up", Action::LookUp, "look up"),
     (KeyCode::ArrowDown, "Down", Action::LookDown, "look down"),
-    (KeyCode::KeyJ, "J/L", Action::LightX(-0.5), "light x -/+"),
-    (KeyCode::KeyL, "", Action::LightX(0.5), ""),
-    (KeyCode::KeyU, "U/O", Action::LightY(0.5), "light y +/-"),
-    (KeyCode::KeyO, "", Action::LightY(-0.5), ""),
-    (KeyCode::KeyI, "I/K", Action::LightZ(-0.5), "light z -/+"),
-    (KeyCode::KeyK, "", Action::LightZ(0.5), ""),
+    (KeyCode::KeyJ, "J/L", Action::SceneKey("KeyJ"), "light x -/+"),
+    (KeyCode::KeyL, "", Action::SceneKey("KeyL"), ""),
+    (KeyCode::KeyU, "U/O", Action::SceneKey("KeyU"), "light y +/-"),
+    (KeyCode::KeyO, "", Action::SceneKey("KeyO"), ""),
+    (KeyCode::KeyI, "I/K", Action::SceneKey("KeyI"), "light z -/+"),
+    (KeyCode::KeyK, "", Action::SceneKey("KeyK"), ""),
     (
         KeyCode::BracketLeft,
         "[ / ]",
-        Action::LightIntensity(0.8),
+        Action::SceneKey("BracketLeft"),
         "light intensity -/+",
     ),
-    (KeyCode::BracketRight, "", Action::LightIntensity(1.25), ""),
-    (KeyCode::KeyT, "T", Action::LightPreset, "light colour: next preset"),
+    (KeyCode::BracketRight, "", Action::SceneKey("BracketRight"), ""),
+    (
+        KeyCode::KeyT,
+        "T",
+        Action::SceneKey("KeyT"),
+        "light colour: next preset",
+    ),
     (
         KeyCode::Comma,
         ", / .",
-        Action::LightWarmer,
+        Action::SceneKey("Comma"),
         "light colour temperature -/+ 500 K",
     ),
-    (KeyCode::Period, "", Action::LightCooler, ""),
+    (KeyCode::Period, "", Action::SceneKey("Period"), ""),
     (
         KeyCode::KeyZ,
         "Z/X",
@@ -184,17 +183,17 @@ pub const BINDINGS: &[(KeyCode, &str, Action, &str)] = &[
     (
         KeyCode::Semicolon,
         "; / '",
-        Action::Focus(0.8),
+        Action::SceneKey("Semicolon"),
         "lens camera: focus nearer / farther (×0.8, ×1.25)",
     ),
-    (KeyCode::Quote, "", Action::Focus(1.25), ""),
+    (KeyCode::Quote, "", Action::SceneKey("Quote"), ""),
     (
         KeyCode::PageUp,
         "PgUp/PgDn",
-        Action::FNumber(-1.0),
+        Action::SceneKey("PageUp"),
         "lens camera: f-number -/+ one stop (open / stop down)",
     ),
-    (KeyCode::PageDown, "", Action::FNumber(1.0), ""),
+    (KeyCode::PageDown, "", Action::SceneKey("PageDown"), ""),
     (KeyCode::KeyR, "R", Action::ResetView, "reset the view"),
     (
         KeyCode::F5,
@@ -351,7 +350,7 @@ mod tests {
         assert!(help_rows().iter().any(|r| r.0 == "Ctrl+Z" && r.1 == "undo"));
         assert!(!Action::ToggleOverlay.restarts() && Action::LensKey("Digit2").restarts());
         assert_eq!(action_for(KeyCode::F9, false, false), Some(Action::ToggleLensCamera));
-        assert!(!Action::ToggleLensCamera.restarts() && Action::FNumber(1.0).restarts());
+        assert!(!Action::ToggleLensCamera.restarts() && Action::SceneKey("PageDown").restarts());
     }
 
     /// Every lens key's row names its own key in the library's table, and

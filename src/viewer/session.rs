@@ -127,15 +127,27 @@ impl Session {
 
     /// A lens-camera key's edit: its line, or why it was refused, on the
     /// message line (`None`: the scene has no lens camera).
-    pub fn key_result(&mut self, r: Option<Result<(String, Change), Rejected>>) {
+    /// What a scene key ([`lensview::edit::scene_key`]) did, or why not.
+    pub fn key_outcome(&mut self, r: lensview::edit::KeyOutcome) {
         match r {
-            Some(Ok((msg, c))) => {
+            Ok((msg, c)) => {
                 self.message = msg;
                 self.changed(c);
             }
-            Some(Err(err)) => self.message = format!("not applied: {err}"),
-            None => self.message = "no lens camera: F9 switches to one".into(),
+            Err(e) => self.message = e.to_string(),
         }
+    }
+
+    /// Scene key `key` applied to the document, the light's colour keys
+    /// stepping the preset and temperature the panel shares.
+    pub fn scene_key(&mut self, key: lensview::edit::SceneKey) {
+        let mut state = lensview::edit::KeyState {
+            preset: self.ui.preset,
+            temperature: self.ui.temperature,
+        };
+        let r = self.doc.scene_key(key, &mut state);
+        (self.ui.preset, self.ui.temperature) = (state.preset, state.temperature);
+        self.key_outcome(r);
     }
 
     pub fn reset_view(&mut self) {

@@ -11,7 +11,9 @@ use glam::DVec3;
 use lensview::camera::Camera;
 use lensview::color::to_srgb8_toned;
 use lensview::edit::document::{Document, Source, to_toml};
-use lensview::edit::{Change, lens_key};
+#[cfg(test)]
+use lensview::edit::lens_key;
+use lensview::edit::{Change, KeyState, scene_key};
 use lensview::flight::look;
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
@@ -49,6 +51,8 @@ pub struct View {
     rgba: Vec<u8>,
     /// What the last key did, for the page's message line.
     message: String,
+    /// What the light's colour keys step from.
+    keys: KeyState,
 }
 
 /// A scene that parsed but failed validation as a document (not expected:
@@ -99,6 +103,7 @@ impl View {
             pictured,
             rgba: vec![0; size.0 as usize * size.1 as usize * 4],
             message: String::new(),
+            keys: KeyState::default(),
         };
         view.restart(true);
         Ok(view)
@@ -239,18 +244,36 @@ impl View {
         self.size
     }
 
-    /// A key (a DOM `KeyboardEvent.code`): a flight key ([`Self::fly`])
-    /// or a lens key of the desktop viewer (`edit::LENS_KEYS`, applied to
-    /// the first lens by the document's `apply_edit`). Returns whether it
+    /// A key (a DOM `KeyboardEvent.code`): a flight key ([`Self::fly`]), R
+    /// (reset the view), or a scene key of the desktop viewer (the lens,
+    /// light and lens camera keys of `edit::scene_key`, applied by the
+    /// document's `scene_key` as the desktop applies them). Returns whether it
     /// changed the scene (the picture starts over); [`Self::message`] says
     /// what it did.
     pub fn key(&mut self, code: &str) -> bool {
-        let Some(edit) = lens_key(code) else {
+        if code == "KeyR" {
+            return self.reset_view();
+        }
+        let Some(key) = scene_key(code) else {
             return self.fly(code);
         };
-        match self.doc.apply_edit(edit) {
+        match self.doc.scene_key(key, &mut self.keys) {
             Ok((msg, change)) => {
                 self.message = msg;
+                self.changed(change)
+            }
+            Err(e) => {
+                self.message = e.to_string();
+                false
+            }
+        }
+    }
+
+    /// R: the view the scene opened with, as the desktop's R.
+    fn reset_view(&mut self) -> bool {
+        match self.doc.reset_view() {
+            Ok(change) => {
+                self.message = "view reset".into();
                 self.changed(change)
             }
             Err(e) => {
@@ -566,6 +589,42 @@ mod tests {
         assert_ne!(v.doc.scene().lenses[0].d, Scene::default_scene().0.lenses[0].d);
         finish(&mut v);
         assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 1, 2));
+    }
+
+    /// The light and lens camera keys are the desktop's (the library's
+    /// `SCENE_KEYS`, through the document): L moves the first light as the
+    /// desktop's L does, one undo step, and the picture is `render`'s; F9
+    /// switches to a lens camera and ; focuses it; R resets the view.
+    #[test]
+    fn the_light_camera_and_reset_keys_are_the_desktops() {
+        let mut v = View::new(Some("cubes"), (16, 12), 1, 2).unwrap();
+        let mut want = v.doc.scene().clone();
+        lensview::edit::apply(
+            &mut want,
+            lensview::edit::Edit::LightMove(glam::DVec3::new(0.5, 0.0, 0.0)),
+        );
+        assert!(v.key("KeyL"));
+        assert!(v.message().starts_with("light moved to"), "{}", v.message());
+        assert_eq!(v.doc.scene().lights[0].position, want.lights[0].position);
+        finish(&mut v);
+        assert_eq!(rgb(&v), renders(&scene_of(&v), (16, 12), 1, 2));
+        assert!(v.undo());
+        assert_eq!(
+            v.doc.scene().lights[0].position,
+            Scene::default_scene().0.lights[0].position
+        );
+        assert!(!v.key("Semicolon"), "no lens camera yet");
+        assert_eq!(v.message(), "no lens camera: F9 switches to one");
+        assert!(v.key("F9"));
+        assert!(v.doc.built().lens.is_some());
+        assert!(v.key("Semicolon"));
+        assert!(v.key("KeyW"));
+        assert!(v.key("KeyR"));
+        assert_eq!(v.message(), "view reset");
+        assert_eq!(
+            v.doc.camera_pose().0,
+            View::new(Some("cubes"), (16, 12), 1, 2).unwrap().doc.camera_pose().0
+        );
     }
 
     /// A panel edit is `render`'s picture of the edited scene; a refused

@@ -162,6 +162,7 @@ state.sceneToml = () =>
     worker.postMessage({ type: "toml", id: nextId });
   });
 
+const BROWSER_KEYS = new Set(["ArrowUp", "ArrowDown", "ArrowLeft", "ArrowRight", "PageUp", "PageDown", "F9", "Quote", "Slash"]);
 document.addEventListener("keydown", (e) => {
   if (!state.ready || e.target.tagName === "INPUT" || e.target.tagName === "SELECT") return;
   if ((e.ctrlKey || e.metaKey) && (e.code === "KeyZ" || e.code === "KeyY")) {
@@ -171,6 +172,8 @@ document.addEventListener("keydown", (e) => {
     return;
   }
   if (e.ctrlKey || e.metaKey || e.altKey) return;
+  // Keys the browser would also act on (scroll the page, quick find).
+  if (BROWSER_KEYS.has(e.code)) e.preventDefault();
   worker.postMessage({ type: "key", code: e.code });
 });
 

@@ -15,8 +15,7 @@ pub fn controls(ui: &mut egui::Ui, cx: &mut Ctx) {
         ui.radio_value(&mut want, true, "lens")
             .on_hover_text("F9: a sensor behind the camera's lens system (a scene with none gets the double Gauss)");
         if want != on {
-            let r = cx.doc.toggle_lens_camera();
-            cx.key_result(Some(r));
+            cx.scene_key(lensview::edit::SceneKey::LensCamera);
         }
     });
     let Some(lens) = cx.doc.built().lens.clone() else {
