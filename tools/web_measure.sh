@@ -18,11 +18,11 @@ echo "wasm: $(stat -c %s $dist/pkg/lensview_web_bg.wasm) bytes raw, $(gzip -9 -c
 for i in $(seq "$runs"); do
     for iso in "" --no-isolation; do
         python3 tools/web_page_test.py --dist "$dist" --out "$out/p$i" --measure $iso \
-            --query "scene=cubes&w=1280&h=720&spp=1" > "$out/p$i.json"
-        python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['first']; print(f\"page ${iso:-isolated} 1280x720 1 spp, {r['threads']} threads: {r['renderMs']/1000:.3f} s from start to the finished picture ({r['previewMs']/1000:.3f} s block previews, {r['samplesMs']/1000:.3f} s the sample; the rest photons and drawing); first preview {r['firstFrameMs']/1000:.3f} s, first 1-spp picture {r['firstPictureMs']/1000:.3f} s after navigation\")" "$out/p$i.json"
+            --query "scene=cubes&w=1280&h=720&spp=1" > /dev/null
+        python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['first']; print(f\"page ${iso:-isolated} 1280x720 1 spp, {r['threads']} threads: {r['renderMs']/1000:.3f} s from start to the finished picture ({r['previewMs']/1000:.3f} s block previews, {r['samplesMs']/1000:.3f} s the sample; the rest photons and drawing); first preview {r['firstFrameMs']/1000:.3f} s, first 1-spp picture {r['firstPictureMs']/1000:.3f} s after navigation\")" "$out/p$i/report.json"
     done
-    python3 tools/web_page_test.py --dist "$dist" --out "$out/d$i" --measure --query "" > "$out/d$i.json"
-    python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['first']; print(f\"page default (cubes 640x480, 4 spp), {r['threads']} threads: first preview {r['firstFrameMs']/1000:.3f} s, first 1-spp picture {r['firstPictureMs']/1000:.3f} s after navigation, all 4 spp {r['renderMs']/1000:.3f} s after start\")" "$out/d$i.json"
+    python3 tools/web_page_test.py --dist "$dist" --out "$out/d$i" --measure --query "" > /dev/null
+    python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['first']; print(f\"page default (cubes 640x480, 4 spp), {r['threads']} threads: first preview {r['firstFrameMs']/1000:.3f} s, first 1-spp picture {r['firstPictureMs']/1000:.3f} s after navigation, all 4 spp {r['renderMs']/1000:.3f} s after start\")" "$out/d$i/report.json"
     for isa in portable ""; do
         for threads in 1 ""; do
             line="$(RAYON_NUM_THREADS=$threads LENSVIEW_ISA=$isa target/release/lensview render scenes/cubes.toml \
