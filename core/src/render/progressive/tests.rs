@@ -303,14 +303,19 @@ fn a_reprojection_records_the_first_hits_it_needs() {
     assert_eq!(late.first_hits(), early.first_hits());
 }
 
+/// A sphere seen through a lens camera (a small double Gauss).
+fn lens_camera_scene() -> Scene {
+    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
+                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
+                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
+    Scene::parse("lens", text).unwrap().1
+}
+
 /// Through a lens camera a block level samples each block's centre at its
 /// pixel's first pupil point, as the sample stages' first sample does.
 #[test]
 fn a_lens_cameras_block_centres_are_its_first_samples() {
-    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
-                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
-                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
-    let (_, s) = Scene::parse("lens", text).unwrap();
+    let s = lens_camera_scene();
     let mut p = Progressive::new(24, 16, 0);
     assert!(p.run(&s, Stage::Blocks(4), &|| false));
     let lit = crate::integrator::Lit::from(&s);
@@ -333,10 +338,7 @@ fn a_lens_cameras_block_centres_are_its_first_samples() {
 #[test]
 fn a_lens_camera_is_never_reprojected() {
     use crate::camera::Camera;
-    let text = "[camera]\nposition = [0, 0.5, 4]\nlens = { preset = \"double-gauss-50mm\", scale = 0.01 }\n\
-                focus_distance = 4\n[ambient]\ncolor = [1, 1, 1]\nintensity = 1\n\
-                [[objects]]\ntype = \"sphere\"\nposition = [0, 0.5, 0]\nradius = 0.5\n";
-    let (_, lens) = Scene::parse("lens", text).unwrap();
+    let lens = lens_camera_scene();
     let c = &lens.camera;
     let moved = Scene {
         camera: Camera::new(c.position + c.forward() * 0.1, c.rotation_deg, c.fov_y_deg),
