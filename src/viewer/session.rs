@@ -116,18 +116,10 @@ impl Session {
             Some(Item::System(i)) if e.is_lens() => self.doc.apply_system_edit(i, e),
             _ => self.doc.apply_edit(e),
         };
-        match r {
-            Ok((msg, c)) => {
-                self.message = msg;
-                self.changed(c);
-            }
-            Err(err) => self.message = format!("not applied: {err}"),
-        }
+        self.key_outcome(r.map_err(lensview::edit::KeyRefused::Rejected));
     }
 
-    /// A lens-camera key's edit: its line, or why it was refused, on the
-    /// message line (`None`: the scene has no lens camera).
-    /// What a scene key ([`lensview::edit::scene_key`]) did, or why not.
+    /// What a key edit did, or why not, on the message line.
     pub fn key_outcome(&mut self, r: lensview::edit::KeyOutcome) {
         match r {
             Ok((msg, c)) => {
@@ -151,13 +143,7 @@ impl Session {
     }
 
     pub fn reset_view(&mut self) {
-        match self.doc.reset_view() {
-            Ok(c) => {
-                self.message = "view reset".into();
-                self.changed(c);
-            }
-            Err(e) => self.message = format!("not applied: {e}"),
-        }
+        self.scene_key(lensview::edit::SceneKey::ResetView);
     }
 
     pub fn undo(&mut self) {

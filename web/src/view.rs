@@ -244,16 +244,13 @@ impl View {
         self.size
     }
 
-    /// A key (a DOM `KeyboardEvent.code`): a flight key ([`Self::fly`]), R
-    /// (reset the view), or a scene key of the desktop viewer (the lens,
-    /// light and lens camera keys of `edit::scene_key`, applied by the
-    /// document's `scene_key` as the desktop applies them). Returns whether it
+    /// A key (a DOM `KeyboardEvent.code`): a flight key ([`Self::fly`]) or
+    /// a scene key of the desktop viewer (R, the lens, light and lens
+    /// camera keys of `edit::scene_key`, applied by the document's
+    /// `scene_key` as the desktop applies them). Returns whether it
     /// changed the scene (the picture starts over); [`Self::message`] says
     /// what it did.
     pub fn key(&mut self, code: &str) -> bool {
-        if code == "KeyR" {
-            return self.reset_view();
-        }
         let Some(key) = scene_key(code) else {
             return self.fly(code);
         };
@@ -264,20 +261,6 @@ impl View {
             }
             Err(e) => {
                 self.message = e.to_string();
-                false
-            }
-        }
-    }
-
-    /// R: the view the scene opened with, as the desktop's R.
-    fn reset_view(&mut self) -> bool {
-        match self.doc.reset_view() {
-            Ok(change) => {
-                self.message = "view reset".into();
-                self.changed(change)
-            }
-            Err(e) => {
-                self.message = format!("not applied: {e}");
                 false
             }
         }

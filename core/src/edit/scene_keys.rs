@@ -18,6 +18,8 @@ pub enum SceneKey {
     /// The first light's colour temperature stepped by this many kelvin
     /// (within [`TEMPERATURE_RANGE`]).
     LightTemperature(f64),
+    /// The view the scene opened with (`Document::reset_view`).
+    ResetView,
     /// Pinhole ↔ lens camera (`Document::toggle_lens_camera`).
     LensCamera,
     /// The lens camera's focus distance times this factor.
@@ -29,8 +31,10 @@ pub enum SceneKey {
 /// The colour temperatures the temperature keys stay within, in kelvin.
 pub const TEMPERATURE_RANGE: (f64, f64) = (1000.0, 40000.0);
 
-/// The light and lens camera keys (the lens keys are [`super::LENS_KEYS`]).
+/// The reset, light and lens camera keys (the lens keys are
+/// [`super::LENS_KEYS`]).
 pub const SCENE_KEYS: &[(&str, SceneKey)] = &[
+    ("KeyR", SceneKey::ResetView),
     ("KeyJ", SceneKey::Edit(Edit::LightMove(DVec3::new(-0.5, 0.0, 0.0)))),
     ("KeyL", SceneKey::Edit(Edit::LightMove(DVec3::new(0.5, 0.0, 0.0)))),
     ("KeyU", SceneKey::Edit(Edit::LightMove(DVec3::new(0.0, 0.5, 0.0)))),
@@ -76,7 +80,7 @@ impl Default for KeyState {
 
 impl KeyState {
     /// The edit of `key`, stepping the preset or the temperature it keeps;
-    /// `None` for the lens camera's keys (not file edits).
+    /// `None` for the view and lens camera keys (not key edits of the file).
     pub fn edit(&mut self, key: SceneKey) -> Option<Edit> {
         match key {
             SceneKey::Edit(e) => Some(e),
@@ -88,7 +92,7 @@ impl KeyState {
                 self.temperature = (self.temperature + dk).clamp(TEMPERATURE_RANGE.0, TEMPERATURE_RANGE.1);
                 Some(Edit::LightTemperature(self.temperature))
             }
-            SceneKey::LensCamera | SceneKey::Focus(_) | SceneKey::FNumber(_) => None,
+            SceneKey::ResetView | SceneKey::LensCamera | SceneKey::Focus(_) | SceneKey::FNumber(_) => None,
         }
     }
 }
@@ -121,6 +125,7 @@ impl Document {
     pub fn scene_key(&mut self, key: SceneKey, state: &mut KeyState) -> KeyOutcome {
         let done = match (state.edit(key), key) {
             (Some(e), _) => Some(self.apply_edit(e)),
+            (None, SceneKey::ResetView) => Some(self.reset_view().map(|c| ("view reset".to_string(), c))),
             (None, SceneKey::LensCamera) => Some(self.toggle_lens_camera()),
             (None, SceneKey::Focus(f)) => self.step_focus(f),
             (None, SceneKey::FNumber(stops)) => self.step_f_number(stops),
@@ -176,5 +181,10 @@ mod tests {
         d.scene_key(SceneKey::LensCamera, &mut s).unwrap();
         assert!(d.scene().camera.lens.is_some());
         d.scene_key(SceneKey::Focus(0.8), &mut s).unwrap();
+        // R brings back the view the scene opened with.
+        let home = d.camera_pose();
+        d.fly_camera(home.0 + DVec3::X, home.1).unwrap();
+        let (msg, _) = d.scene_key(scene_key("KeyR").unwrap(), &mut s).unwrap();
+        assert_eq!((msg.as_str(), d.camera_pose()), ("view reset", home));
     }
 }

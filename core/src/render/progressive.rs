@@ -377,11 +377,9 @@ impl Progressive {
                 let (bw, bh) = (w.div_ceil(n), h.div_ceil(n));
                 let mut coarse = std::mem::take(&mut self.coarse);
                 coarse.resize(bw * bh, Rgb::ZERO);
-                // The block centres, then every pixel blended from those
-                // around it.
+                // Only the block centres: the pixels are blended from them
+                // when they are read ([`Self::image`], [`Self::write_rgba8`]).
                 let done = block_centres(scene, (self.width, self.height), n, &mut coarse, cancelled);
-                // The pixels are blended from the centres when they are
-                // read ([`Self::image`], [`Self::write_rgba8`]).
                 self.coarse = coarse;
                 done
             }
@@ -536,9 +534,7 @@ impl Progressive {
         // Chunks of pixels, not single pixels, per parallel task: at a
         // million tiny tasks rayon's splitting costs more than the work.
         const CHUNK: usize = 4096;
-        if self.spp == 0
-            && let Some((coarse, size, n)) = self.blocks()
-        {
+        if let Some((coarse, size, n)) = self.blocks() {
             let put = |c, o: &mut [u8]| o.copy_from_slice(&srgb.rgba(c));
             return upsample(coarse, size, n, (self.width as usize, 4), out, put);
         }

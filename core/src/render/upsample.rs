@@ -93,10 +93,11 @@ fn lerp(a: Rgb, b: Rgb, f: f64) -> Rgb {
 }
 
 /// Every pixel of `out` (`w` wide, rows of `n`-pixel blocks) from the
-/// block centres `coarse` (`bw × bh`, row-major), each pixel `per`
-/// items of `out` that `put` writes from the blended colour: first down the column between the two rows of
-/// centres around the pixel's row, then along the row (the four weights
-/// are separable, so this is the bilinear blend, rounded in that order).
+/// block centres `coarse` (`bw × bh`, row-major), each pixel `per` items
+/// of `out` that `put` writes from the blended colour: first down the
+/// column between the two rows of centres around the pixel's row, then
+/// along the row (the four weights are separable, so this is the bilinear
+/// blend, rounded in that order).
 /// Written straight into a frame's 8-bit pixels, a preview costs no
 /// full-size linear copy (at 1280×720 that copy doubled the time from a
 /// change to the first 8×8 frame).
