@@ -8,6 +8,7 @@
 //! the gather's time in rim-lens was those misses, `perf`).
 
 use super::{BLOCK, Block, Key, cell_hash};
+use rayon::prelude::*;
 
 /// An occupied cell: its key and its blocks, `blocks[start..start + len]`
 /// (`len == 0`: an empty slot of the table).
@@ -68,7 +69,8 @@ impl Grid {
     /// given (so a cell's blocks are what inserting them one by one gives).
     pub(super) fn add(&mut self, new: &[Entry]) {
         let mut order: Vec<u32> = (0..new.len() as u32).collect();
-        order.sort_unstable_by_key(|&i| (new[i as usize].key, i));
+        // Keys with their index are unique: the same order on any threads.
+        order.par_sort_unstable_by_key(|&i| (new[i as usize].key, i));
         let mut old: Vec<Slot> = self.table.iter().filter(|s| s.len > 0).copied().collect();
         old.sort_unstable_by_key(|s| s.key);
         let mut blocks = Vec::with_capacity(self.blocks.len() + new.len() / 2 + 1);

@@ -252,20 +252,25 @@ impl Group {
     /// (at most the group's).
     fn add(&mut self, photons: &[Photon], radius: f64) {
         let per_area = 1.0 / (std::f64::consts::PI * radius * radius);
-        let mut entries = Vec::with_capacity(photons.len());
-        for ph in photons {
+        let entries: Vec<Entry> = photons
+            .par_iter()
+            .with_min_len(4096)
+            .map(|ph| {
+                let key = self.key(ph.p);
+                let rel = ph.p - self.corner(key);
+                Entry {
+                    key,
+                    rel: [rel.x as f32, rel.y as f32, rel.z as f32],
+                    dir: ph.dir,
+                    power: ph.power.map(|c| (c as f64 * per_area) as f32),
+                    r2: (radius * radius) as f32,
+                }
+            })
+            .collect();
+        for (ph, e) in photons.iter().zip(&entries) {
             self.lo = self.lo.min(ph.p);
             self.hi = self.hi.max(ph.p);
-            let key = self.key(ph.p);
-            self.occupied.mark(key);
-            let rel = ph.p - self.corner(key);
-            entries.push(Entry {
-                key,
-                rel: [rel.x as f32, rel.y as f32, rel.z as f32],
-                dir: ph.dir,
-                power: ph.power.map(|c| (c as f64 * per_area) as f32),
-                r2: (radius * radius) as f32,
-            });
+            self.occupied.mark(e.key);
         }
         self.cells.add(&entries);
     }
