@@ -7,17 +7,21 @@
 //!     cargo build --release --example stage_cost
 //!     target/release/examples/stage_cost MODE SCENE WIDTH HEIGHT RUNS
 //!
-//! MODE: `bench`, `stage`, `send`, `blocks2` (a fresh 2×2 block level),
+//! MODE: `bench`, `stage`, `send`, `blocks2` (a fresh 2×2 block level,
+//! refined at edges, and its picture; `blocks2plain`: not refined;
+//! `level2`, `level2plain`: the level alone, as the render thread runs it),
 //! `blocks8send` (a fresh 8×8 level and its 8-bit frame) or
 //! `warp` (a reprojection after a step): the median time of RUNS runs
 //! (after one warm-up); `alt`: `bench` and `stage` frames in turn, both
-//! medians; `altblocks`: `blocks2` and `stage` in turn;
+//! medians; `altblocks`: `blocks2` and `stage` in turn; `altedges`:
+//! `blocks2plain`, `blocks2` and `stage` in turn;
 //! `hash`: two hashes per stage, of its picture (means, sample counts,
 //! 8-bit frame) and of its first hits (recorded for a picture of samples)
 //! through the schedule to 16 spp, a camera step (reprojection) and the
 //! schedule again (to check that a change keeps every bit). Under callgrind, the difference between two RUNS
 //! counts is the cost of that many frames (the scene's setup cancels).
 
+use lensview::render::edges::EDGE_SHARE;
 use lensview::render::progressive::{Progressive, Stage};
 use lensview::render::{Image, RenderSettings, render_into};
 use lensview::scene::Scene;
@@ -27,7 +31,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let [_, mode, scene, w, h, runs] = &args[..] else {
         eprintln!(
-            "usage: stage_cost bench|stage|send|blocks2|blocks8send|warp|alt|altblocks|hash SCENE WIDTH HEIGHT RUNS"
+            "usage: stage_cost bench|stage|send|blocks2|blocks2plain|level2|level2plain|blocks8send|warp|alt|altblocks|altedges|hash SCENE WIDTH HEIGHT RUNS"
         );
         std::process::exit(2);
     };
@@ -64,10 +68,13 @@ fn main() {
             render_into(&scene, &s, None, &mut img);
             std::hint::black_box(&img.pixels);
         }
-        "blocks2" => {
+        "blocks2" | "blocks2plain" | "level2" | "level2plain" => {
             prog.reset(w, h, 0);
+            prog.edge_share = if mode.ends_with("plain") { 0.0 } else { EDGE_SHARE };
             prog.run(&scene, Stage::Blocks(2), &|| false);
-            std::hint::black_box(prog.image());
+            if mode.starts_with("blocks") {
+                std::hint::black_box(prog.image());
+            }
         }
         "blocks8send" => {
             prog.reset(w, h, 0);
@@ -90,6 +97,27 @@ fn main() {
             std::process::exit(2)
         }
     };
+    if mode == "altedges" {
+        let mut t = [Vec::new(), Vec::new(), Vec::new()];
+        for _ in 0..=runs {
+            for (m, v) in ["blocks2plain", "blocks2", "stage"].into_iter().zip(&mut t) {
+                let t0 = Instant::now();
+                frame(m);
+                v.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let [p, e, st] = t.map(|mut v| {
+            v.remove(0);
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        });
+        println!(
+            "{w}x{h}: blocks2plain {p:.2} ms ({:.1} %), blocks2 {e:.2} ms ({:.1} %), stage {st:.2} ms (medians of {runs})",
+            100.0 * p / st,
+            100.0 * e / st
+        );
+        return;
+    }
     if mode == "alt" || mode == "altblocks" {
         let first = if mode == "alt" { "bench" } else { "blocks2" };
         let (mut b, mut st) = (Vec::new(), Vec::new());

@@ -99,7 +99,11 @@ impl Costs {
         }
     }
 
-    /// Predicted seconds for `stage` of a `w × h` picture.
+    /// Predicted seconds for `stage` of a `w × h` picture: its
+    /// [`Stage::cost`] at the level's measured time a sample. A block
+    /// level refined at edges counts its refinement at the cap (the
+    /// samples measured are those cast), so where a scene has fewer edges
+    /// the prediction is high by at most that share ([`super::edges`]).
     pub fn predict(&self, stage: Stage, (w, h): (u32, u32)) -> Option<f64> {
         let per = Self::level(stage).and_then(|i| self.level_s[i]).or(self.sample_s)?;
         Some(stage.cost(w, h, 0) as f64 * per)
@@ -224,7 +228,8 @@ mod tests {
         assert_eq!(at(None).first_stage(&st, (1280, 720), 0.016), 0);
         // 10 µs a sample: 8×8 blocks (14 400 samples) take 0.144 s: still the coarsest.
         assert_eq!(at(Some(1e-5)).first_stage(&st, (1280, 720), 0.016), 0);
-        // 50 ns a sample: 2×2 (230 400 samples) takes 11.5 ms; full res 46 ms.
+        // 50 ns a sample: 2×2 (230 400 samples, 258 048 with its edges at
+        // the cap) takes 12.9 ms; full res 46 ms.
         assert_eq!(at(Some(5e-8)).first_stage(&st, (1280, 720), 0.016), 2);
         assert_eq!(at(Some(1e-9)).first_stage(&st, (1280, 720), 0.016), 3);
     }
@@ -248,7 +253,7 @@ mod tests {
     fn a_warp_over_the_budget_gives_way_to_the_finest_fresh_level_that_fits() {
         let n = 1280.0 * 720.0;
         let st = schedule(16);
-        // The warp alone 20 ms, over a 13 ms budget; 2×2 blocks take 10 ms.
+        // The warp alone 20 ms, over a 13 ms budget; 2×2 blocks take 11 ms.
         let c = costs(0.040 / n, 0.020 / n, 0.1);
         assert_eq!(c.choose(&st, (1280, 720), c.budget(n as usize)), First::Fresh(2));
         assert_eq!(st[2], Stage::Blocks(2));

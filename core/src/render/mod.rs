@@ -6,6 +6,7 @@
 
 mod adaptive;
 pub mod caustics;
+pub mod edges;
 pub mod exr;
 pub mod first_frame;
 mod image;

@@ -10,6 +10,7 @@
 //! (uniform waves) the same whether it got there in one wave or many.
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
+use super::edges::{self, EDGE_BLOCK, EDGE_CONTRAST, EDGE_SHARE, Exact};
 use super::upsample::{block_centres, upsample};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits};
 use crate::color::{Rgb, Srgb8, Tone};
@@ -49,7 +50,8 @@ impl Sampling {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     /// One sample per `n × n` block, at its centre; every pixel drawn as
-    /// the bilinear blend of the centres around it (`upsample`).
+    /// the bilinear blend of the centres around it (`upsample`), but in
+    /// the blocks at edges, whose own pixels are cast ([`super::edges`]).
     Blocks(u32),
     /// Full resolution, accumulated until every pixel has this many samples.
     Samples(u32),
@@ -60,11 +62,17 @@ pub enum Stage {
 
 impl Stage {
     /// Camera samples this stage takes for a `width × height` image that
-    /// already has `have` samples per pixel.
+    /// already has `have` samples per pixel (a block level: at most, its
+    /// edges refined to the cap of [`EDGE_SHARE`] where it is refined).
     pub fn cost(&self, width: u32, height: u32, have: u32) -> u64 {
         let (w, h) = (width as u64, height as u64);
         match *self {
-            Stage::Blocks(n) => w.div_ceil(n as u64) * h.div_ceil(n as u64),
+            Stage::Blocks(n) => {
+                let centres = w.div_ceil(n as u64) * h.div_ceil(n as u64);
+                let n = n as usize;
+                let share = if n <= EDGE_BLOCK { EDGE_SHARE } else { 0.0 };
+                centres + (edges::cap(centres as usize, n, share) * (n * n).saturating_sub(1)) as u64
+            }
             Stage::Samples(s) => w * h * s.saturating_sub(have) as u64,
             Stage::Reprojected => 0,
         }
@@ -123,6 +131,10 @@ pub struct Progressive {
     pub sampling: Sampling,
     /// Camera samples cast since the last reset, block levels included.
     pub samples_cast: u64,
+    /// The share of a block level's samples that refining its edges may
+    /// add ([`edges::cap`]; 0: none refined), for levels of blocks up to
+    /// [`EDGE_BLOCK`] pixels.
+    pub edge_share: f64,
     sum: Vec<Rgb>,
     /// Per pixel: the sum of its samples' squares, and their count.
     sq: Vec<[f32; 3]>,
@@ -153,14 +165,21 @@ pub struct Progressive {
     /// The preview holds a reprojected picture (with `first`), which may
     /// itself be reprojected.
     reprojected: bool,
+    /// The picture while it is not the samples' means; after a block
+    /// level, the pixels of its blocks refined at edges.
     preview: Vec<Rgb>,
     /// Block size of the last block stage drawn into `preview`.
     block: usize,
-    /// That stage's block centres, row-major (kept for the next).
+    /// That stage's block centres, row-major (kept for the next), and the
+    /// blocks it refined (ascending).
     coarse: Vec<Rgb>,
+    edges: Vec<u32>,
     /// Where the last reprojection's time went.
     pub reprojection: ReprojectTimes,
 }
+
+/// A block level's centres and the pixels of its blocks refined at edges.
+type Centres<'a> = (&'a [Rgb], Option<Exact<'a>>);
 
 /// Rows per band: the unit of parallel work and of cancellation, and the
 /// height of a tile of camera packets.
@@ -176,6 +195,7 @@ impl Progressive {
             spp: 0,
             sampling: Sampling::default(),
             samples_cast: 0,
+            edge_share: EDGE_SHARE,
             sum: vec![Rgb::ZERO; n],
             sq: vec![[0.0; 3]; n],
             sq_of_sum: false,
@@ -192,6 +212,7 @@ impl Progressive {
             preview: vec![Rgb::ZERO; n],
             block: 1,
             coarse: Vec::new(),
+            edges: Vec::new(),
             reprojection: ReprojectTimes::default(),
         }
     }
@@ -206,10 +227,11 @@ impl Progressive {
     /// unchanged (the sums are cleared when the first sample stage runs).
     pub fn reset(&mut self, width: u32, height: u32, seed: u64) {
         if (width, height) != (self.width, self.height) {
-            let sampling = self.sampling;
+            let (sampling, edge_share) = (self.sampling, self.edge_share);
             // The old buffers are freed before the new ones are allocated.
             *self = Progressive::new(0, 0, seed);
             *self = Progressive::new(width, height, seed).with_sampling(sampling);
+            self.edge_share = edge_share;
         } else {
             self.seed = seed;
             self.spp = 0;
@@ -373,19 +395,48 @@ impl Progressive {
                 let n = n.max(1) as usize;
                 self.block = n;
                 (self.reprojected, self.first_ok) = (false, false);
-                self.samples_cast += stage.cost(self.width, self.height, 0);
                 let (bw, bh) = (w.div_ceil(n), h.div_ceil(n));
+                self.samples_cast += (bw * bh) as u64;
+                self.edges.clear();
                 let mut coarse = std::mem::take(&mut self.coarse);
                 coarse.resize(bw * bh, Rgb::ZERO);
-                // Only the block centres: the pixels are blended from them
-                // when they are read ([`Self::image`], [`Self::write_rgba8`]).
+                // Only the block centres (and the pixels at edges): the
+                // pixels are blended from them when they are read
+                // ([`Self::image`], [`Self::write_rgba8`]).
                 let done = block_centres(scene, (self.width, self.height), n, &mut coarse, cancelled);
                 self.coarse = coarse;
-                done
+                done && self.refine_edges(scene, n, cancelled)
             }
             Stage::Samples(target) => self.run_samples(scene, target, cancelled),
             Stage::Reprojected => true,
         }
+    }
+
+    /// The block level just cast refined at its edges ([`super::edges`]):
+    /// the pixels of the blocks chosen cast into `preview`. Returns
+    /// `false`, refining none, if `cancelled()` turned true.
+    fn refine_edges(&mut self, scene: &Lit, n: usize, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let grid = (w.div_ceil(n), h.div_ceil(n));
+        let share = if n <= EDGE_BLOCK { self.edge_share } else { 0.0 };
+        let cap = edges::cap(self.coarse.len(), n, share);
+        let blocks = edges::edge_blocks(&self.coarse, grid, n, EDGE_CONTRAST, cap);
+        let size = (self.width, self.height);
+        match edges::cast_blocks(scene, size, n, (&blocks, &self.coarse), &mut self.preview, cancelled) {
+            Some(cast) => {
+                self.samples_cast += cast;
+                self.edges = blocks;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// How many blocks the last block level refined at its edges (0 once
+    /// samples or a reprojection replaced it).
+    pub fn edge_blocks(&self) -> usize {
+        self.blocks()
+            .map_or(0, |((_, e), _, _)| e.map_or(0, |e| e.blocks.len()))
     }
 
     /// A sample stage to `target` samples: the whole picture, or (adaptive,
@@ -495,11 +546,16 @@ impl Progressive {
         ok.then(|| (target - from) as u64 * (w * self.height as usize) as u64)
     }
 
-    /// The last block level's centres, their grid and the block size,
-    /// while it is the picture (no samples, nothing reprojected since).
-    fn blocks(&self) -> Option<(&[Rgb], (usize, usize), usize)> {
+    /// The last block level's centres and pixels refined, their grid and
+    /// the block size, while it is the picture (no samples, nothing
+    /// reprojected since).
+    fn blocks(&self) -> Option<(Centres<'_>, (usize, usize), usize)> {
         let (w, h, n) = (self.width as usize, self.height as usize, self.block);
-        (self.spp == 0 && n > 1).then(|| (&self.coarse[..], (w.div_ceil(n), h.div_ceil(n)), n))
+        let exact = (!self.edges.is_empty()).then_some(Exact {
+            blocks: &self.edges,
+            pixels: &self.preview,
+        });
+        (self.spp == 0 && n > 1).then(|| ((&self.coarse[..], exact), (w.div_ceil(n), h.div_ceil(n)), n))
     }
 
     /// The current picture: the mean of the samples when there are any,

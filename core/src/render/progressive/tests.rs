@@ -1,6 +1,7 @@
 //! Tests of the progressive schedule, adaptive waves and cancellation.
 
 use super::*;
+use crate::render::edges::{self, EDGE_SHARE};
 use crate::render::{RenderSettings, Seen, render};
 
 fn scene() -> Scene {
@@ -433,4 +434,88 @@ fn a_held_picture_is_what_a_reprojection_moves() {
         .count();
     assert!(surface.len() >= n / 4, "{} of {n} on a surface", surface.len());
     assert!(kept * 4 >= surface.len() * 3, "{kept} of {} kept", surface.len());
+}
+
+/// A 2×2 level refined at its edges: in the blocks refined every pixel
+/// is a 1-spp stage's, bit for bit (through a pinhole and through a lens
+/// camera, whose block levels take seed 0's pupil points), the rest is the plain level's blend; no more blocks than the
+/// cap, each refined pixel counted once; the same bits on one and two
+/// threads; a refinement cancelled leaves the plain level.
+#[test]
+fn a_block_level_refined_at_edges_shows_the_first_samples_there() {
+    let (w, h) = (61u32, 43u32);
+    let (bw, bh) = (31usize, 22usize);
+    let bits = |img: &crate::render::Image| -> Vec<u64> {
+        img.pixels.iter().flat_map(|c| c.to_array().map(f64::to_bits)).collect()
+    };
+    for s in [scene(), lens_camera_scene()] {
+        let level = |threads: usize, share: f64| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut p = Progressive::new(w, h, 0);
+                p.edge_share = share;
+                assert!(p.run(&s, Stage::Blocks(2), &|| false));
+                let mut rgba = Vec::new();
+                p.write_rgba8(&mut rgba, Default::default());
+                (p.image(), rgba, p.edges.clone(), p.samples_cast)
+            })
+        };
+        let (img, rgba, refined, cast) = level(1, EDGE_SHARE);
+        let (plain, _, none, plain_cast) = level(2, 0.0);
+        assert!(none.is_empty() && plain_cast == (bw * bh) as u64);
+        assert!(!refined.is_empty(), "no edges");
+        assert!(refined.len() <= edges::cap(bw * bh, 2, EDGE_SHARE), "{}", refined.len());
+        let mut one = Progressive::new(w, h, 0);
+        assert!(one.run(&s, Stage::Samples(1), &|| false));
+        let one = one.image();
+        let mut exact = vec![false; (w * h) as usize];
+        for &b in &refined {
+            let (bx, by) = (b as usize % bw, b as usize / bw);
+            for y in 2 * by..(2 * by + 2).min(h as usize) {
+                for x in 2 * bx..(2 * bx + 2).min(w as usize) {
+                    exact[y * w as usize + x] = true;
+                }
+            }
+        }
+        // Each refined pixel cast once: the block's centre was already.
+        let centres = refined.len() as u64;
+        assert_eq!(cast, plain_cast + exact.iter().filter(|&&e| e).count() as u64 - centres);
+        for (i, &e) in exact.iter().enumerate() {
+            let want = if e { one.pixels[i] } else { plain.pixels[i] };
+            assert_eq!(
+                img.pixels[i].to_array().map(f64::to_bits),
+                want.to_array().map(f64::to_bits),
+                "{i}"
+            );
+        }
+        // The 8-bit frame shows the same picture.
+        let per_pixel: Vec<u8> = img
+            .pixels
+            .iter()
+            .flat_map(|c| {
+                [c.x, c.y, c.z]
+                    .map(crate::color::to_srgb8_fast)
+                    .into_iter()
+                    .chain([255])
+            })
+            .collect();
+        assert_eq!(rgba, per_pixel);
+        let (img2, rgba2, refined2, _) = level(2, EDGE_SHARE);
+        assert_eq!((bits(&img), rgba, refined), (bits(&img2), rgba2, refined2));
+        // Cancelled after the centres (bands of rows of blocks, or rows of
+        // them through a lens), in the refinement.
+        let bands = if s.lens.is_some() { bh } else { bh.div_ceil(BAND) };
+        let asked = std::sync::atomic::AtomicUsize::new(0);
+        let mut p = Progressive::new(w, h, 0);
+        let late = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= bands;
+        assert!(
+            !rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap()
+                .install(|| p.run(&s, Stage::Blocks(2), &late))
+        );
+        assert_eq!(p.edge_blocks(), 0);
+        assert_eq!(bits(&p.image()), bits(&plain));
+    }
 }
