@@ -70,31 +70,49 @@ pub fn edge_blocks(coarse: &[Rgb], (bw, bh): (usize, usize), n: usize, threshold
     // The centres a block's pixels are blended from ([`super::upsample::axis`]):
     // before and at its own, and after it for blocks over 2 pixels.
     let after = usize::from(n > 2);
-    let scratch = || [(); 4].map(|_| vec![0f32; bw]);
+    let scratch = || Scan::new(bw);
     let mut found: Vec<(f32, u32)> = (0..bh)
         .into_par_iter()
-        .map_init(scratch, |[lo, hi, t, contrast], by| {
-            // A row of blocks, a channel at a time (in lanes): the range of
-            // each column's centres, then of the neighbouring columns'.
-            contrast.fill(0.0);
-            for ch in 0..3 {
-                lo.fill(1.0);
-                hi.fill(0.0);
+        .map_init(
+            scratch,
+            |Scan {
+                 lo,
+                 hi,
+                 row,
+                 t,
+                 contrast,
+             },
+             by| {
+                // A row of blocks: the range, per channel, of each column's
+                // centres (each row's channels first made contiguous `f32`, so
+                // that the ranges run in lanes), then of the neighbouring
+                // columns'.
+                lo.iter_mut().for_each(|v| v.fill(1.0));
+                hi.iter_mut().for_each(|v| v.fill(0.0));
                 for y in by.saturating_sub(1)..(by + 1 + after).min(bh) {
-                    for ((l, h), c) in lo.iter_mut().zip(hi.iter_mut()).zip(&coarse[y * bw..(y + 1) * bw]) {
-                        let v = c[ch].clamp(0.0, 1.0) as f32;
-                        (*l, *h) = (l.min(v), h.max(v));
+                    for (x, c) in coarse[y * bw..(y + 1) * bw].iter().enumerate() {
+                        for ch in 0..3 {
+                            row[ch][x] = c[ch].clamp(0.0, 1.0) as f32;
+                        }
+                    }
+                    for ch in 0..3 {
+                        for ((l, h), &v) in lo[ch].iter_mut().zip(hi[ch].iter_mut()).zip(&row[ch]) {
+                            (*l, *h) = (least(*l, v), most(*h, v));
+                        }
                     }
                 }
-                widen(lo, t, f32::min, after);
-                widen(hi, t, f32::max, after);
-                for ((k, l), h) in contrast.iter_mut().zip(lo.iter()).zip(hi.iter()) {
-                    *k += (h - l) * (h - l);
+                contrast.fill(0.0);
+                for ch in 0..3 {
+                    widen(&mut lo[ch], t, least, after);
+                    widen(&mut hi[ch], t, most, after);
+                    for ((k, l), h) in contrast.iter_mut().zip(lo[ch].iter()).zip(hi[ch].iter()) {
+                        *k += (h - l) * (h - l);
+                    }
                 }
-            }
-            let passed = contrast.iter().enumerate().filter(|&(_, &k)| k > threshold);
-            passed.map(|(bx, &k)| (k, (by * bw + bx) as u32)).collect::<Vec<_>>()
-        })
+                let passed = contrast.iter().enumerate().filter(|&(_, &k)| k > threshold);
+                passed.map(|(bx, &k)| (k, (by * bw + bx) as u32)).collect::<Vec<_>>()
+            },
+        )
         .flatten_iter()
         .collect();
     if found.len() > cap {
@@ -106,10 +124,45 @@ pub fn edge_blocks(coarse: &[Rgb], (bw, bh): (usize, usize), n: usize, threshold
     blocks
 }
 
+/// The working rows of [`edge_blocks`]'s scan of one row of blocks.
+struct Scan {
+    lo: [Vec<f32>; 3],
+    hi: [Vec<f32>; 3],
+    row: [Vec<f32>; 3],
+    t: Vec<f32>,
+    contrast: Vec<f32>,
+}
+
+impl Scan {
+    fn new(bw: usize) -> Self {
+        let v = || vec![0f32; bw];
+        Scan {
+            lo: [v(), v(), v()],
+            hi: [v(), v(), v()],
+            row: [v(), v(), v()],
+            t: v(),
+            contrast: v(),
+        }
+    }
+}
+
+/// The smaller of two values: a plain compare, which vectorises (a NaN
+/// centre, `clamp`'s NaN, passes as it falls).
+#[inline(always)]
+fn least(a: f32, b: f32) -> f32 {
+    if b < a { b } else { a }
+}
+
+/// The larger of two values ([`least`]).
+#[inline(always)]
+fn most(a: f32, b: f32) -> f32 {
+    if b > a { b } else { a }
+}
+
 /// Each of `v` combined by `f` with the one before it (and, with `after`,
 /// the one after it); `t` is scratch of the same length.
 #[inline]
-fn widen(v: &mut [f32], t: &mut [f32], f: impl Fn(f32, f32) -> f32, after: usize) {
+fn widen(v: &mut [f32], t: &mut [f32], f: fn(f32, f32) -> f32, after: usize) {
     let len = v.len();
     t.copy_from_slice(v);
     for (a, &b) in v[1..].iter_mut().zip(&t[..len - 1]) {
