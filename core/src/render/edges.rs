@@ -15,11 +15,9 @@
 //! threads. On cubes.toml against 16 spp (docs/performance.md, round 16)
 //! 2×2 blocks at 640×360 go from 44.9 to 46.7 dB refining 1.2 % of them.
 
-use super::sample_packet;
 use super::sparse::Batch;
 use crate::color::Rgb;
-use crate::integrator::{Lit, PacketScratch};
-use crate::simd::LANES;
+use crate::integrator::Lit;
 use crate::trace::TILE;
 use rayon::prelude::*;
 
@@ -73,46 +71,11 @@ pub fn edge_blocks(coarse: &[Rgb], (bw, bh): (usize, usize), n: usize, threshold
     let scratch = || Scan::new(bw);
     let mut found: Vec<(f32, u32)> = (0..bh)
         .into_par_iter()
-        .map_init(
-            scratch,
-            |Scan {
-                 lo,
-                 hi,
-                 row,
-                 t,
-                 contrast,
-             },
-             by| {
-                // A row of blocks: the range, per channel, of each column's
-                // centres (each row's channels first made contiguous `f32`, so
-                // that the ranges run in lanes), then of the neighbouring
-                // columns'.
-                lo.iter_mut().for_each(|v| v.fill(1.0));
-                hi.iter_mut().for_each(|v| v.fill(0.0));
-                for y in by.saturating_sub(1)..(by + 1 + after).min(bh) {
-                    for (x, c) in coarse[y * bw..(y + 1) * bw].iter().enumerate() {
-                        for ch in 0..3 {
-                            row[ch][x] = c[ch].clamp(0.0, 1.0) as f32;
-                        }
-                    }
-                    for ch in 0..3 {
-                        for ((l, h), &v) in lo[ch].iter_mut().zip(hi[ch].iter_mut()).zip(&row[ch]) {
-                            (*l, *h) = (least(*l, v), most(*h, v));
-                        }
-                    }
-                }
-                contrast.fill(0.0);
-                for ch in 0..3 {
-                    widen(&mut lo[ch], t, least, after);
-                    widen(&mut hi[ch], t, most, after);
-                    for ((k, l), h) in contrast.iter_mut().zip(lo[ch].iter()).zip(hi[ch].iter()) {
-                        *k += (h - l) * (h - l);
-                    }
-                }
-                let passed = contrast.iter().enumerate().filter(|&(_, &k)| k > threshold);
-                passed.map(|(bx, &k)| (k, (by * bw + bx) as u32)).collect::<Vec<_>>()
-            },
-        )
+        .map_init(scratch, |scan, by| {
+            let contrast = scan.contrast(coarse, (bw, bh), by, after);
+            let passed = contrast.iter().enumerate().filter(|&(_, &k)| k > threshold);
+            passed.map(|(bx, &k)| (k, (by * bw + bx) as u32)).collect::<Vec<_>>()
+        })
         .flatten_iter()
         .collect();
     if found.len() > cap {
@@ -143,6 +106,44 @@ impl Scan {
             t: v(),
             contrast: v(),
         }
+    }
+
+    /// The contrast of each block of row `by` of a `bw × bh` grid of
+    /// centres: the range, per channel, of each column's centres (each
+    /// row's channels first made contiguous `f32`, so that the ranges run
+    /// in lanes), then of the neighbouring columns' (`after`: the next
+    /// row's and column's too).
+    fn contrast(&mut self, coarse: &[Rgb], (bw, bh): (usize, usize), by: usize, after: usize) -> &[f32] {
+        let Scan {
+            lo,
+            hi,
+            row,
+            t,
+            contrast,
+        } = self;
+        lo.iter_mut().for_each(|v| v.fill(1.0));
+        hi.iter_mut().for_each(|v| v.fill(0.0));
+        for y in by.saturating_sub(1)..(by + 1 + after).min(bh) {
+            for (x, c) in coarse[y * bw..(y + 1) * bw].iter().enumerate() {
+                for ch in 0..3 {
+                    row[ch][x] = c[ch].clamp(0.0, 1.0) as f32;
+                }
+            }
+            for ch in 0..3 {
+                for ((l, h), &v) in lo[ch].iter_mut().zip(hi[ch].iter_mut()).zip(&row[ch]) {
+                    (*l, *h) = (least(*l, v), most(*h, v));
+                }
+            }
+        }
+        contrast.fill(0.0);
+        for ch in 0..3 {
+            widen(&mut lo[ch], t, least, after);
+            widen(&mut hi[ch], t, most, after);
+            for ((k, l), h) in contrast.iter_mut().zip(lo[ch].iter()).zip(hi[ch].iter()) {
+                *k += (h - l) * (h - l);
+            }
+        }
+        contrast
     }
 }
 
@@ -234,20 +235,6 @@ pub fn cast_blocks(
 fn cast(scene: &Lit, (w, h): (u32, u32), y0: usize, points: &[u32], px: &mut [Rgb]) {
     let wu = w as usize;
     let at = |i: u32| ((i as usize % wu) as f64 + 0.5, (y0 + i as usize / wu) as f64 + 0.5);
-    if scene.lens.is_some() {
-        let mut scratch = PacketScratch::default();
-        for pack in points.chunks(LANES) {
-            let (mut xs, mut ys) = ([0.0; LANES], [0.0; LANES]);
-            for (l, &i) in pack.iter().enumerate() {
-                (xs[l], ys[l]) = at(i);
-            }
-            let c = sample_packet(scene, &xs, &ys, pack.len(), w, h, &mut scratch);
-            for (l, &i) in pack.iter().enumerate() {
-                px[i as usize] = c[l];
-            }
-        }
-        return;
-    }
     let mut sink = |d: u32, c: Rgb, _: &dyn Fn() -> _| px[d as usize] = c;
     let mut batch = Batch::default();
     for &i in points {

@@ -2,9 +2,10 @@
 //! wave refines, the holes a reprojection leaves), gathered eight to a
 //! packet and up to [`TILE`] packets to a tile, so they are cast exactly as
 //! [`super::add_band_samples`] casts whole rows: every sample gets what
-//! [`super::sample`] gives it, bit for bit, however the points are grouped.
+//! [`super::sample`] gives it, bit for bit, however the points are grouped
+//! (through a lens camera, what [`sample_packet`] gives it).
 
-use super::{BandMemory, shade_camera_packet};
+use super::{BandMemory, sample_packet, shade_camera_packet};
 use crate::color::Rgb;
 use crate::integrator::Lit;
 use crate::scene::Scene;
@@ -164,7 +165,10 @@ impl Batch {
         }
     }
 
-    /// Casts every point pushed so far.
+    /// Casts every point pushed so far: through a pinhole a tile at a
+    /// time; through a lens camera, whose rays start apart, a packet at a
+    /// time ([`sample_packet`], each at its pixel's first pupil point; no
+    /// first hits, which assume a pinhole).
     pub fn flush(&mut self, scene: &Lit, (w, h): (u32, u32), sink: &mut impl Sink) {
         let packets = self.rows + usize::from(self.lane > 0);
         if packets == 0 {
@@ -173,6 +177,17 @@ impl Batch {
         let mut n = [LANES; TILE];
         if self.lane > 0 {
             n[self.rows] = self.lane;
+        }
+        (self.rows, self.lane) = (0, 0);
+        if scene.lens.is_some() {
+            for (r, &len) in n.iter().enumerate().take(packets) {
+                let (xs, ys) = (&self.xs[r], &self.ys[r]);
+                self.shaded = sample_packet(scene, xs, ys, len, w, h, &mut self.memory.scratch);
+                for l in 0..len {
+                    sink(self.dst[r][l], self.shaded[l], &|| FirstHit::UNKNOWN);
+                }
+            }
+            return;
         }
         let tile = &mut self.memory.tile;
         camera_tile_hits(
@@ -191,6 +206,5 @@ impl Batch {
                 sink(self.dst[r][l], self.shaded[l], &|| FirstHit::of(scene, p, hits, l));
             }
         }
-        (self.rows, self.lane) = (0, 0);
     }
 }

@@ -10,20 +10,19 @@
 //! at `(p − n/2) / n` in units of blocks from the first block's centre.
 
 use super::edges::Exact;
-use super::sample_packet;
 use super::sparse::Batch;
 use crate::color::Rgb;
-use crate::integrator::{Lit, PacketScratch};
+use crate::integrator::Lit;
 use crate::simd::LANES;
 use crate::trace::TILE;
 use rayon::prelude::*;
 
 /// One camera sample at the centre of each `n × n` block of a `w × h`
-/// picture into `coarse` (`⌈w/n⌉ × ⌈h/n⌉`, row-major): through a pinhole
-/// in tiles of [`TILE`] packets down as many rows of blocks (as full
-/// frames cast them: a packet per row cast alone cost about a third more
-/// a sample), through a lens camera a packet at a time; each sample what
-/// [`super::sample`] gives it either way. Returns `false`, with some
+/// picture into `coarse` (`⌈w/n⌉ × ⌈h/n⌉`, row-major), in tiles of
+/// [`TILE`] packets down as many rows of blocks (as full frames cast them:
+/// a packet per row cast alone cost about a third more a sample; through a
+/// lens camera [`Batch`] casts a packet at a time); each sample what
+/// [`super::sample`] (or [`super::sample_packet`]) gives it. Returns `false`, with some
 /// centres left, if `cancelled()` turned true.
 pub(crate) fn block_centres(
     scene: &Lit,
@@ -35,21 +34,6 @@ pub(crate) fn block_centres(
     let (wu, hu) = (w as usize, h as usize);
     let bw = wu.div_ceil(n);
     let centre = |b: usize, len: usize| (b * n + n / 2).min(len - 1) as f64 + 0.5;
-    if scene.lens.is_some() {
-        return coarse.par_chunks_mut(bw).enumerate().all(|(by, centres)| {
-            if cancelled() {
-                return false;
-            }
-            let mut scratch = PacketScratch::default();
-            for b0 in (0..bw).step_by(LANES) {
-                let k = (bw - b0).min(LANES);
-                let xs = std::array::from_fn(|l| centre(b0 + l, wu));
-                let c = sample_packet(scene, &xs, &[centre(by, hu); LANES], k, w, h, &mut scratch);
-                centres[b0..b0 + k].copy_from_slice(&c[..k]);
-            }
-            true
-        });
-    }
     coarse.par_chunks_mut(bw * TILE).enumerate().all(|(band, centres)| {
         if cancelled() {
             return false;

@@ -502,9 +502,9 @@ fn a_block_level_refined_at_edges_shows_the_first_samples_there() {
         assert_eq!(rgba, per_pixel);
         let (img2, rgba2, refined2, _) = level(2, EDGE_SHARE);
         assert_eq!((bits(&img), rgba, refined), (bits(&img2), rgba2, refined2));
-        // Cancelled after the centres (bands of rows of blocks, or rows of
-        // them through a lens), in the refinement.
-        let bands = if s.lens.is_some() { bh } else { bh.div_ceil(BAND) };
+        // Cancelled after the centres (bands of rows of blocks, through a
+        // pinhole or a lens), in the refinement.
+        let bands = bh.div_ceil(BAND);
         let asked = std::sync::atomic::AtomicUsize::new(0);
         let mut p = Progressive::new(w, h, 0);
         let late = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= bands;
