@@ -53,7 +53,7 @@ impl Grid {
         let mask = self.table.len().checked_sub(1)?;
         let mut i = h as usize & mask;
         loop {
-            let s = self.table[i];
+            let s = &self.table[i];
             if s.len == 0 {
                 return None;
             }

@@ -16,6 +16,7 @@
 mod grid;
 
 use crate::color::Rgb;
+use crate::simd::gmax;
 use glam::{DVec3, Vec4};
 use grid::{Entry, Grid};
 use rayon::prelude::*;
@@ -92,9 +93,19 @@ type Key = [i64; 3];
 /// A cheap hash of a cell's key, for the cells' table and the occupancy bits.
 #[inline]
 fn cell_hash(k: Key) -> u64 {
-    let h = (k[0] as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
-        ^ (k[1] as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
-        ^ (k[2] as u64).wrapping_mul(0x1656_67b1_9e37_79f9);
+    hash_mix(hash_term(0, k[0]) ^ hash_term(1, k[1]) ^ hash_term(2, k[2]))
+}
+
+/// Axis `c`'s share of [`cell_hash`] for the coordinate `k`.
+#[inline(always)]
+fn hash_term(c: usize, k: i64) -> u64 {
+    const MUL: [u64; 3] = [0x9e37_79b9_7f4a_7c15, 0xc2b2_ae3d_27d4_eb4f, 0x1656_67b1_9e37_79f9];
+    (k as u64).wrapping_mul(MUL[c])
+}
+
+/// [`cell_hash`]'s last step, on the axes' shares combined.
+#[inline(always)]
+fn hash_mix(h: u64) -> u64 {
     h ^ (h >> 29)
 }
 
@@ -283,7 +294,10 @@ impl Group {
     }
 
     /// The sum over the photons within their pass's radius of `x` that
-    /// arrived on the side `n` faces of `Φ/(π r²)`.
+    /// arrived on the side `n` faces of `Φ/(π r²)`. The cells from
+    /// `x − r` to `x + r` are visited `i`, then `j`, then `k` rising;
+    /// what a cell's test and lookup need of each of its coordinates
+    /// ([`AxisCell`]) is worked out once per coordinate, not per cell.
     #[inline(always)]
     fn gather(&self, x: DVec3, n: DVec3) -> Rgb {
         if !self.may_reach(x) {
@@ -291,30 +305,76 @@ impl Group {
         }
         let r = self.radius;
         let (a, b) = (self.key(x - r), self.key(x + r));
-        let (r2, cell) = (r * r, self.occupied.cell);
+        if (0..3).any(|c| a[c] > b[c]) {
+            return Rgb::ZERO;
+        }
+        let r2 = r * r;
         let n = [n.x as f32, n.y as f32, n.z as f32];
         let mut acc = [[Vec4::ZERO; BLOCK / 4]; 3];
-        for i in a[0]..=b[0] {
-            for j in a[1]..=b[1] {
-                for k in a[2]..=b[2] {
-                    let key = [i, j, k];
-                    let corner = self.corner(key);
-                    // The cell's nearest point to `x` is beyond the radius.
-                    let gap = (corner - x).max(x - corner - cell).max(DVec3::ZERO);
-                    let h = cell_hash(key);
-                    if gap.length_squared() >= r2 || !self.occupied.may_hold_hashed(h) {
-                        continue;
+        let axis = |c: usize, k: i64| AxisCell::new(c, k, x[c], self.occupied.cell);
+        let mut i = a[0];
+        loop {
+            let ci = axis(0, i);
+            let mut j = a[1];
+            loop {
+                let cj = axis(1, j);
+                let (gap_ij, hash_ij) = (ci.gap2 + cj.gap2, ci.hash ^ cj.hash);
+                let mut k = a[2];
+                loop {
+                    let ck = axis(2, k);
+                    // Skipped where the cell's nearest point to `x` is beyond
+                    // the radius, or the cell holds no photon.
+                    let far = gap_ij + ck.gap2 >= r2;
+                    let h = hash_mix(hash_ij ^ ck.hash);
+                    if !far
+                        && self.occupied.may_hold_hashed(h)
+                        && let Some(v) = self.cells.get([i, j, k], h)
+                    {
+                        sum_blocks(v, [ci.q, cj.q, ck.q], n, &mut acc);
                     }
-                    let Some(v) = self.cells.get(key, h) else {
-                        continue;
-                    };
-                    let q = x - corner;
-                    sum_blocks(v, [q.x as f32, q.y as f32, q.z as f32], n, &mut acc);
+                    if k >= b[2] {
+                        break;
+                    }
+                    k += 1;
                 }
+                if j >= b[1] {
+                    break;
+                }
+                j += 1;
             }
+            if i >= b[0] {
+                break;
+            }
+            i += 1;
         }
         let [e0, e1, e2] = acc.map(|a| a.iter().sum::<Vec4>().element_sum() as f64);
         Rgb::new(e0, e1, e2)
+    }
+}
+
+/// What a query at `x` needs of a cell's coordinate `k` on one axis: the
+/// square of the gap from `x` to the cell along it (zero inside), that
+/// axis's share of the cell's hash ([`hash_term`]) and `x` from the cell's
+/// low corner, as a [`Block`] holds positions. Each is the arithmetic the
+/// whole cell's would do on that axis (`corner = k·cell`, the gap
+/// `max(corner − x, x − corner − cell, 0)`, its square summed over the
+/// axes in order), so the sums and tests are the same bits.
+struct AxisCell {
+    gap2: f64,
+    hash: u64,
+    q: f32,
+}
+
+impl AxisCell {
+    #[inline(always)]
+    fn new(c: usize, k: i64, x: f64, cell: f64) -> AxisCell {
+        let corner = k as f64 * cell;
+        let gap = gmax(gmax(corner - x, x - corner - cell), 0.0);
+        AxisCell {
+            gap2: gap * gap,
+            hash: hash_term(c, k),
+            q: (x - corner) as f32,
+        }
     }
 }
 
