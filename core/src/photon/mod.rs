@@ -208,9 +208,11 @@ fn sum_blocks(blocks: &[Block], q: [f32; 3], n: [f32; 3], acc: &mut [Col; 3]) {
             let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let facing = b.dir[0][h] * n[0] + b.dir[1][h] * n[1] + b.dir[2][h] * n[2];
             let near = d2.cmplt(b.r2[h]) & facing.cmplt(Vec4::ZERO);
-            let w = Vec4::select(near, Vec4::ONE, Vec4::ZERO);
+            // A photon out of reach adds +0, as `0 · power` would (powers
+            // are finite and not negative): the same sums, with a mask in
+            // place of a product.
             for c in 0..3 {
-                acc[c][h] += w * b.power[c][h];
+                acc[c][h] += Vec4::select(near, b.power[c][h], Vec4::ZERO);
             }
         }
     }
