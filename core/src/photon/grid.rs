@@ -7,7 +7,8 @@
 //! one for the vector's header and one for its blocks (issue 29.3: half of
 //! the gather's time in rim-lens was those misses, `perf`).
 
-use super::{BLOCK, Block, Key, cell_hash};
+use super::cells::{Key, cell_hash};
+use super::{BLOCK, Block};
 use rayon::prelude::*;
 
 /// An occupied cell: its key and its blocks, `blocks[start..start + len]`
@@ -63,6 +64,11 @@ impl Grid {
             }
             i = (i + 1) & mask;
         }
+    }
+
+    /// The occupied cells' keys.
+    pub(super) fn keys(&self) -> impl Iterator<Item = Key> + '_ {
+        self.table.iter().filter(|s| s.len > 0).map(|s| s.key)
     }
 
     /// Adds photons, each after those already in its cell and in the order

@@ -13,10 +13,12 @@
 //! bias (∝ r²) and the variance (∝ 1/(K·N·r²)) of the mean both go to zero
 //! (Hachisuka & Jensen 2009; Knaus & Zwicker 2011).
 
+mod cells;
 mod grid;
 
 use crate::color::Rgb;
 use crate::simd::gmax;
+use cells::{CellBits, Key, hash_mix, hash_term, one_block, reach_log2};
 use glam::{DVec3, Vec4};
 use grid::{Entry, Grid};
 use rayon::prelude::*;
@@ -84,74 +86,6 @@ impl Photon {
             dir: f(dir),
             power: f(power),
         }
-    }
-}
-
-/// A cell's key: its integer coordinates.
-type Key = [i64; 3];
-
-/// A cheap hash of a cell's key, for the cells' table and the occupancy bits.
-#[inline]
-fn cell_hash(k: Key) -> u64 {
-    hash_mix(hash_term(0, k[0]) ^ hash_term(1, k[1]) ^ hash_term(2, k[2]))
-}
-
-/// Axis `c`'s share of [`cell_hash`] for the coordinate `k`.
-#[inline(always)]
-fn hash_term(c: usize, k: i64) -> u64 {
-    const MUL: [u64; 3] = [0x9e37_79b9_7f4a_7c15, 0xc2b2_ae3d_27d4_eb4f, 0x1656_67b1_9e37_79f9];
-    (k as u64).wrapping_mul(MUL[c])
-}
-
-/// [`cell_hash`]'s last step, on the axes' shares combined.
-#[inline(always)]
-fn hash_mix(h: u64) -> u64 {
-    h ^ (h >> 29)
-}
-
-/// Bits of a level's occupancy filter: a cell whose bit is clear holds no
-/// photon, so most queries away from caustics cost a few bit tests.
-const OCCUPANCY_BITS: u32 = 18;
-
-/// Which cells of side `cell` hold a photon, as bits indexed by a hash of
-/// the cell (no false "empty": a clear bit means no photon there).
-#[derive(Clone, Debug)]
-struct Occupancy {
-    cell: f64,
-    bits: Vec<u64>,
-}
-
-impl Occupancy {
-    fn new(cell: f64) -> Self {
-        Occupancy {
-            cell,
-            bits: vec![0; 1 << (OCCUPANCY_BITS - 6)],
-        }
-    }
-
-    #[inline(always)]
-    fn key(&self, p: DVec3) -> Key {
-        let c = (p / self.cell).floor();
-        [c.x as i64, c.y as i64, c.z as i64]
-    }
-
-    /// The word and bit of the cell of hash `h` ([`cell_hash`]).
-    #[inline(always)]
-    fn bit(h: u64) -> (usize, u64) {
-        let b = (h >> (64 - OCCUPANCY_BITS)) as usize;
-        (b >> 6, 1u64 << (b & 63))
-    }
-
-    fn mark(&mut self, k: Key) {
-        let (w, b) = Self::bit(cell_hash(k));
-        self.bits[w] |= b;
-    }
-
-    /// Whether the cell of hash `h` may hold a photon.
-    #[inline(always)]
-    fn may_hold_hashed(&self, h: u64) -> bool {
-        let (w, b) = Self::bit(h);
-        self.bits[w] & b != 0
     }
 }
 
@@ -233,32 +167,44 @@ const GROUP_SHRINK: f64 = 0.7;
 #[derive(Clone, Debug)]
 struct Group {
     radius: f64,
+    /// The cells' side: twice the radius.
+    cell: f64,
     lo: DVec3,
     hi: DVec3,
     cells: Grid,
-    occupied: Occupancy,
+    /// The occupied cells.
+    occupied: CellBits,
+    /// The blocks of 2×2×2 cells that hold a photon ([`cells`]).
+    near: CellBits,
 }
+
+/// Bits of a group's set of occupied cells: a clear bit means no photon
+/// there, so a query skips the cell's lookup.
+const OCCUPANCY_BITS: u32 = 18;
 
 impl Group {
     fn new(radius: f64) -> Self {
         Group {
             radius,
+            cell: 2.0 * radius,
             lo: DVec3::INFINITY,
             hi: DVec3::NEG_INFINITY,
             cells: Grid::default(),
-            occupied: Occupancy::new(2.0 * radius),
+            occupied: CellBits::new(OCCUPANCY_BITS),
+            near: CellBits::new(reach_log2(0)),
         }
     }
 
     #[inline(always)]
     fn key(&self, p: DVec3) -> Key {
-        self.occupied.key(p)
+        let c = (p / self.cell).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
     }
 
     /// The low corner of cell `k`.
     #[inline(always)]
     fn corner(&self, k: Key) -> DVec3 {
-        DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * self.occupied.cell
+        DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * self.cell
     }
 
     /// Adds one pass's photons, in their order, gathered within `radius`
@@ -283,16 +229,49 @@ impl Group {
         for (ph, e) in photons.iter().zip(&entries) {
             self.lo = self.lo.min(ph.p);
             self.hi = self.hi.max(ph.p);
-            self.occupied.mark(e.key);
+            self.occupied.insert(e.key);
         }
         self.cells.add(&entries);
+        self.mark_near(&entries);
     }
 
-    /// Whether a photon of the group may lie within its radius of `x`.
+    /// Adds the blocks holding the cells of `entries` to `near`; when the
+    /// group's occupied cells have outgrown its size, makes it anew from
+    /// all of them.
+    fn mark_near(&mut self, entries: &[Entry]) {
+        let log2 = reach_log2(self.cells.keys().count());
+        if log2 > self.near.log2() {
+            self.near = CellBits::new(log2);
+            for k in self.cells.keys() {
+                self.near.insert_blocks_of(k);
+            }
+            return;
+        }
+        let mut keys: Vec<Key> = entries.iter().map(|e| e.key).collect();
+        keys.par_sort_unstable();
+        keys.dedup();
+        for k in keys {
+            self.near.insert_blocks_of(k);
+        }
+    }
+
+    /// The cells a query at `x` visits (from `x − r` to `x + r`), or
+    /// `None` where no photon of the group lies within reach: `x` is
+    /// beyond the photons' box by more than the radius, or the query's
+    /// cells form one block of 2×2×2 cells (or less) and no photon lies in
+    /// that block (`near`). Where it is `None` the walk of the cells would
+    /// find no photon, so the sums are the walk's (zero).
     #[inline(always)]
-    fn may_reach(&self, x: DVec3) -> bool {
+    fn reach(&self, x: DVec3) -> Option<(Key, Key)> {
         let r = self.radius;
-        !((x + r).cmplt(self.lo).any() || (x - r).cmpgt(self.hi).any())
+        if (x + r).cmplt(self.lo).any() || (x - r).cmpgt(self.hi).any() {
+            return None;
+        }
+        let (a, b) = (self.key(x - r), self.key(x + r));
+        if one_block(a, b) && !self.near.may_hold(cells::cell_hash(a)) {
+            return None;
+        }
+        Some((a, b))
     }
 
     /// The sum over the photons within their pass's radius of `x` that
@@ -301,19 +280,13 @@ impl Group {
     /// what a cell's test and lookup need of each of its coordinates
     /// ([`AxisCell`]) is worked out once per coordinate, not per cell.
     #[inline(always)]
-    fn gather(&self, x: DVec3, n: DVec3) -> Rgb {
-        if !self.may_reach(x) {
-            return Rgb::ZERO;
-        }
-        let r = self.radius;
-        let (a, b) = (self.key(x - r), self.key(x + r));
+    fn gather(&self, x: DVec3, n: [f32; 3], (a, b): (Key, Key)) -> Rgb {
         if (0..3).any(|c| a[c] > b[c]) {
             return Rgb::ZERO;
         }
-        let r2 = r * r;
-        let n = [n.x as f32, n.y as f32, n.z as f32];
+        let r2 = self.radius * self.radius;
         let mut acc = [[Vec4::ZERO; BLOCK / 4]; 3];
-        let axis = |c: usize, k: i64| AxisCell::new(c, k, x[c], self.occupied.cell);
+        let axis = |c: usize, k: i64| AxisCell::new(c, k, x[c], self.cell);
         let mut i = a[0];
         loop {
             let ci = axis(0, i);
@@ -329,7 +302,7 @@ impl Group {
                     let far = gap_ij + ck.gap2 >= r2;
                     let h = hash_mix(hash_ij ^ ck.hash);
                     if !far
-                        && self.occupied.may_hold_hashed(h)
+                        && self.occupied.may_hold(h)
                         && let Some(v) = self.cells.get([i, j, k], h)
                     {
                         sum_blocks(v, [ci.q, cj.q, ck.q], n, &mut acc);
@@ -450,15 +423,23 @@ impl PhotonMap {
 /// [`PhotonMap::irradiance`], compiled into each build.
 #[inline(always)]
 fn estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb {
-    if map.passes == 0 || !map.groups.iter().any(|g| g.may_reach(x)) {
+    if map.passes == 0 {
         return Rgb::ZERO;
     }
-    let clock = GatherClock::start();
-    let mut e = Rgb::ZERO;
+    let n = [n.x as f32, n.y as f32, n.z as f32];
+    let (mut e, mut clock) = (Rgb::ZERO, None);
     for g in &map.groups {
-        e += g.gather(x, n);
+        // A group out of reach adds zero: nothing to add.
+        if let Some(cells) = g.reach(x) {
+            if clock.is_none() {
+                clock = Some(GatherClock::start());
+            }
+            e += g.gather(x, n, cells);
+        }
     }
-    clock.stop();
+    if let Some(c) = clock {
+        c.stop();
+    }
     e / map.passes as f64
 }
 
