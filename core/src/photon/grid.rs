@@ -73,7 +73,8 @@ impl Grid {
 
     /// Adds photons, each after those already in its cell and in the order
     /// given (so a cell's blocks are what inserting them one by one gives).
-    pub(super) fn add(&mut self, new: &[Entry]) {
+    /// Returns the keys of the cells that held no photon before, in order.
+    pub(super) fn add(&mut self, new: &[Entry]) -> Vec<Key> {
         let mut order: Vec<u32> = (0..new.len() as u32).collect();
         // Keys with their index are unique: the same order on any threads.
         order.par_sort_unstable_by_key(|&i| (new[i as usize].key, i));
@@ -81,6 +82,7 @@ impl Grid {
         old.sort_unstable_by_key(|s| s.key);
         let mut blocks = Vec::with_capacity(self.blocks.len() + new.len() / 2 + 1);
         let mut cells = Vec::with_capacity(old.len() + new.len() / 4 + 1);
+        let mut opened = Vec::new();
         let (mut a, mut b) = (0, 0);
         while a < old.len() || b < order.len() {
             let from_old = old.get(a).map(|s| s.key);
@@ -94,6 +96,8 @@ impl Grid {
                 let s = old[a];
                 blocks.extend_from_slice(&self.blocks[s.start as usize..(s.start + s.len) as usize]);
                 a += 1;
+            } else {
+                opened.push(key);
             }
             while let Some(e) = order.get(b).map(|&i| &new[i as usize]).filter(|e| e.key == key) {
                 push_lane(&mut blocks, start, e);
@@ -108,6 +112,7 @@ impl Grid {
         }
         self.blocks = blocks;
         self.table = table_of(&cells);
+        opened
     }
 }
 

@@ -234,14 +234,15 @@ impl Group {
             self.hi = self.hi.max(ph.p);
             self.occupied.insert(e.key);
         }
-        self.cells.add(&entries);
-        self.mark_near(&entries);
+        let opened = self.cells.add(&entries);
+        self.mark_near(&opened);
     }
 
-    /// Adds the blocks holding the cells of `entries` to `near`; when the
+    /// Adds the blocks holding the newly occupied cells `opened` to
+    /// `near` (the other cells' blocks are in it already); when the
     /// group's occupied cells have outgrown its size, makes it anew from
     /// all of them.
-    fn mark_near(&mut self, entries: &[Entry]) {
+    fn mark_near(&mut self, opened: &[Key]) {
         let log2 = reach_log2(self.cells.keys().count());
         if log2 > self.near.log2() {
             self.near = CellBits::new(log2);
@@ -250,10 +251,7 @@ impl Group {
             }
             return;
         }
-        let mut keys: Vec<Key> = entries.iter().map(|e| e.key).collect();
-        keys.par_sort_unstable();
-        keys.dedup();
-        for k in keys {
+        for &k in opened {
             self.near.insert_blocks_of(k);
         }
     }
@@ -572,6 +570,26 @@ mod tests {
             let e = m.irradiance(q, DVec3::Z).x;
             assert!((e / want - 1.0).abs() < 1e-6, "{q}: {e} vs {want}");
         }
+    }
+
+    /// A later pass that occupies new cells of the same group is found
+    /// there: its cells' blocks are marked as it is added.
+    #[test]
+    fn a_later_pass_in_new_cells_is_found() {
+        let r = 0.3;
+        let mut m = PhotonMap::new(r);
+        m.add_pass(&[photon(0.0, 0.0, 1.0)]);
+        m.add_pass(&[photon(5.0, 5.0, 1.0)]);
+        assert_eq!(m.groups.len(), 1, "both passes share a group");
+        let r2 = PhotonMap::radius_of_pass(r, 2);
+        let at = |x: f64| m.irradiance(DVec3::new(x, 5.0, 0.0), DVec3::Z).x;
+        let want = 1.0 / (std::f64::consts::PI * r2 * r2) as f32 as f64 / 2.0;
+        assert!(
+            (at(5.0 + 0.9 * r2) / want - 1.0).abs() < 1e-6,
+            "{} vs {want}",
+            at(5.0 + 0.9 * r2)
+        );
+        assert_eq!(at(5.0 + 1.1 * r2), 0.0);
     }
 
     /// Sparse photons (most queries' blocks of cells hold none, and the
