@@ -93,7 +93,11 @@ impl Photon {
 }
 
 /// Photons a [`Block`] holds: the lanes of one step of the gather loop.
-const BLOCK: usize = 8;
+/// Four, not eight: a cell holds a few photons a group (rim-lens: 78
+/// photons in 5.3 cells a gather), so eight-lane blocks were a third
+/// empty lanes; four cut the gather's instructions 9 % and its time 5 %
+/// (docs/performance.md, round 18).
+const BLOCK: usize = 4;
 
 /// Up to [`BLOCK`] photons of one cell as `f32` columns: positions from the
 /// cell's low corner (exact to `f32` of the cell's side, wherever the scene
@@ -110,24 +114,24 @@ struct Block {
     len: usize,
 }
 
-/// A column of a [`Block`]: its lanes as glam's four-lane vectors (SSE
-/// registers), so that the gather is vector code in every build; left to
+/// A column of a [`Block`]: its lanes as glam's four-lane vector (an SSE
+/// register), so that the gather is vector code in every build; left to
 /// the vectoriser, loops over plain `f32` lanes came out as lanes shuffled
 /// one by one, no faster than scalar code (`perf annotate`).
-type Col = [Vec4; BLOCK / 4];
+type Col = Vec4;
 
 impl Block {
     const EMPTY: Block = Block {
-        p: [[Vec4::INFINITY; BLOCK / 4]; 3],
-        dir: [[Vec4::ZERO; BLOCK / 4]; 3],
-        power: [[Vec4::ZERO; BLOCK / 4]; 3],
-        r2: [Vec4::ZERO; BLOCK / 4],
+        p: [Vec4::INFINITY; 3],
+        dir: [Vec4::ZERO; 3],
+        power: [Vec4::ZERO; 3],
+        r2: Vec4::ZERO,
         len: 0,
     };
 
     /// Sets lane `l` of column `c`.
     fn set(c: &mut Col, l: usize, v: f32) {
-        c[l / 4][l % 4] = v;
+        c[l] = v;
     }
 }
 
@@ -135,22 +139,18 @@ impl Block {
 /// their radius of `q` (in the cells' frame) that arrived on the side the
 /// normal `n` faces.
 #[inline(always)]
-// Halves and channels index several arrays: the form the vectoriser wants.
-#[allow(clippy::needless_range_loop)]
 fn sum_blocks(blocks: &[Block], q: [f32; 3], n: [f32; 3], acc: &mut [Col; 3]) {
     let (q, n) = (q.map(Vec4::splat), n.map(Vec4::splat));
     for b in blocks {
-        for h in 0..BLOCK / 4 {
-            let d = [b.p[0][h] - q[0], b.p[1][h] - q[1], b.p[2][h] - q[2]];
-            let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let facing = b.dir[0][h] * n[0] + b.dir[1][h] * n[1] + b.dir[2][h] * n[2];
-            let near = d2.cmplt(b.r2[h]) & facing.cmplt(Vec4::ZERO);
-            // A photon out of reach adds +0, as `0 · power` would (powers
-            // are finite and not negative): the same sums, with a mask in
-            // place of a product.
-            for c in 0..3 {
-                acc[c][h] += Vec4::select(near, b.power[c][h], Vec4::ZERO);
-            }
+        let d = [b.p[0] - q[0], b.p[1] - q[1], b.p[2] - q[2]];
+        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let facing = b.dir[0] * n[0] + b.dir[1] * n[1] + b.dir[2] * n[2];
+        let near = d2.cmplt(b.r2) & facing.cmplt(Vec4::ZERO);
+        // A photon out of reach adds +0, as `0 · power` would (powers are
+        // finite and not negative): the same sums, with a mask in place of
+        // a product.
+        for (a, p) in acc.iter_mut().zip(&b.power) {
+            *a += Vec4::select(near, *p, Vec4::ZERO);
         }
     }
 }
@@ -286,7 +286,7 @@ impl Group {
             return Rgb::ZERO;
         }
         let r2 = self.radius * self.radius;
-        let mut acc = [[Vec4::ZERO; BLOCK / 4]; 3];
+        let mut acc = [Vec4::ZERO; 3];
         let axis = |c: usize, k: i64| AxisCell::new(c, k, x[c], self.cell);
         let mut i = a[0];
         loop {
@@ -323,7 +323,7 @@ impl Group {
             }
             i += 1;
         }
-        let [e0, e1, e2] = acc.map(|a| a.iter().sum::<Vec4>().element_sum() as f64);
+        let [e0, e1, e2] = acc.map(|a| a.element_sum() as f64);
         Rgb::new(e0, e1, e2)
     }
 }
