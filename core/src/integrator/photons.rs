@@ -7,10 +7,10 @@
 //! they land on a diffuse surface after at least one specular bounce
 //! ([`photon_pass`]). Every photon draws from `Sampler(seed, photon, pass)`
 //! and the pass keeps them in photon order, so a pass is the same on any
-//! number of threads. Photons fly [`LANES`] at a time: each step finds
-//! their rays' closest hits as one packet (the scalar walk's hits, bit for
-//! bit), which made a focal-spot pass about a fifth faster than one
-//! photon's scalar walk at a time (docs/performance.md, round 18).
+//! number of threads. Photons fly [`LANES`] at a time, by target: each
+//! step finds their rays' closest hits as one packet (the scalar walk's
+//! hits, bit for bit), which made a focal-spot pass about a fifth faster
+//! than one photon's scalar walk at a time (docs/performance.md, round 18).
 
 use super::lens_pass::Transmitted;
 use super::refraction::transmitted_one;
@@ -29,6 +29,7 @@ use crate::trace::{NO_OBJECT, Packet, closest_hits};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::ops::Range;
 
 /// Photons traced by one task of a pass.
 const CHUNK: usize = 1024;
@@ -300,13 +301,12 @@ impl Flight {
 /// scene, been absorbed or used up `max_depth`: each step finds the closest
 /// hits of the rays still in flight as one packet (`trace::closest_hits`,
 /// the scalar walk's hits bit for bit), then lands each photon on its own
-/// ([`Flight::land`]). Appends the photons recorded to `out`, photon by
-/// photon in the order given (as following them one by one would).
+/// ([`Flight::land`]). Appends the photons flight `l` records to
+/// `kept[l]`, in order.
 fn trace_photons(
     scene: &Scene,
     flights: &mut [Flight],
     kept: &mut [Vec<Photon>; LANES],
-    out: &mut Vec<Photon>,
     branches: &mut Vec<Transmitted>,
 ) {
     let mut live: u32 = 0;
@@ -331,9 +331,50 @@ fn trace_photons(
             }
         }
     }
-    for k in kept.iter_mut().take(flights.len()) {
-        out.append(k);
+}
+
+/// The photons of photons `range` of a pass, in photon order. Photon `i`
+/// aims at target `i mod T`, so the photons fly [`LANES`] at a time by
+/// target (photons `r, r + T, …`: one packet's rays start together and
+/// head the same way), each landing tagged with its photon, and the
+/// landings are put back in photon order at the end (a stable sort: one
+/// photon's stay in its order).
+fn chunk_photons(
+    scene: &Scene,
+    targets: &Targets,
+    (seed, pass): (u64, u32),
+    per_light: usize,
+    range: Range<usize>,
+) -> Vec<Photon> {
+    let t = targets.spheres.len().max(1);
+    let mut landed: Vec<(usize, Photon)> = Vec::new();
+    let (mut kept, mut branches): ([Vec<Photon>; LANES], _) = (Default::default(), Vec::new());
+    let mut fly = |ids: &[usize], landed: &mut Vec<(usize, Photon)>| {
+        let mut flights: Vec<Flight> = ids
+            .iter()
+            .map(|&i| Flight::emit(scene, targets, (seed, pass, i), per_light))
+            .collect();
+        trace_photons(scene, &mut flights, &mut kept, &mut branches);
+        for (&i, k) in ids.iter().zip(kept.iter_mut()) {
+            landed.extend(k.drain(..).map(|p| (i, p)));
+        }
+    };
+    let mut ids = Vec::with_capacity(LANES);
+    for r in 0..t {
+        let first = range.start + (r + t - range.start % t) % t;
+        for i in (first..range.end).step_by(t) {
+            ids.push(i);
+            if ids.len() == LANES {
+                fly(&ids, &mut landed);
+                ids.clear();
+            }
+        }
     }
+    if !ids.is_empty() {
+        fly(&ids, &mut landed);
+    }
+    landed.sort_by_key(|&(i, _)| i);
+    landed.into_iter().map(|(_, p)| p).collect()
 }
 
 /// One ray out of a lens system, for a photon: one ray of its tree
@@ -406,16 +447,13 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let (mut out, mut branches) = (Vec::new(), Vec::new());
-            let mut kept: [Vec<Photon>; LANES] = Default::default();
-            let end = ((c + 1) * CHUNK).min(total);
-            for first in (c * CHUNK..end).step_by(LANES) {
-                let mut flights: Vec<Flight> = (first..(first + LANES).min(end))
-                    .map(|i| Flight::emit(scene, targets, (seed, pass, i), per_light))
-                    .collect();
-                trace_photons(scene, &mut flights, &mut kept, &mut out, &mut branches);
-            }
-            out
+            chunk_photons(
+                scene,
+                targets,
+                (seed, pass),
+                per_light,
+                c * CHUNK..((c + 1) * CHUNK).min(total),
+            )
         })
         .collect();
     chunks.concat()
