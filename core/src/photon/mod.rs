@@ -210,14 +210,17 @@ impl Group {
         DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * self.cell
     }
 
-    /// Adds one pass's photons, in their order, gathered within `radius`
-    /// (at most the group's).
-    fn add(&mut self, photons: &[Photon], radius: f64) {
-        let per_area = 1.0 / (std::f64::consts::PI * radius * radius);
-        let entries: Vec<Entry> = photons
-            .par_iter()
-            .with_min_len(4096)
-            .map(|ph| {
+    /// Adds passes' photons, pass after pass and each in its order, each
+    /// pass gathered within its radius (at most the group's). The cells
+    /// are merged once for all of them, with what adding them one by one
+    /// gives: a cell's photons in the order added, so the same blocks (a
+    /// merge copies every block of the group, so a merge a pass made the
+    /// viewer's many passes a stage cost the square of its photons).
+    fn add(&mut self, passes: &[(&[Photon], f64)]) {
+        let mut entries: Vec<Entry> = Vec::with_capacity(passes.iter().map(|p| p.0.len()).sum());
+        for &(photons, radius) in passes {
+            let per_area = 1.0 / (std::f64::consts::PI * radius * radius);
+            entries.par_extend(photons.par_iter().with_min_len(4096).map(|ph| {
                 let key = self.key(ph.p);
                 let rel = ph.p - self.corner(key);
                 Entry {
@@ -227,9 +230,10 @@ impl Group {
                     power: ph.power.map(|c| (c as f64 * per_area) as f32),
                     r2: (radius * radius) as f32,
                 }
-            })
-            .collect();
-        for (ph, e) in photons.iter().zip(&entries) {
+            }));
+        }
+        let all = passes.iter().flat_map(|p| p.0.iter());
+        for (ph, e) in all.zip(&entries) {
             self.lo = self.lo.min(ph.p);
             self.hi = self.hi.max(ph.p);
             self.occupied.insert(e.key);
@@ -387,15 +391,34 @@ impl PhotonMap {
     /// Adds one pass's photons (in their order: the sums are the same
     /// whatever produced them).
     pub fn add_pass(&mut self, photons: &[Photon]) {
-        self.passes += 1;
-        let r = self.radius();
-        if self.groups.last().is_none_or(|g| r < GROUP_SHRINK * g.radius) {
-            self.groups.push(Group::new(r));
+        self.add_passes(&[photons]);
+    }
+
+    /// Adds passes' photons, in order: the map [`PhotonMap::add_pass`]
+    /// gives one pass after the other, with each group's cells merged once.
+    pub fn add_passes(&mut self, passes: &[&[Photon]]) {
+        let mut pending: Vec<(&[Photon], f64)> = Vec::new();
+        for &photons in passes {
+            self.passes += 1;
+            let r = self.radius();
+            if self.groups.last().is_none_or(|g| r < GROUP_SHRINK * g.radius) {
+                self.add_to_last(&mut pending);
+                self.groups.push(Group::new(r));
+            }
+            pending.push((photons, r));
+            self.photons += photons.len();
         }
-        if let Some(g) = self.groups.last_mut() {
-            g.add(photons, r);
+        self.add_to_last(&mut pending);
+    }
+
+    /// Adds the `pending` passes to the last group, and forgets them.
+    fn add_to_last(&mut self, pending: &mut Vec<(&[Photon], f64)>) {
+        if let Some(g) = self.groups.last_mut()
+            && !pending.is_empty()
+        {
+            g.add(pending);
         }
-        self.photons += photons.len();
+        pending.clear();
     }
 
     /// Passes added so far.
@@ -515,7 +538,7 @@ mod tests {
     fn many_passes_give_the_brute_force_estimate() {
         let mut rng = crate::sampling::Sampler::new(1, 2, 3);
         let mut m = PhotonMap::new(0.2);
-        let mut all = Vec::new();
+        let (mut all, mut passes) = (Vec::new(), Vec::new());
         for k in 1..=20u32 {
             let pass: Vec<Photon> = (0..300)
                 .map(|_| {
@@ -525,9 +548,16 @@ mod tests {
                 })
                 .collect();
             m.add_pass(&pass);
-            all.extend(pass.into_iter().map(|p| (p, PhotonMap::radius_of_pass(0.2, k))));
+            all.extend(pass.iter().map(|&p| (p, PhotonMap::radius_of_pass(0.2, k))));
+            passes.push(pass);
         }
         assert!(m.groups.len() == 2, "{} groups", m.groups.len());
+        // The same passes added in batches (one across the groups' border)
+        // give the same map, bit for bit.
+        let mut b = PhotonMap::new(0.2);
+        for batch in [0..1, 1..4, 4..9, 9..20] {
+            b.add_passes(&passes[batch].iter().map(Vec::as_slice).collect::<Vec<_>>());
+        }
         for i in 0..50 {
             let x = DVec3::new(0.02 * i as f64 - 0.5, 0.3 - 0.011 * i as f64, 0.0);
             let want: f64 = all
@@ -538,6 +568,7 @@ mod tests {
                 / 20.0;
             let got = m.irradiance(x, DVec3::Z).x;
             assert!((got - want).abs() <= 1e-5 * want, "{x}: {got} vs {want}");
+            assert_eq!(b.irradiance(x, DVec3::Z).x.to_bits(), got.to_bits(), "{x}");
         }
     }
 

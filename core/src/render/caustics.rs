@@ -11,7 +11,7 @@
 
 use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::limits::{PHOTON_WORK, Work};
-use crate::photon::{PhotonMap, initial_radius};
+use crate::photon::{Photon, PhotonMap, initial_radius};
 use crate::render::progressive::Stage;
 use crate::scene::Scene;
 use std::sync::Arc;
@@ -117,19 +117,42 @@ impl Caustics {
 
     /// Shoots one more pass and adds it (in place).
     pub fn add_pass(&mut self, scene: &Scene) {
-        let pass = self.passes() + 1;
+        self.add_passes(scene, |n| n == 0);
+    }
+
+    /// Shoots passes while the caps allow another ([`Caustics::can_refine`],
+    /// counting the passes shot so far) and `more(n)` says so (`n`: passes
+    /// shot by this call so far; asked before each), then adds them all to
+    /// the map at once (`PhotonMap::add_passes`: the map adding them one by
+    /// one gives, each group's cells merged once). Returns how many.
+    pub fn add_passes(&mut self, scene: &Scene, mut more: impl FnMut(usize) -> bool) -> usize {
         let s = self.settings;
-        let photons = photon_pass(scene, &self.targets, pass, s.photons_per_pass, s.seed);
+        let mut batch: Vec<Vec<Photon>> = Vec::new();
+        let mut stored = self.photons();
+        while stored < MAX_PHOTONS
+            && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
+            && more(batch.len())
+        {
+            let pass = self.passes() + batch.len() as u32 + 1;
+            let photons = photon_pass(scene, &self.targets, pass, s.photons_per_pass, s.seed);
+            stored += photons.len();
+            self.traced += self.per_pass;
+            batch.push(photons);
+        }
+        let Some(first) = batch.first() else {
+            return 0;
+        };
         let map = self.map.get_or_insert_with(|| {
             let floor = 1e-9 * (1.0 + scene.camera.position.length());
             let r0 = s
                 .initial_radius
-                .or_else(|| initial_radius(&photons, FIRST_PASS_NEIGHBOURS, floor))
+                .or_else(|| initial_radius(first, FIRST_PASS_NEIGHBOURS, floor))
                 .unwrap_or(1e-3);
             PhotonMap::new(r0)
         });
-        map.add_pass(&photons);
-        self.traced += self.per_pass;
+        let passes: Vec<&[Photon]> = batch.iter().map(Vec::as_slice).collect();
+        map.add_passes(&passes);
+        batch.len()
     }
 
     /// The map, for the kernels to shade with beside the scene
@@ -196,12 +219,7 @@ pub fn render_photons(scene: &Scene, (width, height): (u32, u32), spp: u32, sett
 /// any thread count.
 pub fn caustic_map(scene: &Scene, passes: u32, settings: CausticSettings) -> Option<PhotonMap> {
     let mut c = Caustics::new(scene, settings)?;
-    for _ in 0..passes {
-        if !c.can_refine() {
-            break;
-        }
-        c.add_pass(scene);
-    }
+    c.add_passes(scene, |n| n < passes as usize);
     c.into_map()
 }
 
@@ -256,10 +274,16 @@ impl Interleaved {
         self.credit += photon_allowance(camera_work);
         let per_pass = c.photons_per_pass() as f64;
         let first = c.passes() == 0 && camera_work > 0.0;
-        while (first && c.passes() == 0 || self.credit >= per_pass) && c.can_refine() && !cancelled() {
-            c.add_pass(scene);
-            self.credit -= per_pass;
-        }
+        let credit = &mut self.credit;
+        // The passes due, shot one by one (a cancel stops them between
+        // two), added at once.
+        c.add_passes(scene, |n| {
+            let due = (first && n == 0 || *credit >= per_pass) && !cancelled();
+            if due {
+                *credit -= per_pass;
+            }
+            due
+        });
         self.times.0 = start.elapsed().as_secs_f64();
     }
 
