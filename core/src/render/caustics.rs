@@ -31,6 +31,12 @@ pub const PHOTON_SHARE: f64 = 0.125;
 pub const FIRST_PASS_NEIGHBOURS: usize = 24;
 /// The most photons kept: past it no pass is added (the estimate stays).
 pub const MAX_PHOTONS: usize = 1 << 21;
+/// Passes shot together are merged into the map once this many photons
+/// have landed (or at the end): a merge copies the map's blocks, so merging
+/// each pass cost many passes the square of their photons, and merging
+/// them all at once would hold every landed photon twice (up to
+/// [`MAX_PHOTONS`], about 180 MB); at most 8 merges fill the map.
+pub const MERGE_PHOTONS: usize = 1 << 18;
 /// The most photons `lensview render` traces (2^28 ≈ 2.7·10^8, about 2.3
 /// minutes at 1.9 M photons/s on 2 cores): its passes are cut to fit, but
 /// never below one ([`render_photons`]). Without it a scene whose photons
@@ -122,26 +128,39 @@ impl Caustics {
 
     /// Shoots passes while the caps allow another ([`Caustics::can_refine`],
     /// counting the passes shot so far) and `more(n)` says so (`n`: passes
-    /// shot by this call so far; asked before each), then adds them all to
-    /// the map at once (`PhotonMap::add_passes`: the map adding them one by
-    /// one gives, each group's cells merged once). Returns how many.
+    /// shot by this call so far; asked before each), and adds them to the
+    /// map together, [`MERGE_PHOTONS`] photons or more at a time
+    /// (`PhotonMap::add_passes`: the map adding them one by one gives,
+    /// each group's cells merged once a batch). Returns how many.
     pub fn add_passes(&mut self, scene: &Scene, mut more: impl FnMut(usize) -> bool) -> usize {
         let s = self.settings;
-        let mut batch: Vec<Vec<Photon>> = Vec::new();
+        let (mut batch, mut shot): (Vec<Vec<Photon>>, usize) = (Vec::new(), 0);
         let mut stored = self.photons();
         while stored < MAX_PHOTONS
             && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
-            && more(batch.len())
+            && more(shot)
         {
             let pass = self.passes() + batch.len() as u32 + 1;
             let photons = photon_pass(scene, &self.targets, pass, s.photons_per_pass, s.seed);
             stored += photons.len();
             self.traced += self.per_pass;
             batch.push(photons);
+            shot += 1;
+            if batch.iter().map(Vec::len).sum::<usize>() >= MERGE_PHOTONS {
+                self.merge(scene, &mut batch);
+            }
         }
+        self.merge(scene, &mut batch);
+        shot
+    }
+
+    /// Adds the passes of `batch` to the map (making it from the first
+    /// pass's photons if there is none yet) and empties it.
+    fn merge(&mut self, scene: &Scene, batch: &mut Vec<Vec<Photon>>) {
         let Some(first) = batch.first() else {
-            return 0;
+            return;
         };
+        let s = self.settings;
         let map = self.map.get_or_insert_with(|| {
             let floor = 1e-9 * (1.0 + scene.camera.position.length());
             let r0 = s
@@ -152,7 +171,7 @@ impl Caustics {
         });
         let passes: Vec<&[Photon]> = batch.iter().map(Vec::as_slice).collect();
         map.add_passes(&passes);
-        batch.len()
+        batch.clear();
     }
 
     /// The map, for the kernels to shade with beside the scene
@@ -351,6 +370,36 @@ mod tests {
             .unwrap()
             .photons_per_pass();
         passes * per_pass as f64 * PHOTON_WORK / PHOTON_SHARE
+    }
+
+    /// Passes shot together and merged in batches of [`MERGE_PHOTONS`]
+    /// give the map that adding them one by one gives, bit for bit.
+    #[test]
+    fn passes_merged_together_give_the_map_of_one_by_one() {
+        let scene = focal_spot();
+        let mut one = Caustics::new(&scene, CausticSettings::default()).unwrap();
+        for _ in 0..12 {
+            one.add_pass(&scene);
+        }
+        let together = caustic_map(&scene, 12, CausticSettings::default()).unwrap();
+        let one = one.into_map().unwrap();
+        assert_eq!((together.passes(), together.photons()), (one.passes(), one.photons()));
+        assert!(
+            one.photons() > MERGE_PHOTONS,
+            "{} photons: one merge only",
+            one.photons()
+        );
+        let mut lit = 0;
+        for i in 0..400 {
+            let p = glam::DVec3::new(0.01 * (i % 20) as f64 - 0.1, 0.0, 0.01 * (i / 20) as f64 - 0.1);
+            let (a, b) = (
+                one.irradiance(p, glam::DVec3::Y),
+                together.irradiance(p, glam::DVec3::Y),
+            );
+            assert_eq!(a.x.to_bits(), b.x.to_bits(), "{p}");
+            lit += usize::from(a.x > 0.0);
+        }
+        assert!(lit > 100, "{lit} probes lit");
     }
 
     /// A camera move keeps the estimate; a light move starts it again.
