@@ -113,7 +113,13 @@ impl Caustics {
     /// stored, and room for its photons under [`MAX_PHOTONS_TRACED`] (the
     /// first pass always: the viewer's cap and `render`'s are the same).
     pub fn can_refine(&self) -> bool {
-        self.photons() < MAX_PHOTONS && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
+        self.room_for_pass(self.photons())
+    }
+
+    /// [`Caustics::can_refine`] with `stored` photons landed so far (those
+    /// of passes shot and not yet merged included).
+    fn room_for_pass(&self, stored: usize) -> bool {
+        stored < MAX_PHOTONS && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
     }
 
     /// Photons one pass traces, all lights together.
@@ -136,10 +142,7 @@ impl Caustics {
         let s = self.settings;
         let (mut batch, mut shot): (Vec<Vec<Photon>>, usize) = (Vec::new(), 0);
         let mut stored = self.photons();
-        while stored < MAX_PHOTONS
-            && (self.traced == 0 || self.traced + self.per_pass <= MAX_PHOTONS_TRACED)
-            && more(shot)
-        {
+        while self.room_for_pass(stored) && more(shot) {
             let pass = self.passes() + batch.len() as u32 + 1;
             let photons = photon_pass(scene, &self.targets, pass, s.photons_per_pass, s.seed);
             stored += photons.len();
