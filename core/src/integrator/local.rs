@@ -19,7 +19,7 @@ use crate::color::Rgb;
 use crate::light::{Light, LightLanes};
 
 use crate::simd::{LANES, Lanes, lane, live_lanes, mask, set_lane};
-use crate::trace::{NO_OBJECT, Packet, transmittances};
+use crate::trace::{NO_OBJECT, Packet, lane_object, transmittances};
 
 /// The lanes' surfaces as structure of arrays, for the lane loops of
 /// [`add_light_lanes`]: which lanes hit (`hit`, a bit mask), and each one's
@@ -61,7 +61,7 @@ impl SurfaceLanes {
         set_lane(&mut self.p, l, s.p);
         set_lane(&mut self.nf, l, s.nf);
         self.entering[l] = s.entering;
-        self.index[l] = u32::try_from(s.index).unwrap_or(NO_OBJECT);
+        self.index[l] = lane_object(s.index);
         self.kd_ks_lobe[0][l] = diffuse_share::<GLASS>(m);
         self.kd_ks_lobe[1][l] = m.specular;
         self.kd_ks_lobe[2][l] = o.lobe_cos_min;

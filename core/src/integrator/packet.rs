@@ -21,7 +21,7 @@ use super::system_pass::{SystemTrees, system_trees};
 use crate::color::Rgb;
 
 use crate::simd::{LANES, Lanes, lane, live_lanes, set_lane};
-use crate::trace::{NO_OBJECT, Packet, closest_hits};
+use crate::trace::{NO_OBJECT, Packet, closest_hits, lane_object};
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
@@ -115,7 +115,7 @@ impl Onward {
     pub(super) fn write(&mut self, l: usize, sec: &Secondary) {
         debug_assert_eq!(sec.tint.is_some(), self.tinted);
         self.rays.set(l, &sec.ray, f64::INFINITY);
-        self.skip[l] = u32::try_from(sec.skip).unwrap_or(NO_OBJECT);
+        self.skip[l] = lane_object(sec.skip);
         self.depth[l] = sec.depth;
         self.weight[l] = sec.weight;
         // Untinted rays (the reflected packet's) leave the tints unread.

@@ -25,7 +25,7 @@ use crate::photon::Photon;
 use crate::sampling::Sampler;
 use crate::scene::{Object, Scene};
 use crate::simd::LANES;
-use crate::trace::{NO_OBJECT, Packet, closest_hits};
+use crate::trace::{NO_OBJECT, Packet, closest_hits, lane_object};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -318,9 +318,7 @@ fn trace_photons(
         let mut skip = [NO_OBJECT; LANES];
         for (l, f) in flights.iter().enumerate().filter(|(l, _)| live >> l & 1 == 1) {
             packet.set(l, &f.ray, f64::INFINITY);
-            // An object index past `u32` is never one to skip (the packet's
-            // walk names objects by `u32`).
-            skip[l] = u32::try_from(f.skip).unwrap_or(NO_OBJECT);
+            skip[l] = lane_object(f.skip);
         }
         packet.fill_unused(live);
         let hits = closest_hits(scene, &packet, &skip);

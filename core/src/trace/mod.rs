@@ -24,3 +24,11 @@ pub use tile::{CameraTile, TILE, camera_hits, camera_tile_hits};
 
 /// No object (a lane's ray escapes, or the lane is unused).
 pub const NO_OBJECT: u32 = u32::MAX;
+
+/// Object `index` as a lane names it: [`NO_OBJECT`] for an index past
+/// `u32` (a scalar path's "none", `usize::MAX`, becomes the lanes' none;
+/// the packet walks name objects by `u32`).
+#[inline(always)]
+pub fn lane_object(index: usize) -> u32 {
+    u32::try_from(index).unwrap_or(NO_OBJECT)
+}
