@@ -335,7 +335,12 @@ fn sigterm_and_sighup_during_the_write_leave_no_temporary_file() {
         let status = child.wait().unwrap();
         assert!(seen, "{signal}: the temporary file never appeared");
         match status.code() {
-            Some(130) => assert!(listing(&d).is_empty(), "{signal}: {:?}", listing(&d)),
+            // The signal may come after the rename: then the whole file is there.
+            Some(130) => assert!(
+                listing(&d).is_empty() || listing(&d) == ["big.png"],
+                "{signal}: {:?}",
+                listing(&d)
+            ),
             Some(0) => assert_eq!(listing(&d), ["big.png"]),
             other => panic!("{signal}: exit {other:?} ({status})"),
         }

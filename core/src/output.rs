@@ -94,8 +94,14 @@ fn stage(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Re
         err,
     };
     let (target, perms) = target(path).map_err(fail)?;
-    let tmp = temp_beside(&target, perms).map_err(fail)?;
-    pending().push(tmp.path().to_path_buf());
+    let tmp = {
+        // Created and listed under one lock: a signal between the two would
+        // find the file made but not listed, and leave it behind.
+        let mut list = pending();
+        let tmp = temp_beside(&target, perms).map_err(fail)?;
+        list.push(tmp.path().to_path_buf());
+        tmp
+    };
     let filled = (|| {
         let mut w = BufWriter::new(tmp.as_file());
         fill(&mut w)?;
@@ -178,6 +184,8 @@ pub fn check_target(path: &Path) -> Result<(), WriteError> {
         err,
     };
     let (target, _) = target(path).map_err(fail)?;
+    // Made and removed under the lock: the signal handler waits until it is gone.
+    let _list = pending();
     temp_beside(&target, None).map(drop).map_err(fail)
 }
 
@@ -299,7 +307,11 @@ fn new_file_permissions() -> Option<Permissions> {
 pub fn remove_temp_files_on_interrupt() {
     // It fails only when a handler is already installed: then that one rules.
     let _ = ctrlc::set_handler(|| {
-        for p in pending().drain(..) {
+        // The lock is held until the exit, so no temporary file is made,
+        // listed or renamed after the sweep: every one that exists is listed
+        // (see `stage`) and removed here.
+        let list = pending();
+        for p in list.iter() {
             let _ = std::fs::remove_file(p);
         }
         std::process::exit(130);
