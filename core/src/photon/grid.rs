@@ -41,8 +41,98 @@ pub(super) struct Entry {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Grid {
     blocks: Vec<Block>,
-    /// A power of two long, at most half full (empty before any photon).
-    table: Vec<Slot>,
+    /// The occupied cells, in key order (their blocks side by side in
+    /// `blocks`, in the same order).
+    cells: Vec<Slot>,
+    find: Find,
+}
+
+/// How a cell's blocks are found from its key.
+#[derive(Clone, Debug)]
+enum Find {
+    /// An open-addressed table of the occupied cells, a power of two long,
+    /// at most half full (empty before any photon).
+    Hashed(Vec<Slot>),
+    /// Where the occupied cells' box is small enough ([`DENSE_PER_CELL`]):
+    /// every cell of the box by its place in it.
+    Dense(Dense),
+}
+
+impl Default for Find {
+    fn default() -> Find {
+        Find::Hashed(Vec::new())
+    }
+}
+
+/// Cells of the box a [`Find::Dense`] may hold for each occupied one (a
+/// box cell costs 4 bytes where a hashed cell costs 64, two 32-byte slots:
+/// at most this the dense index is no larger than the table), or
+/// [`DENSE_ANYWAY`] in all (1 MiB). Past both the table is used: a few
+/// stray photons can stretch the box over millions of empty cells
+/// (focal-spot: 1 819 cells in a box of 8.5 M), and filling an index that
+/// large at each merge cost more than its lookups saved.
+const DENSE_PER_CELL: usize = 16;
+const DENSE_ANYWAY: usize = 1 << 18;
+
+/// Every cell of the box `lo ..= lo + dims − 1` by its place in it (`k`
+/// fastest, then `j`, then `i`: key order): cell `c`'s blocks are
+/// `blocks[start[c]..start[c + 1]]`, empty for a cell with no photon. One
+/// load finds a cell, with no key to compare and no probing, and the cells
+/// next to each other along the last axis share a cache line (the hashed
+/// table's slot loads were a quarter of rim-lens's gather, `perf`).
+#[derive(Clone, Debug)]
+struct Dense {
+    lo: Key,
+    dims: [u64; 3],
+    start: Vec<u32>,
+}
+
+impl Dense {
+    /// The place of cell `k` in the box, or `None` outside it.
+    #[inline(always)]
+    fn place(&self, k: Key) -> Option<usize> {
+        let off = [0, 1, 2].map(|c| k[c].wrapping_sub(self.lo[c]) as u64);
+        if (0..3).any(|c| off[c] >= self.dims[c]) {
+            return None;
+        }
+        Some(((off[0] * self.dims[1] + off[1]) * self.dims[2] + off[2]) as usize)
+    }
+
+    /// The dense index of the key-ordered `cells` (blocks side by side in
+    /// that order, `total` in all), or `None` when their box holds more
+    /// than [`DENSE_PER_CELL`] cells for each of them (and more than
+    /// [`DENSE_ANYWAY`]).
+    fn of(cells: &[Slot], total: usize) -> Option<Dense> {
+        let (first, _) = cells.split_first()?;
+        let (mut lo, mut hi) = (first.key, first.key);
+        for c in cells {
+            for a in 0..3 {
+                (lo[a], hi[a]) = (lo[a].min(c.key[a]), hi[a].max(c.key[a]));
+            }
+        }
+        let most = (cells.len() * DENSE_PER_CELL).max(DENSE_ANYWAY) as u64;
+        let mut dims = [0u64; 3];
+        let mut size = 1u64;
+        for a in 0..3 {
+            dims[a] = (hi[a] as i128 - lo[a] as i128 + 1).try_into().ok()?;
+            size = size.checked_mul(dims[a]).filter(|&n| n <= most)?;
+        }
+        let mut d = Dense {
+            lo,
+            dims,
+            start: vec![0; size as usize + 1],
+        };
+        // Each cell's entry, and those of the empty cells before it, hold
+        // where its blocks start; the entries past the last, the end.
+        let mut next = 0;
+        for c in cells {
+            let place = d.place(c.key)?;
+            d.start[next..=place].fill(c.start);
+            next = place + 1;
+        }
+        d.start[next..].fill(total as u32);
+        Some(d)
+    }
 }
 
 impl Grid {
@@ -50,10 +140,18 @@ impl Grid {
     /// holds no photon).
     #[inline(always)]
     pub(super) fn get(&self, k: Key, h: u64) -> Option<&[Block]> {
-        let mask = self.table.len().checked_sub(1)?;
+        let table = match &self.find {
+            Find::Dense(d) => {
+                let c = d.place(k)?;
+                let (from, to) = (d.start[c] as usize, d.start[c + 1] as usize);
+                return self.blocks.get(from..to).filter(|b| !b.is_empty());
+            }
+            Find::Hashed(table) => table,
+        };
+        let mask = table.len().checked_sub(1)?;
         let mut i = h as usize & mask;
         loop {
-            let s = &self.table[i];
+            let s = &table[i];
             if s.len == 0 {
                 return None;
             }
@@ -65,9 +163,9 @@ impl Grid {
         }
     }
 
-    /// The occupied cells' keys.
+    /// The occupied cells' keys, in key order.
     pub(super) fn keys(&self) -> impl Iterator<Item = Key> + '_ {
-        self.table.iter().filter(|s| s.len > 0).map(|s| s.key)
+        self.cells.iter().map(|s| s.key)
     }
 
     /// Adds photons, each after those already in its cell and in the order
@@ -81,8 +179,7 @@ impl Grid {
     /// cache on every photon (half of the merge's time, `perf annotate`).
     pub(super) fn add(&mut self, new: &[Entry]) -> Vec<Key> {
         let counted = Counted::of(new);
-        let mut old: Vec<Slot> = self.table.iter().filter(|s| s.len > 0).copied().collect();
-        old.sort_unstable_by_key(|s| s.key);
+        let old = std::mem::take(&mut self.cells);
         let mut cells = Vec::with_capacity(old.len() + counted.keys.len());
         // The lane (counted over the blocks) of each new cell's next photon.
         let mut next = vec![0usize; counted.keys.len()];
@@ -132,7 +229,11 @@ impl Grid {
             set_lane(&mut blocks[lane / BLOCK], lane % BLOCK, e);
         }
         self.blocks = blocks;
-        self.table = table_of(&cells);
+        self.find = match Dense::of(&cells, total) {
+            Some(d) => Find::Dense(d),
+            None => Find::Hashed(table_of(&cells)),
+        };
+        self.cells = cells;
         opened
     }
 }
@@ -268,7 +369,8 @@ mod tests {
     #[test]
     fn each_cell_holds_its_photons_in_the_order_added() {
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        for spread in [1, 2, 9] {
+        // Boxes of 8, 64 and 5 832 cells (dense) and of 2^123 (hashed).
+        for spread in [1, 2, 9, 1 << 40] {
             let mut grid = Grid::default();
             let mut all: Vec<Entry> = Vec::new();
             for n in [0, 1, 3, 50, 0, 400, 7] {
@@ -297,12 +399,57 @@ mod tests {
                     }
                 }
             }
+            assert_eq!(matches!(grid.find, Find::Dense(_)), spread < 1 << 40, "spread {spread}");
             assert_eq!(grid.keys().count(), {
                 let mut k: Vec<Key> = all.iter().map(|e| e.key).collect();
                 k.sort();
                 k.dedup();
                 k.len()
             });
+        }
+    }
+
+    /// The dense index finds what the hashed table finds, for every key of
+    /// the box and one cell around it (and far outside), with photons in
+    /// few cells of a box (so most of its cells are empty).
+    #[test]
+    fn the_dense_index_finds_what_the_table_finds() {
+        let mut seed = 0x1234_5678_9abc_def1_u64;
+        let mut grid = Grid::default();
+        let mut new = photons(&mut seed, 40, 6);
+        new.push(Entry {
+            key: [-6, 5, 0],
+            ..new[0]
+        });
+        grid.add(&new);
+        let Find::Dense(dense) = &grid.find else {
+            panic!("a box of {:?} cells for {} is dense", [12, 12, 12], grid.cells.len())
+        };
+        let table = table_of(&grid.cells);
+        let hashed = Grid {
+            blocks: grid.blocks.clone(),
+            cells: grid.cells.clone(),
+            find: Find::Hashed(table),
+        };
+        let mut seen = 0;
+        for i in dense.lo[0] - 1..=dense.lo[0] + dense.dims[0] as i64 {
+            for j in dense.lo[1] - 1..=dense.lo[1] + dense.dims[1] as i64 {
+                for k in dense.lo[2] - 1..=dense.lo[2] + dense.dims[2] as i64 {
+                    let key = [i, j, k];
+                    // Where in its grid's blocks the slice starts, and how long.
+                    let at = |g: &Grid| {
+                        g.get(key, cell_hash(key))
+                            .map(|v| (v.as_ptr() as usize - g.blocks.as_ptr() as usize, v.len()))
+                    };
+                    let (a, b) = (at(&grid), at(&hashed));
+                    assert_eq!(a, b, "{key:?}");
+                    seen += usize::from(a.is_some());
+                }
+            }
+        }
+        assert_eq!(seen, grid.cells.len());
+        for far in [[i64::MIN, 0, 0], [0, i64::MAX, 0], [0, 0, -1 << 40]] {
+            assert!(grid.get(far, cell_hash(far)).is_none());
         }
     }
 }
