@@ -1,11 +1,14 @@
 //! One level's photons for fixed-radius queries: the blocks of every
 //! occupied cell side by side in one array, cells in key order (so the
 //! cells next to each other along the last axis are next to each other in
-//! memory), found through a small open-addressed table of the occupied
-//! cells. A query touches one or two table slots and the cell's contiguous
-//! blocks, where a hash map of per-cell vectors cost a miss for the bucket,
-//! one for the vector's header and one for its blocks (issue 29.3: half of
-//! the gather's time in rim-lens was those misses, `perf`).
+//! memory), found by the cell's place in the occupied cells' box where
+//! that box is small ([`Dense`]), else through a small open-addressed table
+//! of the occupied cells. A query touches one entry of the box (or one or
+//! two table slots) and the cell's contiguous blocks, where a hash map of
+//! per-cell vectors cost a miss for the bucket, one for the vector's header
+//! and one for its blocks (issue 29.3: half of the gather's time in
+//! rim-lens was those misses, `perf`). Photons are merged in by counting
+//! their cells, not sorting them ([`Grid::add`]).
 
 use super::cells::{Key, cell_hash};
 use super::{BLOCK, Block};
