@@ -11,12 +11,18 @@ pub type Rgb = DVec3;
 /// The sRGB transfer function (IEC 61966-2-1) of one linear channel, clamped
 /// to [0, 1].
 pub fn linear_to_srgb(x: f64) -> f64 {
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+    let x = unit(x);
     if x <= 0.003_130_8 {
         12.92 * x
     } else {
         1.055 * x.powf(1.0 / 2.4) - 0.055
     }
+}
+
+/// A linear channel as the output reads it: clamped to [0, 1], NaN as 0.
+#[inline(always)]
+fn unit(x: f64) -> f64 {
+    if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
 }
 
 /// Inverse of [`linear_to_srgb`].
@@ -33,7 +39,7 @@ pub fn srgb_to_linear(x: f64) -> f64 {
 pub fn to_srgb8(c: Rgb) -> [u8; 3] {
     let (table, steps) = (Srgb8::table(), srgb8_steps());
     [c.x, c.y, c.z].map(|x| {
-        let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        let x = unit(x);
         // The table's level is within one of the exact one (tested); the
         // levels' lowest values then decide.
         let mut level = table.channel(x) as usize;
@@ -94,18 +100,14 @@ pub struct Srgb8(&'static [u8; 1 << 16]);
 impl Srgb8 {
     pub fn table() -> Srgb8 {
         static LUT: std::sync::OnceLock<Box<[u8; 1 << 16]>> = std::sync::OnceLock::new();
-        Srgb8(LUT.get_or_init(|| {
-            Box::new(std::array::from_fn(|i| {
-                (linear_to_srgb(i as f64 / 65535.0) * 255.0 + 0.5).floor() as u8
-            }))
-        }))
+        Srgb8(LUT.get_or_init(|| Box::new(std::array::from_fn(|i| srgb8_level(i as f64 / 65535.0)))))
     }
 
     /// One channel ([`to_srgb8_fast`]): NaN is 0, [0, 1] clamped. The
     /// index, at most 65535.5 before the cast, fits `u16` (no bounds check).
     #[inline]
     pub fn channel(self, x: f64) -> u8 {
-        let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        let x = unit(x);
         self.0[(x * 65535.0 + 0.5) as u16 as usize]
     }
 
