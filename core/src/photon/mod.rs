@@ -233,12 +233,16 @@ impl Group {
             }));
         }
         let all = passes.iter().flat_map(|p| p.0.iter());
-        for (ph, e) in all.zip(&entries) {
+        for ph in all {
             self.lo = self.lo.min(ph.p);
             self.hi = self.hi.max(ph.p);
-            self.occupied.insert(e.key);
         }
+        // The cells that held no photon before: the only ones whose bits
+        // are not set yet (a bit for each, not for each photon).
         let opened = self.cells.add(&entries);
+        for &k in &opened {
+            self.occupied.insert(k);
+        }
         self.mark_near(&opened);
     }
 
