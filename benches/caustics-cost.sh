@@ -8,17 +8,8 @@
 # Scenes: the shipped ones whose caustics are on (CAUSTIC_SCENES overrides).
 set -euo pipefail
 ROUNDS=$1; SIZE=$2; SPP=$3; shift 3
-W=${SIZE%x*}; H=${SIZE#*x}
-SCENES=${CAUSTIC_SCENES:-"cubes focal-spot lens-family optical-bench primitives rim-lens"}
-here=$(cd "$(dirname "$0")/.." && pwd)
-lscpu | grep 'Model name' || true
-grep -q avx512f /proc/cpuinfo && echo "avx512f: yes" || echo "avx512f: no"
-uptime
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-for s in $SCENES; do
-  python3 "$(dirname "$0")/caustics-off.py" "$here/scenes/$s.toml" "$dir/$s-off.toml"
-done
+# W, H, SCENES, here, dir and the scenes' copies without caustics.
+source "$(dirname "$0")/caustics-setup.sh"
 bins=("$@")
 for r in $(seq 1 "$ROUNDS"); do
   if (( r % 2 )); then order=("${bins[@]}"); else order=(); for ((i=${#bins[@]}-1; i>=0; i--)); do order+=("${bins[$i]}"); done; fi

@@ -11,17 +11,8 @@
 # Scenes: the shipped ones whose caustics are on (CAUSTIC_SCENES overrides).
 set -euo pipefail
 ROUNDS=$1; SIZE=$2; SPP=$3; OLD=$4; NEW=$5
-W=${SIZE%x*}; H=${SIZE#*x}
-SCENES=${CAUSTIC_SCENES:-"cubes focal-spot lens-family optical-bench primitives rim-lens"}
-here=$(cd "$(dirname "$0")/.." && pwd)
-lscpu | grep 'Model name' || true
-grep -q avx512f /proc/cpuinfo && echo "avx512f: yes" || echo "avx512f: no"
-uptime
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-for s in $SCENES; do
-  python3 "$(dirname "$0")/caustics-off.py" "$here/scenes/$s.toml" "$dir/$s-off.toml"
-done
+# W, H, SCENES, here, dir and the scenes' copies without caustics.
+source "$(dirname "$0")/caustics-setup.sh"
 # One build's run: "NAME SCENE on|off SECONDS" appended to $dir/times.
 one() {
   local name=$1 bin=$2 core=$3 s=$4 v=$5 f=$here/scenes/$4.toml
