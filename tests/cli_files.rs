@@ -297,11 +297,12 @@ fn a_hard_linked_output_is_refused() {
     assert_eq!(listing(&d), ["h1.png"]);
 }
 
-/// 30.3: SIGTERM and SIGHUP during a write remove the temporary file, as
-/// Ctrl-C does (exit 130); before, they left a large `.NAME.XXXXXX.tmp`.
+/// Ctrl-C (SIGINT) and, since 30.3, SIGTERM and SIGHUP during a write
+/// remove the temporary file (exit 130); before, the last two left a large
+/// `.NAME.XXXXXX.tmp`.
 #[test]
-fn sigterm_and_sighup_during_the_write_leave_no_temporary_file() {
-    for signal in ["-TERM", "-HUP"] {
+fn ctrl_c_sigterm_and_sighup_during_the_write_leave_no_temporary_file() {
+    for signal in ["-INT", "-TERM", "-HUP"] {
         let d = fresh_dir(&format!("signal{signal}"));
         let out = d.join("big.png");
         let mut child = bin()
