@@ -5,6 +5,7 @@
 //! side the incident ray comes from (`dot(i, n) < 0`); directions are unit.
 
 use crate::glass::Glass;
+use crate::math::renormalize;
 use glam::DVec3;
 
 /// The d line of helium (587.5618 nm), where a single "n" is quoted.
@@ -55,7 +56,8 @@ fn snell(i: DVec3, n: DVec3, n1: f64, n2: f64) -> (f64, f64, f64) {
 #[inline(always)]
 fn refracted(i: DVec3, n: DVec3, eta: f64, cos_i: f64, sin2_t: f64) -> (DVec3, f64) {
     let cos_t = (1.0 - sin2_t).sqrt();
-    ((eta * i + (eta * cos_i - cos_t) * n).normalize(), cos_t)
+    // Unit up to rounding: `renormalize` (no square root, no division).
+    (renormalize(eta * i + (eta * cos_i - cos_t) * n), cos_t)
 }
 
 /// How much [`refract`] turns a ray: the refracted direction `t` minus the

@@ -27,7 +27,7 @@ use crate::color::Rgb;
 use crate::geometry::{Aabb, Lens, LensSystem, Shape};
 use crate::light::Light;
 use crate::material::Material;
-use crate::math::rotation_from_degrees;
+use crate::math::{renormalize, rotation_from_degrees};
 use crate::optics::Index;
 use error::Located;
 use glam::{DMat3, DVec3};
@@ -145,7 +145,8 @@ impl Object {
             self.shape.normal(p - self.position, part)
         } else {
             let po = self.object_from_world() * (p - self.position);
-            (self.world_from_object * self.shape.normal(po, part)).normalize()
+            // A rotated unit normal: unit up to rounding.
+            renormalize(self.world_from_object * self.shape.normal(po, part))
         }
     }
 

@@ -14,6 +14,7 @@
 
 use super::trace::MAX_INTERNAL_REFLECTIONS;
 use super::{Lens, LensSurface};
+use crate::math::renormalize;
 use crate::optics;
 use glam::DVec3;
 
@@ -207,7 +208,7 @@ impl Lens {
     /// caller that has computed it beforehand (the packets' lanes).
     #[inline(always)]
     pub fn reflected_inside(u: DVec3, normal: DVec3) -> DVec3 {
-        optics::reflect(u, normal).normalize()
+        renormalize(optics::reflect(u, normal))
     }
 
     /// [`Lens::reflect_inside`] with the direction on given by `on` (asked

@@ -2,7 +2,7 @@
 //! a ray: the quadratic solve that the lens's hit test, its scalar tracer
 //! and their lane forms all call (see the module docs of [`super`]).
 
-use crate::math::{half_b_discriminant, half_b_roots};
+use crate::math::{half_b_discriminant, half_b_roots, renormalize};
 use glam::DVec3;
 
 /// One face in vertex form.
@@ -40,7 +40,7 @@ impl Cap {
     /// `m + (x − V)/r` to avoid the large `x − centre` of a flat face.
     #[inline(always)]
     pub(super) fn normal(&self, x: DVec3) -> DVec3 {
-        (self.m + (x - self.vertex) * self.inv_r).normalize()
+        renormalize(self.m + (x - self.vertex) * self.inv_r)
     }
 }
 

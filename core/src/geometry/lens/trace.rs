@@ -283,7 +283,7 @@ impl Lens {
                 return stop(LensTraceStatus::Trapped, reflections);
             }
             reflections += 1;
-            u = optics::reflect(u, e.normal).normalize();
+            u = Lens::reflected_inside(u, e.normal);
             x = e.y;
         }
     }
