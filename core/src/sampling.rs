@@ -4,7 +4,7 @@
 //! count therefore give the same image on any number of threads.
 
 /// SplitMix64's finaliser: a bijective 64-bit mix with good avalanche.
-#[inline]
+#[inline(always)]
 pub fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -12,7 +12,7 @@ pub fn mix64(mut z: u64) -> u64 {
 }
 
 /// A hash's top 53 bits as a uniform number in [0, 1).
-#[inline]
+#[inline(always)]
 pub fn unit_f64(bits: u64) -> f64 {
     (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
@@ -25,6 +25,7 @@ pub struct Sampler {
 }
 
 impl Sampler {
+    #[inline(always)]
     pub fn new(seed: u64, pixel: u64, sample: u64) -> Self {
         let key = mix64(
             seed ^ mix64(pixel.wrapping_add(0x9e37_79b9_7f4a_7c15)) ^ mix64(sample.wrapping_mul(0xd1b5_4a32_d192_ed03)),
@@ -33,6 +34,7 @@ impl Sampler {
     }
 
     /// A uniform number in [0, 1) with 53 random bits.
+    #[inline(always)]
     pub fn next_f64(&mut self) -> f64 {
         self.counter += 1;
         unit_f64(mix64(
@@ -41,6 +43,7 @@ impl Sampler {
     }
 
     /// A 2D point in [0, 1)².
+    #[inline(always)]
     pub fn next_2d(&mut self) -> (f64, f64) {
         (self.next_f64(), self.next_f64())
     }
@@ -61,14 +64,19 @@ pub enum Pattern {
     R2,
 }
 
-/// The fractional part of `v ≥ 0` (below 2⁶³): `v − ⌊v⌋` to the bit, the
-/// integer part by truncation (one instruction in every build), where
-/// `f64::floor` is a library call without SSE4.1 (5 % of a focal-spot
-/// frame, `perf`).
+/// The fractional part of `v ≥ 0` (below 2⁵²): `v − ⌊v⌋` to the bit.
+/// `⌊v⌋` is the nearest integer (adding and taking away 2⁵², whose unit in
+/// the last place is 1: both exact but the rounding to an integer), less
+/// one where that rounded up: plain arithmetic that lane loops run side by
+/// side in every build, where `f64::floor` is a library call without
+/// SSE4.1 (5 % of a focal-spot frame, `perf`) and a cast to an integer is
+/// one lane at a time.
 #[inline(always)]
 fn frac(v: f64) -> f64 {
-    debug_assert!((0.0..9.2e18).contains(&v), "{v}");
-    v - (v as i64) as f64
+    const TWO_52: f64 = 4_503_599_627_370_496.0;
+    debug_assert!((0.0..TWO_52).contains(&v), "{v}");
+    let nearest = (v + TWO_52) - TWO_52;
+    v - (nearest - if nearest > v { 1.0 } else { 0.0 })
 }
 
 /// The R2 sequence's steps: 1/g and 1/g², g the plastic number (the real
@@ -80,7 +88,7 @@ const R2_ALPHA: (f64, f64) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_3);
 /// one-sample image is the same with any pattern and seed); the others
 /// follow `pattern`, keyed by (seed, pixel, `i`) alone, so any thread
 /// count and any order of waves give the same points.
-#[inline]
+#[inline(always)]
 pub fn pixel_offset(pattern: Pattern, seed: u64, pixel: u64, i: u32) -> (f64, f64) {
     if i == 0 {
         return (0.5, 0.5);
@@ -120,6 +128,32 @@ pub fn lens_point(seed: u64, pixel: u64, i: u32) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `frac` is `v − ⌊v⌋` to the bit: integers, halves (the rounding's
+    /// ties), the numbers next to them and random ones up to 2⁵².
+    #[test]
+    fn frac_is_v_less_its_floor_to_the_bit() {
+        let mut s = Sampler::new(3, 1, 4);
+        let mut values = vec![
+            0.0,
+            0.5,
+            1.0,
+            1.5,
+            2.5,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_495.0,
+        ];
+        for k in 0..2000 {
+            let base = [k as f64, k as f64 + 0.5, (k as f64) * 1e9, (1u64 << (k % 52)) as f64];
+            for b in base {
+                values.extend([b, b.next_up(), b.next_down().max(0.0)]);
+            }
+            values.push(s.next_f64() * (1u64 << (k % 53)) as f64);
+        }
+        for v in values.into_iter().filter(|v| *v < 4_503_599_627_370_496.0) {
+            assert_eq!(frac(v).to_bits(), (v - v.floor()).to_bits(), "{v}");
+        }
+    }
 
     /// The R2 points of a pixel fill it more evenly than uniform points:
     /// 15 samples (after the centre) leave fewer than half as many cells of
