@@ -349,7 +349,7 @@ impl LaneExit {
 /// scalar arithmetic of [`Lens::branches_inside`], so that it gets the
 /// scalar rays bit for bit. Written into `out` in place (it is large).
 #[inline(always)]
-fn lens_lanes_impl(
+fn lens_lanes_impl<const WHOLE: bool>(
     lens: &Lens,
     ior: f64,
     x: &[Lanes<f64>; 3],
@@ -379,7 +379,7 @@ fn lens_lanes_impl(
     // The first exit's point, then the reflection on from its normal, so
     // that the second exit runs beside the first exit's crossing (the two
     // longest chains of square roots side by side).
-    lens.exit_points_local_into(&local, inside, &mut first.exit);
+    lens.exit_points_local_into::<LANES, WHOLE>(&local, inside, &mut first.exit);
     // `Lens::reflect_inside`'s new direction.
     for l in 0..LANES {
         set_lane(
@@ -388,9 +388,9 @@ fn lens_lanes_impl(
             Lens::reflected_inside(lane(inside, l), lane(&first.exit.normal, l)),
         );
     }
-    Lens::exit_crossings_into(inside, ior, &mut first.exit);
-    lens.exit_points_local_into(&first.exit.local, on, &mut second.exit);
-    Lens::exit_crossings_into(on, ior, &mut second.exit);
+    Lens::exit_crossings_into::<LANES, WHOLE>(inside, ior, &mut first.exit);
+    lens.exit_points_local_into::<LANES, WHOLE>(&first.exit.local, on, &mut second.exit);
+    Lens::exit_crossings_into::<LANES, WHOLE>(on, ior, &mut second.exit);
     first.rays(lens);
     second.rays(lens);
     for l in 0..LANES {
@@ -399,9 +399,24 @@ fn lens_lanes_impl(
     }
 }
 
+/// [`lens_lanes_impl`]'s lane loops over halves side by side (the AVX2
+/// and portable builds), for [`with_avx2!`].
+#[inline(always)]
+fn lens_lanes_halves(
+    lens: &Lens,
+    ior: f64,
+    x: &[Lanes<f64>; 3],
+    dir: &[Lanes<f64>; 3],
+    nf: &[Lanes<f64>; 3],
+    out: &mut LensLanes,
+) {
+    lens_lanes_impl::<false>(lens, ior, x, dir, nf, out)
+}
+
 with_avx2! {
-    /// [`lens_lanes_impl`], built for AVX2 where the CPU has it.
-    fn lens_lanes / lens_lanes_avx2 => lens_lanes_impl(
+    /// [`lens_lanes_impl`], built for AVX2 where the CPU has it (halves
+    /// side by side: `geometry::lens::lanes`' `each_lane`).
+    fn lens_lanes_no_avx512 / lens_lanes_avx2 => lens_lanes_halves(
         lens: &Lens,
         ior: f64,
         x: &[Lanes<f64>; 3],
@@ -409,6 +424,40 @@ with_avx2! {
         nf: &[Lanes<f64>; 3],
         out: &mut LensLanes
     ) -> ()
+}
+
+/// [`lens_lanes_impl`] in the best build this CPU runs: in the AVX-512
+/// build each lane loop runs over all lanes at once (one 64-byte register),
+/// elsewhere [`lens_lanes_no_avx512`]. The same bits in each.
+fn lens_lanes(
+    lens: &Lens,
+    ior: f64,
+    x: &[Lanes<f64>; 3],
+    dir: &[Lanes<f64>; 3],
+    nf: &[Lanes<f64>; 3],
+    out: &mut LensLanes,
+) {
+    /// The AVX-512 build.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    fn avx512(
+        lens: &Lens,
+        ior: f64,
+        x: &[Lanes<f64>; 3],
+        dir: &[Lanes<f64>; 3],
+        nf: &[Lanes<f64>; 3],
+        out: &mut LensLanes,
+    ) {
+        lens_lanes_impl::<true>(lens, ior, x, dir, nf, out)
+    }
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::isa() == crate::simd::Isa::Avx512 {
+        // SAFETY: the build differs from the portable one only in being
+        // compiled with more instructions, and `isa` answers AVX-512 only
+        // where this CPU has them (`Isa::detected`).
+        return unsafe { avx512(lens, ior, x, dir, nf, out) };
+    }
+    lens_lanes_no_avx512(lens, ior, x, dir, nf, out)
 }
 
 /// The first lens of `scene` and its object's index (for tests).
@@ -497,15 +546,19 @@ mod tests {
         let key = |t: &Transmitted| (t.ray.origin, t.ray.dir, t.bounces, t.factor.to_bits());
         for (i, (x, nf, dir)) in entries(&scene, 3).into_iter().enumerate() {
             let prune = &prunes[i % 2];
-            for avx2 in [true, false] {
+            // The build this CPU runs, the AVX2 one (where it runs), and
+            // the portable arithmetic with either shape of lane loop.
+            for build in 0..4 {
                 let mut passes = LensPasses {
                     lanes: 0xff,
                     ..LensPasses::EMPTY
                 };
-                if avx2 {
-                    lens_lanes(lens, ior, &x, &dir, &nf, &mut passes.pass);
-                } else {
-                    lens_lanes_impl(lens, ior, &x, &dir, &nf, &mut passes.pass);
+                let pass = &mut passes.pass;
+                match build {
+                    0 => lens_lanes(lens, ior, &x, &dir, &nf, pass),
+                    1 => lens_lanes_no_avx512(lens, ior, &x, &dir, &nf, pass),
+                    2 => lens_lanes_impl::<true>(lens, ior, &x, &dir, &nf, pass),
+                    _ => lens_lanes_impl::<false>(lens, ior, &x, &dir, &nf, pass),
                 }
                 for l in 0..LANES {
                     let at = |v: &V| DVec3::new(v[0][l], v[1][l], v[2][l]);
