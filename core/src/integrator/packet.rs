@@ -21,7 +21,7 @@ use super::system_pass::{SystemTrees, system_trees};
 use crate::color::Rgb;
 
 use crate::simd::{LANES, Lanes, lane, live_lanes, set_lane};
-use crate::trace::{NO_OBJECT, Packet, closest_hits, lane_object};
+use crate::trace::{NO_OBJECT, Packet, closest_hits, lane_object, slab};
 
 /// The packet kernel's working memory for one depth of its recursion, and
 /// (made when first needed) for the depths below: the shadow packet, the
@@ -201,6 +201,17 @@ impl Onward {
     /// it would give (the rays a lens reflects away from the scene, mostly).
     #[inline(always)]
     fn all_escape(&self, scene: Lit) -> bool {
+        // Most packets leave one object (a lens's rays out, or those it
+        // reflects): then one box for every lane, tested in lanes, as
+        // the scalar test per lane would (`slab` is `slab_hit` a lane).
+        let first = self.skip[self.live.trailing_zeros() as usize & (LANES - 1)];
+        if live_lanes(self.live).all(|l| self.skip[l] == first) {
+            return match scene.others_bounds.get(first as usize) {
+                None => false,
+                Some(None) => true,
+                Some(Some(b)) => slab(b.min, b.max, &self.rays, &[f64::INFINITY; LANES]) & self.live == 0,
+            };
+        }
         for l in live_lanes(self.live) {
             let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
                 return false;

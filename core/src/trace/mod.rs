@@ -18,6 +18,7 @@ pub mod packet;
 pub mod scalar;
 pub mod tile;
 
+pub(crate) use packet::slab;
 pub use packet::{Packet, PacketHits, closest_hits, closest_hits_portable, transmittances, transmittances_portable};
 pub use scalar::{closest_hit, closest_hit_skip, hit_point, transmittance, transmittance_skip};
 pub use tile::{CameraTile, TILE, camera_hits, camera_tile_hits};

@@ -188,7 +188,7 @@ type ObjectHits = WideHits<LANES>;
 
 /// The BVH box test of every lane, as a bit mask.
 #[inline(always)]
-pub(super) fn slab(min: DVec3, max: DVec3, p: &Packet, t_max: &Lanes<f64>) -> u32 {
+pub(crate) fn slab(min: DVec3, max: DVec3, p: &Packet, t_max: &Lanes<f64>) -> u32 {
     let mut hit = [false; LANES];
     for l in 0..LANES {
         hit[l] = slab_hit(min, max, lane(&p.o, l), lane(&p.inv, l), 0.0, t_max[l]);
