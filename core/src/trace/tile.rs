@@ -103,22 +103,26 @@ impl Frustum {
     #[inline(always)]
     fn of(packets: &[Packet]) -> Option<Frustum> {
         // Over all lanes (a camera packet's unused lanes repeat lane 0), as
-        // plain lane loops. The sum is not finite if any reciprocal is
-        // infinite or NaN (NaN would slip through the comparisons).
+        // plain lane loops. `v · 0` is NaN where a reciprocal is infinite
+        // or NaN (NaN would slip through the comparisons), and zero
+        // elsewhere: summed per lane and each sum compared with zero, not
+        // added up in order, so that the sums stay vector registers (an
+        // ordered sum of all 24 kept them as numbers one by one: the
+        // frustum was a sixth of a tile's walk, `perf`).
         let mut lo = [[f64::INFINITY; LANES]; 3];
         let mut hi = [[f64::NEG_INFINITY; LANES]; 3];
-        let mut sum = [[0.0; LANES]; 3];
+        let mut bad = [[0.0; LANES]; 3];
         for p in packets {
             for k in 0..3 {
                 for l in 0..LANES {
                     let v = p.inv[k][l];
                     lo[k][l] = gmin(lo[k][l], v);
                     hi[k][l] = gmax(hi[k][l], v);
-                    sum[k][l] += v;
+                    bad[k][l] += v * 0.0;
                 }
             }
         }
-        if !sum.iter().flatten().sum::<f64>().is_finite() {
+        if !bad.iter().flatten().all(|b| *b == 0.0) {
             return None;
         }
         let mut inv_lo = [0.0; 3];
