@@ -174,13 +174,20 @@ pub fn force_isa(isa: Option<Isa>) -> bool {
 
 /// Compiles each `*_impl` function again with AVX2 and with AVX-512
 /// enabled, and defines the public function that picks the build [`isa`]
-/// says.
+/// says. In the form `=> {IMPL}, avx512 => {OTHER}` the AVX-512 build
+/// runs `OTHER` instead (a form of the function for eight lanes in one
+/// register, same bits; either may name generic arguments).
 macro_rules! with_avx2 {
     ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident => $imp:ident ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::simd::with_avx2! {
+            $(#[$doc])* $vis fn $name / $avx2 => {$imp}, avx512 => {$imp} ($($arg: $ty),*) -> $ret
+        }
+    };
+    ($(#[$doc:meta])* $vis:vis fn $name:ident / $avx2:ident => {$($imp:tt)*}, avx512 => {$($imp512:tt)*} ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2")]
         fn $avx2($($arg: $ty),*) -> $ret {
-            $imp($($arg),*)
+            $($imp)*($($arg),*)
         }
 
         $(#[$doc])*
@@ -190,7 +197,7 @@ macro_rules! with_avx2 {
                 /// The AVX-512 build.
                 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
                 fn avx512($($arg: $ty),*) -> $ret {
-                    $imp($($arg),*)
+                    $($imp512)*($($arg),*)
                 }
                 match $crate::simd::isa() {
                     // SAFETY: each build differs from the portable one only
@@ -209,7 +216,7 @@ macro_rules! with_avx2 {
             /// few instructions, with no stack frame of the build's size.
             #[inline(never)]
             fn portable($($arg: $ty),*) -> $ret {
-                $imp($($arg),*)
+                $($imp)*($($arg),*)
             }
             portable($($arg),*)
         }

@@ -399,24 +399,12 @@ fn lens_lanes_impl<const WHOLE: bool>(
     }
 }
 
-/// [`lens_lanes_impl`]'s lane loops over halves side by side (the AVX2
-/// and portable builds), for [`with_avx2!`].
-#[inline(always)]
-fn lens_lanes_halves(
-    lens: &Lens,
-    ior: f64,
-    x: &[Lanes<f64>; 3],
-    dir: &[Lanes<f64>; 3],
-    nf: &[Lanes<f64>; 3],
-    out: &mut LensLanes,
-) {
-    lens_lanes_impl::<false>(lens, ior, x, dir, nf, out)
-}
-
 with_avx2! {
-    /// [`lens_lanes_impl`], built for AVX2 where the CPU has it (halves
-    /// side by side: `geometry::lens::lanes`' `each_lane`).
-    fn lens_lanes_no_avx512 / lens_lanes_avx2 => lens_lanes_halves(
+    /// [`lens_lanes_impl`] in the best build this CPU runs: in the AVX-512
+    /// build each lane loop runs over all lanes at once (one 64-byte
+    /// register), in the others over two halves side by side
+    /// (`geometry::lens::lanes`' `each_lane!`). The same bits in each.
+    fn lens_lanes / lens_lanes_avx2 => {lens_lanes_impl::<false>}, avx512 => {lens_lanes_impl::<true>} (
         lens: &Lens,
         ior: f64,
         x: &[Lanes<f64>; 3],
@@ -424,40 +412,6 @@ with_avx2! {
         nf: &[Lanes<f64>; 3],
         out: &mut LensLanes
     ) -> ()
-}
-
-/// [`lens_lanes_impl`] in the best build this CPU runs: in the AVX-512
-/// build each lane loop runs over all lanes at once (one 64-byte register),
-/// elsewhere [`lens_lanes_no_avx512`]. The same bits in each.
-fn lens_lanes(
-    lens: &Lens,
-    ior: f64,
-    x: &[Lanes<f64>; 3],
-    dir: &[Lanes<f64>; 3],
-    nf: &[Lanes<f64>; 3],
-    out: &mut LensLanes,
-) {
-    /// The AVX-512 build.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-    fn avx512(
-        lens: &Lens,
-        ior: f64,
-        x: &[Lanes<f64>; 3],
-        dir: &[Lanes<f64>; 3],
-        nf: &[Lanes<f64>; 3],
-        out: &mut LensLanes,
-    ) {
-        lens_lanes_impl::<true>(lens, ior, x, dir, nf, out)
-    }
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::isa() == crate::simd::Isa::Avx512 {
-        // SAFETY: the build differs from the portable one only in being
-        // compiled with more instructions, and `isa` answers AVX-512 only
-        // where this CPU has them (`Isa::detected`).
-        return unsafe { avx512(lens, ior, x, dir, nf, out) };
-    }
-    lens_lanes_no_avx512(lens, ior, x, dir, nf, out)
 }
 
 /// The first lens of `scene` and its object's index (for tests).
@@ -546,9 +500,9 @@ mod tests {
         let key = |t: &Transmitted| (t.ray.origin, t.ray.dir, t.bounces, t.factor.to_bits());
         for (i, (x, nf, dir)) in entries(&scene, 3).into_iter().enumerate() {
             let prune = &prunes[i % 2];
-            // The build this CPU runs, the AVX2 one (where it runs), and
-            // the portable arithmetic with either shape of lane loop.
-            for build in 0..4 {
+            // The build this CPU runs, and the portable arithmetic with
+            // either shape of lane loop (`tests/isa.rs` runs every build).
+            for build in 0..3 {
                 let mut passes = LensPasses {
                     lanes: 0xff,
                     ..LensPasses::EMPTY
@@ -556,8 +510,7 @@ mod tests {
                 let pass = &mut passes.pass;
                 match build {
                     0 => lens_lanes(lens, ior, &x, &dir, &nf, pass),
-                    1 => lens_lanes_no_avx512(lens, ior, &x, &dir, &nf, pass),
-                    2 => lens_lanes_impl::<true>(lens, ior, &x, &dir, &nf, pass),
+                    1 => lens_lanes_impl::<true>(lens, ior, &x, &dir, &nf, pass),
                     _ => lens_lanes_impl::<false>(lens, ior, &x, &dir, &nf, pass),
                 }
                 for l in 0..LANES {
