@@ -201,26 +201,24 @@ impl Onward {
     /// it would give (the rays a lens reflects away from the scene, mostly).
     #[inline(always)]
     fn all_escape(&self, scene: Lit) -> bool {
-        // Most packets leave one object (a lens's rays out, or those it
-        // reflects): then one box for every lane, tested in lanes, as
-        // the scalar test per lane would (`slab` is `slab_hit` a lane).
-        let first = self.skip[self.live.trailing_zeros() as usize & (LANES - 1)];
-        if live_lanes(self.live).all(|l| self.skip[l] == first) {
-            return match scene.others_bounds.get(first as usize) {
-                None => false,
-                Some(None) => true,
-                Some(Some(b)) => slab(b.min, b.max, &self.rays, &[f64::INFINITY; LANES]) & self.live == 0,
-            };
-        }
-        for l in live_lanes(self.live) {
-            let Some(bounds) = scene.others_bounds.get(self.skip[l] as usize) else {
-                return false;
-            };
-            if let Some(b) = bounds {
-                if b.hit(&self.rays.ray(l), self.rays.inv_dir(l), 0.0, f64::INFINITY) {
-                    return false;
-                }
+        // The lanes grouped by the object they leave, one box test in lanes
+        // for each group (`slab` is `slab_hit` a lane): most packets leave
+        // one object (a lens's rays out, or those it reflects), so one test.
+        // Plain loops, no closures: a closure is compiled without the
+        // target features of the build that calls it.
+        let mut left = self.live;
+        while left != 0 {
+            let skip = self.skip[left.trailing_zeros() as usize];
+            let mut group = 0;
+            for l in live_lanes(left) {
+                group |= u32::from(self.skip[l] == skip) << l;
             }
+            match scene.others_bounds.get(skip as usize) {
+                None => return false,
+                Some(Some(b)) if slab(b.min, b.max, &self.rays, &[f64::INFINITY; LANES]) & group != 0 => return false,
+                _ => {}
+            }
+            left &= !group;
         }
         true
     }
