@@ -518,40 +518,63 @@ mod tests {
     /// The portable build of the packet kernel (its first depth; the
     /// depths below go through [`packet_kernel`], the AVX2 build where the
     /// CPU has it) gives every lane the scalar kernel's radiance bit for
-    /// bit, as the AVX2 build does (`render`'s tests compare that one).
+    /// bit, as the AVX2 build does (`render`'s tests compare that one),
+    /// without and with each scene's caustic photons (gathered a packet at
+    /// a time, `PhotonMap::irradiance_lanes`).
     #[test]
     fn the_portable_packet_kernel_gives_the_scalar_radiance() {
         let parse = |name, text| Scene::parse(name, text).unwrap().1;
         let scenes = [
-            Scene::default_scene().1,
-            parse("primitives", include_str!("../../../scenes/primitives.toml")),
-            parse("optical bench", include_str!("../../../scenes/optical-bench.toml")),
+            ("cubes", Scene::default_scene().1),
+            (
+                "primitives",
+                parse("primitives", include_str!("../../../scenes/primitives.toml")),
+            ),
+            (
+                "optical bench",
+                parse("optical bench", include_str!("../../../scenes/optical-bench.toml")),
+            ),
+            (
+                "rim lens",
+                parse("rim lens", include_str!("../../../scenes/rim-lens.toml")),
+            ),
         ];
         let (w, h) = (48u32, 36u32);
         let mut scratch = PacketScratch::default();
-        for scene in &scenes {
-            let mut lit = 0;
-            for y in 0..h {
-                for x0 in (0..w).step_by(LANES) {
-                    let xs: Lanes<f64> = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
-                    let ys = [y as f64 + 0.5; LANES];
-                    let (p, hits) = camera_hits(scene, &xs, &ys, LANES, w, h);
-                    let paths = PacketPaths::camera(&p, &hits, LANES);
-                    let mut out = [Rgb::ZERO; LANES];
-                    let f = scene.features;
-                    with_features!(
-                        f,
-                        packet_kernel_impl,
-                        (scene.into(), &paths, WAVELENGTH_D_UM, &mut scratch, &mut out)
-                    );
-                    for l in 0..LANES {
-                        let want = radiance(scene, &p.ray(l), 0, WAVELENGTH_D_UM);
-                        assert_eq!(out[l], want, "pixel {}, {y}", x0 as usize + l);
-                        lit += usize::from(want != scene.background);
+        let mut gathered = 0;
+        for (name, scene) in &scenes {
+            let map = crate::render::caustics::caustic_map(scene, 3, Default::default());
+            assert!(map.is_some(), "{name} has caustics");
+            for map in [None, map.as_ref()] {
+                let lit = Lit::new(scene, map);
+                let (mut seen, mut caustic) = (0, 0);
+                for y in 0..h {
+                    for x0 in (0..w).step_by(LANES) {
+                        let xs: Lanes<f64> = std::array::from_fn(|l| (x0 as usize + l) as f64 + 0.5);
+                        let ys = [y as f64 + 0.5; LANES];
+                        let (p, hits) = camera_hits(scene, &xs, &ys, LANES, w, h);
+                        let paths = PacketPaths::camera(&p, &hits, LANES);
+                        let mut out = [Rgb::ZERO; LANES];
+                        let f = scene.features;
+                        with_features!(
+                            f,
+                            packet_kernel_impl,
+                            (lit, &paths, WAVELENGTH_D_UM, &mut scratch, &mut out)
+                        );
+                        for l in 0..LANES {
+                            let want = radiance(lit, &p.ray(l), 0, WAVELENGTH_D_UM);
+                            assert_eq!(out[l], want, "{name}: pixel {}, {y}", x0 as usize + l);
+                            seen += usize::from(want != scene.background);
+                            if map.is_some() {
+                                caustic += usize::from(want != radiance(scene, &p.ray(l), 0, WAVELENGTH_D_UM));
+                            }
+                        }
                     }
                 }
+                assert!(seen > (w * h) as usize / 2, "only {seen} pixels lit");
+                gathered += caustic;
             }
-            assert!(lit > (w * h) as usize / 2, "only {lit} pixels lit");
         }
+        assert!(gathered > 100, "{gathered} pixels show caustics");
     }
 }

@@ -15,8 +15,10 @@
 
 mod cells;
 mod grid;
+mod lanes;
 mod radius;
 
+pub use lanes::Queries;
 pub use radius::initial_radius;
 
 use crate::color::Rgb;

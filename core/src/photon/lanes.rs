@@ -1,0 +1,342 @@
+//! The caustic irradiance at a packet's points at once
+//! ([`PhotonMap::irradiance_lanes`]): where the lanes' queries share
+//! their cells (the points lie close together next to the cells' side of
+//! twice the radius), the cells of all of them are walked once and each
+//! photon is tested against every lane's point in one lane loop, instead
+//! of each lane walking the cells and testing the photons four at a time.
+//! Each lane gets [`PhotonMap::irradiance`]'s bits: the same cells in the
+//! same order, the same `f32` arithmetic per photon, and four sums per
+//! lane, one for each lane of a [`Block`], added as glam's `element_sum`
+//! adds a block's four.
+
+// Lane loops index several arrays by the lane: the form the vectoriser wants.
+#![allow(clippy::needless_range_loop)]
+
+use super::cells::{Key, hash_mix, hash_term};
+use super::{BLOCK, Block, GatherClock, Group, PhotonMap};
+use crate::color::Rgb;
+use crate::simd::{LANES, Lanes, gmax, lane, live_lanes, mask};
+
+/// The most cells along one axis of the lanes' cells together for the
+/// walk in lanes: past it the lanes gather one by one.
+const MOST_PER_AXIS: usize = 4;
+
+/// The lanes' cells together are walked at once when the lanes' own
+/// cells, summed, are at least this many times the cells walked: each
+/// photon then costs one lane loop for every lane, where gathering one
+/// lane at a time tests four photons at a time for each lane that
+/// reaches it (so the walk in lanes wins where most lanes share a cell).
+const SHARED_CELLS: usize = 4;
+
+/// A packet's queries: the lanes' points and unit normals as structure
+/// of arrays, and which lanes ask (a bit mask).
+#[derive(Clone, Copy)]
+pub struct Queries<'a> {
+    pub x: &'a [Lanes<f64>; 3],
+    pub n: &'a [Lanes<f64>; 3],
+    pub live: u32,
+}
+
+/// Each lane's cells, `from ..= to` on each axis, for the lanes `asks`
+/// (elsewhere `from` is above `to`: no cell).
+struct Ranges {
+    from: [Lanes<i64>; 3],
+    to: [Lanes<i64>; 3],
+    asks: u32,
+}
+
+impl Ranges {
+    const NONE: Ranges = Ranges {
+        from: [[i64::MAX; LANES]; 3],
+        to: [[i64::MIN; LANES]; 3],
+        asks: 0,
+    };
+}
+
+/// A lane's four sums of each colour channel, one for each lane of a
+/// [`Block`] (what the one-lane gather's `Vec4` accumulators hold).
+type Sums = [[Lanes<f32>; 3]; BLOCK];
+
+/// What the lanes need of one cell coordinate `k` on one axis: the
+/// square of each lane's gap to the cell along it, each lane's point from
+/// the cell's low corner (as `f32`), the lanes whose own cells hold `k`,
+/// and the axis's share of the cell's hash: `AxisCell`'s values, lane by
+/// lane.
+#[derive(Clone, Copy)]
+struct AxisLanes {
+    gap2: Lanes<f64>,
+    q: Lanes<f32>,
+    holds: u32,
+    hash: u64,
+}
+
+impl AxisLanes {
+    const NONE: AxisLanes = AxisLanes {
+        gap2: [0.0; LANES],
+        q: [0.0; LANES],
+        holds: 0,
+        hash: 0,
+    };
+}
+
+impl PhotonMap {
+    /// [`PhotonMap::irradiance`] at each lane of `q.live` (zero in the
+    /// other lanes), the same bits.
+    pub fn irradiance_lanes(&self, q: Queries) -> Lanes<Rgb> {
+        estimate_lanes(self, q)
+    }
+}
+
+/// [`PhotonMap::irradiance_lanes`], compiled into each build.
+#[inline(always)]
+fn estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb> {
+    let mut e = [Rgb::ZERO; LANES];
+    if map.passes == 0 || q.live == 0 {
+        return e;
+    }
+    let n: [Lanes<f32>; 3] = q.n.map(|c| c.map(|v| v as f32));
+    let mut clock = None;
+    for g in &map.groups {
+        let cells = g.reach_lanes(q.x, q.live);
+        if cells.asks == 0 {
+            continue;
+        }
+        clock.get_or_insert_with(GatherClock::start);
+        if !g.gather_lanes(q.x, &n, &cells, &mut e) {
+            for l in live_lanes(cells.asks) {
+                let (a, b) = (cells.from.map(|c| c[l]), cells.to.map(|c| c[l]));
+                e[l] += g.gather(lane(q.x, l), [n[0][l], n[1][l], n[2][l]], (a, b));
+            }
+        }
+    }
+    if let Some(c) = clock {
+        c.stop();
+    }
+    e.map(|v| v / map.passes as f64)
+}
+
+crate::simd::with_avx2! {
+    /// [`estimate_lanes_impl`] in the best build this CPU runs (the same
+    /// bits in each: no fused operations).
+    fn estimate_lanes / estimate_lanes_avx2 => estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb>
+}
+
+impl Group {
+    /// [`Group::reach`] of each lane of `live` at `x`, as lanes: the lanes
+    /// within reach whose cells are not empty on any axis, each with its
+    /// cells (a lane out of reach, or whose range of cells is empty, finds
+    /// nothing: the one-lane gather adds zero there).
+    #[inline(always)]
+    fn reach_lanes(&self, x: &[Lanes<f64>; 3], live: u32) -> Ranges {
+        let mut cells = Ranges::NONE;
+        for l in live_lanes(live) {
+            if let Some((a, b)) = self.reach(lane(x, l))
+                && (0..3).all(|c| a[c] <= b[c])
+            {
+                for c in 0..3 {
+                    (cells.from[c][l], cells.to[c][l]) = (a[c], b[c]);
+                }
+                cells.asks |= 1 << l;
+            }
+        }
+        cells
+    }
+
+    /// Adds to `e` each lane's sum (as [`Group::gather`] gives it) over the
+    /// lanes' cells (`cells`, from [`Group::reach`]) walked together, and
+    /// says so; or adds nothing and says `false` where the lanes share too
+    /// few of their cells for that to pay ([`SHARED_CELLS`],
+    /// [`MOST_PER_AXIS`]).
+    #[inline(always)]
+    fn gather_lanes(&self, x: &[Lanes<f64>; 3], n: &[Lanes<f32>; 3], cells: &Ranges, e: &mut Lanes<Rgb>) -> bool {
+        let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
+        let mut own = 0u64;
+        for l in live_lanes(cells.asks) {
+            let mut v = 1u64;
+            for c in 0..3 {
+                lo[c] = lo[c].min(cells.from[c][l]);
+                hi[c] = hi[c].max(cells.to[c][l]);
+                v = v.saturating_mul(cells.to[c][l].abs_diff(cells.from[c][l]).saturating_add(1));
+            }
+            own = own.saturating_add(v);
+        }
+        let mut dims = [0usize; 3];
+        for c in 0..3 {
+            match usize::try_from(hi[c].abs_diff(lo[c]) + 1) {
+                Ok(d) if d <= MOST_PER_AXIS => dims[c] = d,
+                _ => return false,
+            }
+        }
+        if own < (SHARED_CELLS * dims.iter().product::<usize>()) as u64 {
+            return false;
+        }
+        let mut axes = [[AxisLanes::NONE; MOST_PER_AXIS]; 3];
+        for c in 0..3 {
+            for d in 0..dims[c] {
+                axes[c][d] = self.axis_lanes(c, lo[c] + d as i64, &x[c], cells);
+            }
+        }
+        let mut sums: Sums = [[[0.0; LANES]; 3]; BLOCK];
+        let axes = [&axes[0][..dims[0]], &axes[1][..dims[1]], &axes[2][..dims[2]]];
+        self.walk_lanes(axes, lo, n, &mut sums);
+        for l in live_lanes(cells.asks) {
+            let total = |c: usize| ((sums[0][c][l] + sums[1][c][l]) + (sums[2][c][l] + sums[3][c][l])) as f64;
+            e[l] += Rgb::new(total(0), total(1), total(2));
+        }
+        true
+    }
+
+    /// [`AxisLanes`] of coordinate `k` on axis `c`, for lanes at `x` (on
+    /// that axis) whose cells are `cells`.
+    #[inline(always)]
+    fn axis_lanes(&self, c: usize, k: i64, x: &Lanes<f64>, cells: &Ranges) -> AxisLanes {
+        let corner = k as f64 * self.cell;
+        let mut a = AxisLanes {
+            gap2: [0.0; LANES],
+            q: [0.0; LANES],
+            holds: 0,
+            hash: hash_term(c, k),
+        };
+        let mut holds = [false; LANES];
+        for l in 0..LANES {
+            let gap = gmax(gmax(corner - x[l], x[l] - corner - self.cell), 0.0);
+            a.gap2[l] = gap * gap;
+            a.q[l] = (x[l] - corner) as f32;
+            holds[l] = cells.from[c][l] <= k && k <= cells.to[c][l];
+        }
+        a.holds = mask(&holds) & cells.asks;
+        a
+    }
+
+    /// Walks the cells of `axes` (from `lo`), `i`, then `j`, then `k`
+    /// rising, and adds each photon in a cell to the sums of the lanes
+    /// whose own cells hold it and which it does not lie wholly beyond
+    /// (the one-lane walk's cells, in its order).
+    #[inline(always)]
+    fn walk_lanes(&self, axes: [&[AxisLanes]; 3], lo: Key, n: &[Lanes<f32>; 3], sums: &mut Sums) {
+        let r2 = self.radius * self.radius;
+        for (di, ci) in axes[0].iter().enumerate() {
+            for (dj, cj) in axes[1].iter().enumerate() {
+                let holds_ij = ci.holds & cj.holds;
+                if holds_ij == 0 {
+                    continue;
+                }
+                let mut gap_ij = [0.0; LANES];
+                for l in 0..LANES {
+                    gap_ij[l] = ci.gap2[l] + cj.gap2[l];
+                }
+                let hash_ij = ci.hash ^ cj.hash;
+                for (dk, ck) in axes[2].iter().enumerate() {
+                    let mut near = [false; LANES];
+                    for l in 0..LANES {
+                        near[l] = !(gap_ij[l] + ck.gap2[l] >= r2);
+                    }
+                    let live = holds_ij & ck.holds & mask(&near);
+                    if live == 0 {
+                        continue;
+                    }
+                    let key = [lo[0] + di as i64, lo[1] + dj as i64, lo[2] + dk as i64];
+                    let h = hash_mix(hash_ij ^ ck.hash);
+                    if self.occupied.may_hold(h)
+                        && let Some(blocks) = self.cells.get(key, h)
+                    {
+                        sum_lanes(blocks, [&ci.q, &cj.q, &ck.q], n, live, sums);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Adds to `sums`, for each lane of `live`, the power of the photons of
+/// `blocks` within their radius of the lane's point `q` (in the cells'
+/// frame) that arrived on the side the lane's normal `n` faces: photon
+/// `s` of a block into the lane's sum `s`, with `sum_blocks`'s arithmetic.
+#[inline(always)]
+fn sum_lanes(blocks: &[Block], q: [&Lanes<f32>; 3], n: &[Lanes<f32>; 3], live: u32, sums: &mut Sums) {
+    let live: Lanes<bool> = std::array::from_fn(|l| live >> l & 1 != 0);
+    for b in blocks {
+        for s in 0..BLOCK {
+            let p = [b.p[0][s], b.p[1][s], b.p[2][s]];
+            let dir = [b.dir[0][s], b.dir[1][s], b.dir[2][s]];
+            let power = [b.power[0][s], b.power[1][s], b.power[2][s]];
+            let r2 = b.r2[s];
+            let sum = &mut sums[s];
+            for l in 0..LANES {
+                let d = [p[0] - q[0][l], p[1] - q[1][l], p[2] - q[2][l]];
+                let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let facing = dir[0] * n[0][l] + dir[1] * n[1][l] + dir[2] * n[2][l];
+                let near = live[l] & (d2 < r2) & (facing < 0.0);
+                for c in 0..3 {
+                    sum[c][l] += if near { power[c] } else { 0.0 };
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photon::Photon;
+    use crate::sampling::Sampler;
+    use glam::DVec3;
+
+    /// A packet's irradiance is each lane's own, bit for bit: lanes close
+    /// together (one walk for all), spread over many cells (one by one)
+    /// and in between, on photons of several passes and groups, with
+    /// normals both ways, dead lanes and lanes in empty space.
+    #[test]
+    fn lanes_give_each_lanes_irradiance_bit_for_bit() {
+        let mut rng = Sampler::new(11, 2, 5);
+        let mut m = PhotonMap::new(0.05);
+        for _ in 0..20 {
+            let pass: Vec<Photon> = (0..1000)
+                .map(|_| {
+                    let (u, v) = rng.next_2d();
+                    let w = rng.next_f64();
+                    let dir = if w < 0.7 { -DVec3::Z } else { DVec3::new(0.6, 0.0, 0.8) };
+                    let p = DVec3::new(u - 0.5, v - 0.5, 0.02 * (w - 0.5));
+                    Photon::new(p, dir, glam::DVec3::new(1e-3, 2e-3, 5e-4))
+                })
+                .collect();
+            m.add_pass(&pass);
+        }
+        assert!(m.groups.len() >= 2);
+        let (mut walked, mut found) = (0, 0);
+        for spread in [1e-4, 0.01, 0.04, 0.1, 0.5, 3.0] {
+            for t in 0..40 {
+                let (u, v) = rng.next_2d();
+                let centre = DVec3::new(u - 0.5, v - 0.5, 0.0);
+                let (mut x, mut nv) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+                let live = if t % 5 == 0 { 0b1011_0110 } else { 0xff };
+                for l in 0..LANES {
+                    let (a, b) = rng.next_2d();
+                    let p = centre + DVec3::new(a - 0.5, b - 0.5, 0.01 * (a - b)) * spread;
+                    let nz = if (l + t) % 4 == 0 { -1.0 } else { 1.0 };
+                    let n = DVec3::new(0.1 * a, -0.1 * b, nz).normalize();
+                    for c in 0..3 {
+                        (x[c][l], nv[c][l]) = (p[c], n[c]);
+                    }
+                }
+                let q = Queries { x: &x, n: &nv, live };
+                let got = m.irradiance_lanes(q);
+                for l in 0..LANES {
+                    let want = if live >> l & 1 != 0 {
+                        m.irradiance(lane(&x, l), lane(&nv, l))
+                    } else {
+                        Rgb::ZERO
+                    };
+                    let bits = |c: Rgb| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()];
+                    assert_eq!(bits(got[l]), bits(want), "spread {spread}, query {t}, lane {l}");
+                    found += usize::from(want.x > 0.0);
+                }
+                let n = q.n.map(|c| c.map(|v| v as f32));
+                let cells = m.groups[0].reach_lanes(q.x, q.live);
+                walked += usize::from(m.groups[0].gather_lanes(q.x, &n, &cells, &mut [Rgb::ZERO; LANES]));
+            }
+        }
+        assert!(found > 500, "{found} lanes find photons");
+        assert!((60..200).contains(&walked), "{walked} of 240 packets walked in lanes");
+    }
+}
