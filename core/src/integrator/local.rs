@@ -147,8 +147,8 @@ fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
 /// reflect diffusely (`kd > 0`, where [`ambient`] gathers; the same
 /// bits), their irradiance gathered as one packet
 /// (`PhotonMap::irradiance_lanes`). Out of line, and after the lane loop
-/// rather than in it, where it slowed the kernel's frames without caustics
-/// by 6 % (`perf`).
+/// rather than in it: a gather called in the loop slowed the kernel's
+/// frames without caustics by 6 % (cubes, task-clock of 8 paired runs).
 #[inline(never)]
 fn add_caustics_lanes(map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) {
     let kd = &at.kd_ks_lobe[0];
