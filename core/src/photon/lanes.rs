@@ -162,7 +162,7 @@ impl Group {
         }
         let mut dims = [0usize; 3];
         for c in 0..3 {
-            match usize::try_from(hi[c].abs_diff(lo[c]) + 1) {
+            match usize::try_from(hi[c].abs_diff(lo[c]).saturating_add(1)) {
                 Ok(d) if d <= MOST_PER_AXIS => dims[c] = d,
                 _ => return false,
             }
@@ -338,5 +338,37 @@ mod tests {
         }
         assert!(found > 500, "{found} lanes find photons");
         assert!((60..200).contains(&walked), "{walked} of 240 packets walked in lanes");
+    }
+
+    /// Lanes far apart at the ends of the keys' range (cells saturated at
+    /// both ends of `i64`), photons there too, and a lane at zero: the
+    /// lanes still give each lane's own irradiance, bit for bit.
+    #[test]
+    fn lanes_at_the_ends_of_the_key_range_give_each_lanes_irradiance() {
+        let far = 1e300;
+        let spots = [DVec3::new(far, 0.0, 0.0), DVec3::new(-far, 0.0, 0.0), DVec3::ZERO];
+        let pass: Vec<Photon> = spots
+            .iter()
+            .flat_map(|&c| (0..5).map(move |i| Photon::new(c + DVec3::X * (0.01 * i as f64), -DVec3::Z, DVec3::ONE)))
+            .collect();
+        let mut m = PhotonMap::new(0.1);
+        m.add_pass(&pass);
+        let (mut x, mut nv) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3]);
+        for l in 0..LANES {
+            let p = spots[l % 3] + DVec3::new(0.003 * l as f64, 0.001, 0.0);
+            for c in 0..3 {
+                (x[c][l], nv[c][l]) = (p[c], DVec3::Z[c]);
+            }
+        }
+        let got = m.irradiance_lanes(Queries {
+            x: &x,
+            n: &nv,
+            live: 0xff,
+        });
+        for l in 0..LANES {
+            let want = m.irradiance(lane(&x, l), lane(&nv, l));
+            assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "lane {l}");
+        }
+        assert!(got[2].x > 0.0, "the photons at zero are found");
     }
 }
