@@ -14,7 +14,8 @@ use super::PacketPaths;
 #[cfg(doc)]
 use super::shade::ambient;
 use super::shade::{
-    ambient_light, arriving, diffuse_share, faces, lambert, light_matters, lobe_cos, phong, reads_surface,
+    ambient_light, arriving, caustic_term, diffuse_share, faces, gathers_caustics, lambert, light_matters, lobe_cos,
+    phong, reads_surface,
 };
 use super::surface::{Surface, outward, shadow_ray_from, surface};
 use crate::color::Rgb;
@@ -143,16 +144,16 @@ fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
     at.hit != 0
 }
 
-/// Adds [`ambient`]'s caustic term, `kd·C·E`, to the lanes of `at` that
-/// reflect diffusely (`kd > 0`, where [`ambient`] gathers; the same
-/// bits), their irradiance gathered as one packet
+/// Adds [`ambient`]'s caustic term ([`caustic_term`]) to the lanes of
+/// `at` where [`ambient`] gathers ([`gathers_caustics`]), their
+/// irradiance gathered as one packet
 /// (`PhotonMap::irradiance_lanes`). Out of line, and after the lane loop
 /// rather than in it: a gather called in the loop slowed the kernel's
 /// frames without caustics by 6 % (cubes, task-clock of 8 paired runs).
 #[inline(never)]
 fn add_caustics_lanes(map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) {
     let kd = &at.kd_ks_lobe[0];
-    let diffuse: Lanes<bool> = std::array::from_fn(|l| kd[l] > 0.0);
+    let diffuse: Lanes<bool> = std::array::from_fn(|l| gathers_caustics(kd[l]));
     let gather = at.hit & mask(&diffuse);
     if gather == 0 {
         return;
@@ -163,7 +164,7 @@ fn add_caustics_lanes(map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) 
         live: gather,
     });
     for l in live_lanes(gather) {
-        out[l] += lane(&at.color, l) * e[l] * kd[l];
+        out[l] += caustic_term(lane(&at.color, l), e[l], kd[l]);
     }
 }
 

@@ -138,13 +138,27 @@ pub(super) fn ambient<const GLASS: bool>(scene: Lit, s: &Surface) -> Rgb {
     let mut color = ambient_light::<GLASS>(scene, m);
     let kd = diffuse_share::<GLASS>(m);
     if let Some(map) = scene.caustics
-        && kd > 0.0
+        && gathers_caustics(kd)
     {
-        // The caustic irradiance, lit like a light's: `kd·C·E` (not
-        // gathered where it would be multiplied by zero: clear glass).
-        color += m.color * map.irradiance(s.p, s.nf) * kd;
+        color += caustic_term(m.color, map.irradiance(s.p, s.nf), kd);
     }
     color
+}
+
+/// Whether [`ambient`] gathers the caustic photons' light at a surface
+/// whose [`diffuse_share`] is `kd`: not where it would be multiplied by
+/// zero (clear glass).
+#[inline(always)]
+pub(super) fn gathers_caustics(kd: f64) -> bool {
+    kd > 0.0
+}
+
+/// The caustic irradiance `e` lit like a light's on a surface of colour
+/// `color` and [`diffuse_share`] `kd`: `kd·C·E`, in this order of
+/// operations (the scalar and packet kernels both add it).
+#[inline(always)]
+pub(super) fn caustic_term(color: Rgb, e: Rgb, kd: f64) -> Rgb {
+    color * e * kd
 }
 
 /// [`ambient`]'s first term, the ambient light on material `m`: all of

@@ -12,10 +12,11 @@
 // Lane loops index several arrays by the lane: the form the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
 
+use super::block::photon_terms;
 use super::cells::{Key, hash_mix, hash_term};
-use super::{BLOCK, Block, GatherClock, Group, PhotonMap};
+use super::{AxisCell, BLOCK, Block, GatherClock, Group, PhotonMap};
 use crate::color::Rgb;
-use crate::simd::{LANES, Lanes, gmax, lane, live_lanes, mask};
+use crate::simd::{LANES, Lanes, lane, live_lanes, mask};
 
 /// The most cells along one axis of the lanes' cells together for the
 /// walk in lanes: past it the lanes gather one by one.
@@ -199,9 +200,7 @@ impl Group {
         };
         let mut holds = [false; LANES];
         for l in 0..LANES {
-            let gap = gmax(gmax(corner - x[l], x[l] - corner - self.cell), 0.0);
-            a.gap2[l] = gap * gap;
-            a.q[l] = (x[l] - corner) as f32;
+            (a.gap2[l], a.q[l]) = AxisCell::gap2_and_q(corner, x[l], self.cell);
             holds[l] = cells.from[c][l] <= k && k <= cells.to[c][l];
         }
         a.holds = mask(&holds) & cells.asks;
@@ -251,7 +250,8 @@ impl Group {
 /// Adds to `sums`, for each lane of `live`, the power of the photons of
 /// `blocks` within their radius of the lane's point `q` (in the cells'
 /// frame) that arrived on the side the lane's normal `n` faces: photon
-/// `s` of a block into the lane's sum `s`, with `sum_blocks`'s arithmetic.
+/// `s` of a block into the lane's sum `s`, with `sum_blocks`'s arithmetic
+/// (`photon_terms`).
 #[inline(always)]
 fn sum_lanes(blocks: &[Block], q: [&Lanes<f32>; 3], n: &[Lanes<f32>; 3], live: u32, sums: &mut Sums) {
     let live: Lanes<bool> = std::array::from_fn(|l| live >> l & 1 != 0);
@@ -263,9 +263,8 @@ fn sum_lanes(blocks: &[Block], q: [&Lanes<f32>; 3], n: &[Lanes<f32>; 3], live: u
             let r2 = b.r2[s];
             let sum = &mut sums[s];
             for l in 0..LANES {
-                let d = [p[0] - q[0][l], p[1] - q[1][l], p[2] - q[2][l]];
-                let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                let facing = dir[0] * n[0][l] + dir[1] * n[1][l] + dir[2] * n[2][l];
+                let (at, normal) = ([q[0][l], q[1][l], q[2][l]], [n[0][l], n[1][l], n[2][l]]);
+                let (d2, facing) = photon_terms(p, at, dir, normal);
                 let near = live[l] & (d2 < r2) & (facing < 0.0);
                 for c in 0..3 {
                     sum[c][l] += if near { power[c] } else { 0.0 };

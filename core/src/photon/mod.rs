@@ -13,6 +13,7 @@
 //! bias (∝ r²) and the variance (∝ 1/(K·N·r²)) of the mean both go to zero
 //! (Hachisuka & Jensen 2009; Knaus & Zwicker 2011).
 
+mod block;
 mod cells;
 mod grid;
 mod lanes;
@@ -23,6 +24,7 @@ pub use radius::initial_radius;
 
 use crate::color::Rgb;
 use crate::simd::gmax;
+use block::{BLOCK, Block, sum_blocks};
 use cells::{CellBits, Key, hash_mix, hash_term, one_block, reach_log2};
 use glam::{DVec3, Vec4};
 use grid::{Entry, Grid};
@@ -90,69 +92,6 @@ impl Photon {
             p,
             dir: f(dir),
             power: f(power),
-        }
-    }
-}
-
-/// Photons a [`Block`] holds: the lanes of one step of the gather loop.
-/// Four, not eight: a cell holds a few photons a group (rim-lens: 78
-/// photons in 5.3 cells a gather), so eight-lane blocks were a third
-/// empty lanes; four cut the gather's instructions 9 % and its time 5 %
-/// (docs/performance.md, round 18).
-const BLOCK: usize = 4;
-
-/// Up to [`BLOCK`] photons of one cell as `f32` columns: positions from the
-/// cell's low corner (exact to `f32` of the cell's side, wherever the scene
-/// lies), arrival directions, powers over the area of their pass's disc
-/// (`Φ/(π r²)`: each photon's share of its pass's estimate) and their
-/// pass's squared radius. An unused lane lies at infinity with no power,
-/// no direction and no radius, so it is never within reach.
-#[derive(Clone, Debug)]
-struct Block {
-    p: [Col; 3],
-    dir: [Col; 3],
-    power: [Col; 3],
-    r2: Col,
-    len: usize,
-}
-
-/// A column of a [`Block`]: its lanes as glam's four-lane vector (an SSE
-/// register), so that the gather is vector code in every build; left to
-/// the vectoriser, loops over plain `f32` lanes came out as lanes shuffled
-/// one by one, no faster than scalar code (`perf annotate`).
-type Col = Vec4;
-
-impl Block {
-    const EMPTY: Block = Block {
-        p: [Vec4::INFINITY; 3],
-        dir: [Vec4::ZERO; 3],
-        power: [Vec4::ZERO; 3],
-        r2: Vec4::ZERO,
-        len: 0,
-    };
-
-    /// Sets lane `l` of column `c`.
-    fn set(c: &mut Col, l: usize, v: f32) {
-        c[l] = v;
-    }
-}
-
-/// Adds to `acc`, lane by lane, the power of the photons of `blocks` within
-/// their radius of `q` (in the cells' frame) that arrived on the side the
-/// normal `n` faces.
-#[inline(always)]
-fn sum_blocks(blocks: &[Block], q: [f32; 3], n: [f32; 3], acc: &mut [Col; 3]) {
-    let (q, n) = (q.map(Vec4::splat), n.map(Vec4::splat));
-    for b in blocks {
-        let d = [b.p[0] - q[0], b.p[1] - q[1], b.p[2] - q[2]];
-        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        let facing = b.dir[0] * n[0] + b.dir[1] * n[1] + b.dir[2] * n[2];
-        let near = d2.cmplt(b.r2) & facing.cmplt(Vec4::ZERO);
-        // A photon out of reach adds +0, as `0 · power` would (powers are
-        // finite and not negative): the same sums, with a mask in place of
-        // a product.
-        for (a, p) in acc.iter_mut().zip(&b.power) {
-            *a += Vec4::select(near, *p, Vec4::ZERO);
         }
     }
 }
@@ -364,13 +303,20 @@ struct AxisCell {
 impl AxisCell {
     #[inline(always)]
     fn new(c: usize, k: i64, x: f64, cell: f64) -> AxisCell {
-        let corner = k as f64 * cell;
-        let gap = gmax(gmax(corner - x, x - corner - cell), 0.0);
+        let (gap2, q) = Self::gap2_and_q(k as f64 * cell, x, cell);
         AxisCell {
-            gap2: gap * gap,
+            gap2,
             hash: hash_term(c, k),
-            q: (x - corner) as f32,
+            q,
         }
+    }
+
+    /// The square of the gap from `x` to the cell whose low corner is at
+    /// `corner` along one axis, and `x` from that corner as `f32`.
+    #[inline(always)]
+    fn gap2_and_q(corner: f64, x: f64, cell: f64) -> (f64, f32) {
+        let gap = gmax(gmax(corner - x, x - corner - cell), 0.0);
+        (gap * gap, (x - corner) as f32)
     }
 }
 
