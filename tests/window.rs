@@ -320,10 +320,12 @@ fn a_small_window_folds_the_panel_fits_the_overlay_and_quits_after_flying() {
 
     // The strip's button opens the panel; « folds it back.
     let g = s.last_generation();
-    s.click(&ui_log, "open panel");
-    let g = s.wait_frame_where(g, 1, "opening the panel", |f| f["x0"].as_u64().unwrap_or(0) >= 300);
-    s.click(&ui_log, "fold panel");
-    let g = s.wait_frame_where(g, 1, "folding the panel", |f| f["x0"].as_u64() == Some(x0 as u64));
+    let g = s.click_away(&ui_log, "open panel", g, "opening the panel", |f| {
+        f["x0"].as_u64().unwrap_or(0) >= 300
+    });
+    let g = s.click_away(&ui_log, "fold panel", g, "folding the panel", |f| {
+        f["x0"].as_u64() == Some(x0 as u64)
+    });
 
     // Flying alone: the title says so, and Escape quits without a question,
     // but only when pressed twice (issue 33.3: a stray one does nothing).

@@ -240,20 +240,63 @@ impl<'a> Session<'a> {
     pub fn wait_frame_where(&self, after: u64, spp: u64, what: &str, pred: impl Fn(&serde_json::Value) -> bool) -> u64 {
         let mut found = 0;
         let ok = wait_until(Duration::from_secs(120), || {
-            found = self
-                .frames()
-                .iter()
-                .filter(|f| f["generation"].as_u64().unwrap_or(0) > after && f["spp"].as_u64().unwrap_or(0) >= spp)
-                .filter(|f| pred(f))
-                .map(|f| f["generation"].as_u64().unwrap())
-                .max()
-                .unwrap_or(0);
+            found = self.latest_frame(after, spp, &pred);
             found > 0
         });
         assert!(ok, "no refined frame after {what}; frames: {:?}", self.frames().last());
         // Let the window draw it (the log is written right after presenting).
         std::thread::sleep(Duration::from_millis(300));
         found
+    }
+
+    /// The latest generation after `after` with at least `spp` samples
+    /// whose frame passes `pred` (0: none yet).
+    fn latest_frame(&self, after: u64, spp: u64, pred: &impl Fn(&serde_json::Value) -> bool) -> u64 {
+        self.frames()
+            .iter()
+            .filter(|f| f["generation"].as_u64().unwrap_or(0) > after && f["spp"].as_u64().unwrap_or(0) >= spp)
+            .filter(|f| pred(f))
+            .map(|f| f["generation"].as_u64().unwrap())
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Clicks the button `name`, which goes away when it is taken (the
+    /// panel's open and fold buttons), and waits for a frame after `after`
+    /// that passes `pred`. A click can be lost on a loaded machine, and a
+    /// converged viewer then presents nothing more: so where 20 s after a
+    /// click no such frame has come and the button is still on screen,
+    /// it clicks again (3 clicks at most, 140 s in all). A click that is
+    /// taken hides the button at once (the UI log is rewritten by the UI
+    /// pass that takes it), so a slow frame is never clicked twice.
+    pub fn click_away(
+        &self,
+        ui_log: &Path,
+        name: &str,
+        after: u64,
+        what: &str,
+        pred: impl Fn(&serde_json::Value) -> bool,
+    ) -> u64 {
+        let mut found = 0;
+        for attempt in 1..=3u64 {
+            self.click(ui_log, name);
+            let waited = Duration::from_secs(20 * attempt);
+            if wait_until(waited, || {
+                found = self.latest_frame(after, 1, &pred);
+                found > 0
+            }) {
+                std::thread::sleep(Duration::from_millis(300));
+                return found;
+            }
+            if !self.rects(ui_log).contains_key(name) {
+                return self.wait_frame_where(after, 1, what, pred);
+            }
+            eprintln!("no frame {waited:?} after clicking `{name}`, and it is still on screen: clicking again");
+        }
+        panic!(
+            "no refined frame after {what} (clicked `{name}` 3 times); frames: {:?}",
+            self.frames().last()
+        );
     }
 
     /// Waits (up to 30 s) until more than `n` frames are in the log: the
