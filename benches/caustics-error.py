@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Error against run time of the caustic estimate, for several lensview
+builds side by side (issue 29.3: "at the same caustic accuracy").
+
+  benches/caustics-error.py REF_BINARY SCENE.toml --bins OLD NEW
+      [--spp 4,16,64] [--ref-spp 256] [--size 640x360] [--threads 1]
+
+For each scene: a reference (REF_BINARY at --ref-spp, EXR), the same scene
+without caustics (benches/caustics-off.py) at --ref-spp, and each binary at
+each --spp (EXR, seed 0, so the camera samples are the same in every build
+and only the caustic estimate differs). Prints, per binary and sample
+count, the wall time of the render (as `render` reports it) and the RMS
+error against the reference in linear RGB over every pixel and over the
+caustic's pixels (where the reference with caustics exceeds the one
+without by more than 2 % of the brighter's 99th percentile). Binaries
+alternate within each sample count. Needs numpy and mitsuba (to read EXR):
+run it with the venv of benches/mitsuba_speed.py.
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import mitsuba as mi
+import numpy as np
+
+mi.set_variant("scalar_rgb")
+HERE = os.path.dirname(os.path.abspath(__file__))
+TIME = re.compile(r"in ([\d.]+) s \(")
+
+
+def render(binary, scene, out, size, spp, threads):
+    w, h = size.split("x")
+    cmd = [binary, "render", scene, "--width", w, "--height", h, "--spp", str(spp), "-o", out]
+    env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
+    err = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stderr
+    m = TIME.search(err)
+    if not m:
+        sys.exit(f"no time in: {err}")
+    return float(m.group(1))
+
+
+def load(path):
+    return np.array(mi.Bitmap(path), dtype=np.float64)[..., :3]
+
+
+def rms(a, b, where=None):
+    d = (a - b) ** 2
+    if where is not None:
+        d = d[where]
+    return float(np.sqrt(d.mean()))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("ref_binary")
+    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--bins", nargs="+", required=True)
+    ap.add_argument("--spp", default="4,16,64")
+    ap.add_argument("--ref-spp", type=int, default=256)
+    ap.add_argument("--size", default="640x360")
+    ap.add_argument("--threads", type=int, default=1)
+    a = ap.parse_args()
+    model = next(
+        (ln.split(":", 1)[1].strip() for ln in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines() if ln.startswith("Model name")),
+        "?",
+    )
+    print(f"CPU: {model}; {a.size}, {a.threads} thread(s), reference {a.ref_binary} at {a.ref_spp} spp")
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene in a.scenes:
+            name = os.path.splitext(os.path.basename(scene))[0]
+            off_toml = os.path.join(tmp, f"{name}-off.toml")
+            subprocess.run([sys.executable, os.path.join(HERE, "caustics-off.py"), scene, off_toml], check=True)
+            ref, ref_off = os.path.join(tmp, "ref.exr"), os.path.join(tmp, "ref-off.exr")
+            render(a.ref_binary, scene, ref, a.size, a.ref_spp, os.cpu_count())
+            render(a.ref_binary, off_toml, ref_off, a.size, a.ref_spp, os.cpu_count())
+            r, r_off = load(ref), load(ref_off)
+            lum = r.mean(axis=2)
+            caustic = (r - r_off).mean(axis=2) > 0.02 * np.percentile(lum, 99)
+            print(f"\n{name}: {int(caustic.sum())} caustic pixels of {caustic.size}")
+            print(f"{'spp':>5}  {'binary':<28} {'time s':>8} {'RMS all':>10} {'RMS caustic':>12}")
+            for spp in [int(s) for s in a.spp.split(",")]:
+                for b in a.bins:
+                    out = os.path.join(tmp, "x.exr")
+                    t = render(b, scene, out, a.size, spp, a.threads)
+                    img = load(out)
+                    e_all, e_c = rms(img, r), rms(img, r, caustic) if caustic.any() else float("nan")
+                    print(f"{spp:>5}  {os.path.basename(b):<28} {t:>8.3f} {e_all:>10.5f} {e_c:>12.5f}")
+
+
+if __name__ == "__main__":
+    main()
