@@ -36,10 +36,10 @@ def render(binary, scene, out, size, spp, threads):
     w, h = size.split("x")
     cmd = [binary, "render", scene, "--width", w, "--height", h, "--spp", str(spp), "-o", out]
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
-    err = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stderr
-    m = TIME.search(err)
+    run = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True)
+    m = TIME.search(run.stdout + run.stderr)
     if not m:
-        sys.exit(f"no time in: {err}")
+        sys.exit(f"no time in: {run.stdout}{run.stderr}")
     return float(m.group(1))
 
 

@@ -22,16 +22,6 @@ impl<'a> Lit<'a> {
     pub fn new(scene: &'a Scene, caustics: Option<&'a PhotonMap>) -> Self {
         Lit { scene, caustics }
     }
-
-    /// The same, for camera sample `i` of a pixel: its gathers count the
-    /// part of the photons that sample gathers (`PhotonMap::for_sample`,
-    /// weighed to the whole); the same where `caustics` is a part already.
-    pub fn for_sample(self, i: u32) -> Self {
-        Lit {
-            caustics: self.caustics.map(|m| m.for_sample(i)),
-            ..self
-        }
-    }
 }
 
 /// A scene without caustic photons.

@@ -97,7 +97,7 @@ fn estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb> {
     }
     let n: [Lanes<f32>; 3] = q.n.map(|c| c.map(|v| v as f32));
     let mut clock = None;
-    for g in map.all_groups() {
+    for g in &map.groups {
         let cells = g.reach_lanes(q.x, q.live);
         if cells.asks == 0 {
             continue;
@@ -113,7 +113,7 @@ fn estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb> {
     if let Some(c) = clock {
         c.stop();
     }
-    e.map(|v| v * map.weight / map.passes as f64)
+    e.map(|v| v / map.passes as f64)
 }
 
 crate::simd::with_avx2! {
@@ -301,7 +301,7 @@ mod tests {
                 .collect();
             m.add_pass(&pass);
         }
-        assert!(m.parts[0].groups.len() >= 2);
+        assert!(m.groups.len() >= 2);
         let (mut walked, mut found) = (0, 0);
         for spread in [1e-4, 0.01, 0.04, 0.1, 0.5, 3.0] {
             for t in 0..40 {
@@ -318,25 +318,21 @@ mod tests {
                         (x[c][l], nv[c][l]) = (p[c], n[c]);
                     }
                 }
-                // The whole map, and one part (each in turn).
-                for map in [&m, m.for_sample(t as u32)] {
-                    let q = Queries { x: &x, n: &nv, live };
-                    let got = map.irradiance_lanes(q);
-                    for l in 0..LANES {
-                        let want = if live >> l & 1 != 0 {
-                            map.irradiance(lane(&x, l), lane(&nv, l))
-                        } else {
-                            Rgb::ZERO
-                        };
-                        let bits = |c: Rgb| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()];
-                        assert_eq!(bits(got[l]), bits(want), "spread {spread}, query {t}, lane {l}");
-                        found += usize::from(want.x > 0.0);
-                    }
+                let q = Queries { x: &x, n: &nv, live };
+                let got = m.irradiance_lanes(q);
+                for l in 0..LANES {
+                    let want = if live >> l & 1 != 0 {
+                        m.irradiance(lane(&x, l), lane(&nv, l))
+                    } else {
+                        Rgb::ZERO
+                    };
+                    let bits = |c: Rgb| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()];
+                    assert_eq!(bits(got[l]), bits(want), "spread {spread}, query {t}, lane {l}");
+                    found += usize::from(want.x > 0.0);
                 }
-                let n = nv.map(|c| c.map(|v| v as f32));
-                let g = &m.for_sample(t as u32).groups[0];
-                let cells = g.reach_lanes(&x, live);
-                walked += usize::from(g.gather_lanes(&x, &n, &cells, &mut [Rgb::ZERO; LANES]));
+                let n = q.n.map(|c| c.map(|v| v as f32));
+                let cells = m.groups[0].reach_lanes(q.x, q.live);
+                walked += usize::from(m.groups[0].gather_lanes(q.x, &n, &cells, &mut [Rgb::ZERO; LANES]));
             }
         }
         assert!(found > 500, "{found} lanes find photons");
@@ -363,17 +359,15 @@ mod tests {
                 (x[c][l], nv[c][l]) = (p[c], DVec3::Z[c]);
             }
         }
-        for (k, map) in [&m, m.for_sample(2)].into_iter().enumerate() {
-            let got = map.irradiance_lanes(Queries {
-                x: &x,
-                n: &nv,
-                live: 0xff,
-            });
-            for l in 0..LANES {
-                let want = map.irradiance(lane(&x, l), lane(&nv, l));
-                assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "lane {l}, map {k}");
-            }
-            assert!(got[2].x > 0.0, "the photons at zero are found (map {k})");
+        let got = m.irradiance_lanes(Queries {
+            x: &x,
+            n: &nv,
+            live: 0xff,
+        });
+        for l in 0..LANES {
+            let want = m.irradiance(lane(&x, l), lane(&nv, l));
+            assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "lane {l}");
         }
+        assert!(got[2].x > 0.0, "the photons at zero are found");
     }
 }

@@ -17,11 +17,9 @@ mod block;
 mod cells;
 mod grid;
 mod lanes;
-mod part;
 mod radius;
 
 pub use lanes::Queries;
-pub use part::PARTS;
 pub use radius::initial_radius;
 
 use crate::color::Rgb;
@@ -163,21 +161,17 @@ impl Group {
         DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64) * self.cell
     }
 
-    /// Adds the photons of part `part` of passes (photon `i` of a pass
-    /// where `i mod PARTS = part`, [`Part`]), pass after pass and each in
-    /// its order, each pass gathered within its radius (at most the
-    /// group's). The cells
+    /// Adds passes' photons, pass after pass and each in its order, each
+    /// pass gathered within its radius (at most the group's). The cells
     /// are merged once for all of them, with what adding them one by one
     /// gives: a cell's photons in the order added, so the same blocks (a
     /// merge copies every block of the group, so a merge a pass made the
     /// viewer's many passes a stage cost the square of its photons).
-    fn add(&mut self, passes: &[(&[Photon], f64)], part: usize) -> usize {
-        let mine = |photons: &[Photon]| photons.len().saturating_sub(part).div_ceil(PARTS);
-        let mut entries: Vec<Entry> = Vec::with_capacity(passes.iter().map(|p| mine(p.0)).sum());
+    fn add(&mut self, passes: &[(&[Photon], f64)]) {
+        let mut entries: Vec<Entry> = Vec::with_capacity(passes.iter().map(|p| p.0.len()).sum());
         for &(photons, radius) in passes {
             let per_area = 1.0 / (std::f64::consts::PI * radius * radius);
-            let of_part = (0..mine(photons)).into_par_iter().map(|i| &photons[part + i * PARTS]);
-            entries.par_extend(of_part.with_min_len(512).map(|ph| {
+            entries.par_extend(photons.par_iter().with_min_len(4096).map(|ph| {
                 let key = self.key(ph.p);
                 let rel = ph.p - self.corner(key);
                 Entry {
@@ -189,7 +183,7 @@ impl Group {
                 }
             }));
         }
-        let all = passes.iter().flat_map(|p| p.0.iter().skip(part).step_by(PARTS));
+        let all = passes.iter().flat_map(|p| p.0.iter());
         for ph in all {
             self.lo = self.lo.min(ph.p);
             self.hi = self.hi.max(ph.p);
@@ -201,7 +195,6 @@ impl Group {
             self.occupied.insert(k);
         }
         self.mark_near(&opened);
-        entries.len()
     }
 
     /// Adds the blocks holding the newly occupied cells `opened` to
@@ -336,31 +329,17 @@ pub struct PhotonMap {
     r0: f64,
     passes: u32,
     photons: usize,
-    /// A part's groups of levels of passes ([`GROUP_SHRINK`]); none in a
-    /// whole map, whose photons are its parts'.
     groups: Vec<Group>,
-    /// A whole map's [`PARTS`] parts (`part.rs`); none in a part.
-    parts: Vec<PhotonMap>,
-    /// What a gather's sums are weighed by: 1 in a whole map, [`PARTS`]
-    /// in a part.
-    weight: f64,
 }
 
 impl PhotonMap {
     /// An empty map whose first pass gathers within `r0`.
     pub fn new(r0: f64) -> Self {
-        let part = PhotonMap {
+        PhotonMap {
             r0,
             passes: 0,
             photons: 0,
             groups: Vec::new(),
-            parts: Vec::new(),
-            weight: PARTS as f64,
-        };
-        PhotonMap {
-            parts: vec![part.clone(); PARTS],
-            weight: 1.0,
-            ..part
         }
     }
 
@@ -378,54 +357,30 @@ impl PhotonMap {
     }
 
     /// Adds passes' photons, in order: the map [`PhotonMap::add_pass`]
-    /// gives one pass after the other, with each group's cells merged once
-    /// (each part its photons, `part.rs`).
+    /// gives one pass after the other, with each group's cells merged once.
     pub fn add_passes(&mut self, passes: &[&[Photon]]) {
         let mut pending: Vec<(&[Photon], f64)> = Vec::new();
         for &photons in passes {
             self.passes += 1;
             let r = self.radius();
-            let last = self.parts.first().and_then(|p| p.groups.last());
-            if last.is_none_or(|g| r < GROUP_SHRINK * g.radius) {
+            if self.groups.last().is_none_or(|g| r < GROUP_SHRINK * g.radius) {
                 self.add_to_last(&mut pending);
-                for part in &mut self.parts {
-                    part.groups.push(Group::new(r));
-                }
+                self.groups.push(Group::new(r));
             }
             pending.push((photons, r));
             self.photons += photons.len();
         }
         self.add_to_last(&mut pending);
-        for part in &mut self.parts {
-            part.passes = self.passes;
-        }
     }
 
-    /// Adds the `pending` passes to each part's last group (its photons),
-    /// and forgets them.
+    /// Adds the `pending` passes to the last group, and forgets them.
     fn add_to_last(&mut self, pending: &mut Vec<(&[Photon], f64)>) {
-        if !pending.is_empty() {
-            for (k, part) in self.parts.iter_mut().enumerate() {
-                if let Some(g) = part.groups.last_mut() {
-                    part.photons += g.add(pending, k);
-                }
-            }
+        if let Some(g) = self.groups.last_mut()
+            && !pending.is_empty()
+        {
+            g.add(pending);
         }
         pending.clear();
-    }
-
-    /// The part camera sample `i` of a pixel gathers (`part.rs`): part
-    /// `i mod PARTS` of a whole map; a part is its own.
-    pub fn for_sample(&self, i: u32) -> &PhotonMap {
-        self.parts.get(i as usize % PARTS).unwrap_or(self)
-    }
-
-    /// The groups a gather of this map walks: a part's own, or every
-    /// part's in turn.
-    fn all_groups(&self) -> impl Iterator<Item = &Group> {
-        self.groups
-            .iter()
-            .chain(self.parts.iter().flat_map(|p| p.groups.iter()))
     }
 
     /// Passes added so far.
@@ -445,8 +400,7 @@ impl PhotonMap {
 
     /// The caustic irradiance at `x` on the side of the surface whose unit
     /// normal (toward the viewer) is `n`: the mean over the passes of each
-    /// pass's density estimate (a part's: from its photons, weighed
-    /// [`PARTS`] times). Zero before the first pass.
+    /// pass's density estimate. Zero before the first pass.
     pub fn irradiance(&self, x: DVec3, n: DVec3) -> Rgb {
         estimate(self, x, n)
     }
@@ -460,7 +414,7 @@ fn estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb {
     }
     let n = [n.x as f32, n.y as f32, n.z as f32];
     let (mut e, mut clock) = (Rgb::ZERO, None);
-    for g in map.all_groups() {
+    for g in &map.groups {
         // A group out of reach adds zero: nothing to add.
         if let Some(cells) = g.reach(x) {
             if clock.is_none() {
@@ -472,7 +426,7 @@ fn estimate_impl(map: &PhotonMap, x: DVec3, n: DVec3) -> Rgb {
     if let Some(c) = clock {
         c.stop();
     }
-    e * map.weight / map.passes as f64
+    e / map.passes as f64
 }
 
 crate::simd::with_avx2! {
@@ -559,7 +513,7 @@ mod tests {
             all.extend(pass.iter().map(|&p| (p, PhotonMap::radius_of_pass(0.2, k))));
             passes.push(pass);
         }
-        assert!(m.parts[0].groups.len() == 2, "{} groups", m.parts[0].groups.len());
+        assert!(m.groups.len() == 2, "{} groups", m.groups.len());
         // The same passes added in batches (one across the groups' border)
         // give the same map, bit for bit.
         let mut b = PhotonMap::new(0.2);
@@ -619,7 +573,7 @@ mod tests {
         let mut m = PhotonMap::new(r);
         m.add_pass(&[photon(0.0, 0.0, 1.0)]);
         m.add_pass(&[photon(5.0, 5.0, 1.0)]);
-        assert_eq!(m.parts[0].groups.len(), 1, "both passes share a group");
+        assert_eq!(m.groups.len(), 1, "both passes share a group");
         let r2 = PhotonMap::radius_of_pass(r, 2);
         let at = |x: f64| m.irradiance(DVec3::new(x, 5.0, 0.0), DVec3::Z).x;
         let want = 1.0 / (std::f64::consts::PI * r2 * r2) as f32 as f64 / 2.0;
@@ -664,7 +618,7 @@ mod tests {
         for _ in 0..2000 {
             let x = point(10.0);
             empty += usize::from(want_at(x) == 0.0);
-            turned_away += usize::from(m.all_groups().all(|g| g.reach(x).is_none()));
+            turned_away += usize::from(m.groups.iter().all(|g| g.reach(x).is_none()));
             queries.push(x);
         }
         for &x in &queries {

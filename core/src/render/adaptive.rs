@@ -9,11 +9,10 @@
 //! samples are its fixed samples `count ..` in order, so an adaptive image
 //! is the same on any number of threads.
 
-use super::sparse::{Batch, FirstHit, Sink};
+use super::sparse::{Batch, FirstHit};
 use super::{LensBatch, RenderSettings};
 use crate::color::Rgb;
 use crate::integrator::Lit;
-use crate::photon::PARTS;
 use crate::sampling::{Pattern, pixel_offset};
 use crate::simd::LANES;
 use crate::trace::TILE;
@@ -176,7 +175,7 @@ impl Adaptive {
                     sq[d] = [sq[d][0] + c2.x, sq[d][1] + c2.y, sq[d][2] + c2.z];
                     count[d] += 1;
                 };
-                let mut batches = PartBatches::new(scene);
+                let mut batch = Batch::default();
                 let mut lens_batch = LensBatch::default();
                 let mut cast = 0u64;
                 let y0 = b * TILE;
@@ -199,44 +198,19 @@ impl Adaptive {
                                     lens_batch.push(scene, lens, at, &settings, dst, &mut to);
                                 } else {
                                     let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
-                                    let at = (x as f64 + jx, y as f64 + jy);
-                                    batches.push(i, scene, size, at, dst, &mut sink);
+                                    batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
                                 }
                                 cast += 1;
                             }
                         }
                     }
                 }
-                batches.flush(scene, size, &mut sink);
+                batch.flush(scene, size, &mut sink);
                 if let Some(lens) = &scene.lens {
                     lens_batch.flush(scene, lens, size, &mut |d, c| sink(d, c, &|| FirstHit::UNKNOWN));
                 }
                 Some(cast)
             })
             .try_reduce(|| 0, |a, b| Some(a + b))
-    }
-}
-
-/// A wave's pinhole samples in batches: with caustics one for each part of
-/// the photons, since a packet's lanes gather one part (`Lit::for_sample`:
-/// sample `i` goes to batch `i mod PARTS`); one batch without.
-struct PartBatches(Vec<Batch>);
-
-impl PartBatches {
-    fn new(scene: &Lit) -> Self {
-        let parts = if scene.caustics.is_some() { PARTS } else { 1 };
-        PartBatches((0..parts as u32).map(Batch::of_sample).collect())
-    }
-
-    /// Adds sample `i` at `at` (going to `dst`) to its part's batch.
-    fn push(&mut self, i: u32, scene: &Lit, size: (u32, u32), at: (f64, f64), dst: u32, sink: &mut impl Sink) {
-        let parts = self.0.len();
-        self.0[i as usize % parts].push(scene, size, at, dst, sink);
-    }
-
-    fn flush(&mut self, scene: &Lit, size: (u32, u32), sink: &mut impl Sink) {
-        for batch in &mut self.0 {
-            batch.flush(scene, size, sink);
-        }
     }
 }

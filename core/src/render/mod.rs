@@ -84,7 +84,6 @@ pub fn lens_sample(scene: &Lit, lens: &LensCamera, at: (f64, f64), size: (u32, u
 /// pinhole's [`sample`], or through the scene's lens camera at its pupil
 /// point [`lens_point`] (both keyed by the seed, the pixel and `i` alone).
 pub fn pixel_sample(scene: &Lit, (px, py): (u32, u32), (i, pattern): (u32, Pattern), s: &RenderSettings) -> Rgb {
-    let scene = &scene.for_sample(i);
     let (at, u) = sample_point((px, py), (i, pattern), s);
     match &scene.lens {
         Some(lens) => lens_sample(scene, lens, at, (s.width, s.height), u),
@@ -111,9 +110,6 @@ type Points = Lanes<(f64, f64)>;
 pub(crate) struct LensBatch {
     at: Points,
     u: Points,
-    /// Each sample's index (its part of the caustic photons,
-    /// `Lit::for_sample`).
-    samples: Lanes<u32>,
     dst: [u32; LANES],
     n: usize,
 }
@@ -131,7 +127,6 @@ impl LensBatch {
         sink: &mut impl FnMut(u32, Rgb),
     ) {
         (self.at[self.n], self.u[self.n]) = sample_point(px, (i, pattern), s);
-        self.samples[self.n] = i;
         self.dst[self.n] = dst;
         self.n += 1;
         if self.n == LANES {
@@ -142,7 +137,7 @@ impl LensBatch {
     /// Traces what is gathered and hands it to `sink`.
     pub(crate) fn flush(&mut self, scene: &Lit, lens: &LensCamera, size: (u32, u32), sink: &mut impl FnMut(u32, Rgb)) {
         if self.n > 0 {
-            let c = lens_samples(scene, Some(&self.samples), lens, (&self.at, &self.u), self.n, size);
+            let c = lens_samples(scene, lens, (&self.at, &self.u), self.n, size);
             for (&d, c) in self.dst.iter().zip(c).take(self.n) {
                 sink(d, c);
             }
@@ -154,23 +149,17 @@ impl LensBatch {
 /// [`lens_sample`] of the lanes `l < n` (others: black), at the sensor
 /// positions `at[l]` and pupil points `u[l]`: their sensor rays cross the
 /// lens together ([`LensCamera::rays`]), each then traced alone; lane for
-/// lane the same bits. Lane `l` is sample `samples[l]` of its pixel where
-/// given (it gathers that sample's part of the caustic photons,
-/// `Lit::for_sample`), else it gathers what `scene` holds.
+/// lane the same bits.
 fn lens_samples(
     scene: &Lit,
-    samples: Option<&Lanes<u32>>,
     lens: &LensCamera,
     (at, u): (&Points, &Points),
     n: usize,
     size: (u32, u32),
 ) -> [Rgb; LANES] {
     let trace = |channel: usize, lambda: f64| {
-        let rays = lens.rays(&scene.camera, at, size, u, n, channel);
-        std::array::from_fn(|l| {
-            let lit = samples.map_or(*scene, |i| scene.for_sample(i[l]));
-            rays[l].map_or(Rgb::ZERO, |(ray, weight)| radiance(lit, &ray, 0, lambda) * weight)
-        })
+        lens.rays(&scene.camera, at, size, u, n, channel)
+            .map(|r| r.map_or(Rgb::ZERO, |(ray, weight)| radiance(scene, &ray, 0, lambda) * weight))
     };
     if scene.features.dispersion || lens.is_dispersive() {
         let mut c = [Rgb::ZERO; LANES];
@@ -208,7 +197,7 @@ pub fn sample_packet(
             let pixel = ys[l] as u64 * width as u64 + xs[l] as u64;
             (at[l], u[l]) = ((xs[l], ys[l]), lens_point(0, pixel, 0));
         }
-        return lens_samples(scene, None, lens, (&at, &u), n, (width, height));
+        return lens_samples(scene, lens, (&at, &u), n, (width, height));
     }
     let (p, hits) = camera_hits(scene, xs, ys, n, width, height);
     let mut out = [Rgb::ZERO; LANES];
@@ -258,7 +247,6 @@ pub fn add_band_samples(
     rows: &mut [Rgb],
 ) {
     let BandMemory { tile, scratch } = memory;
-    let scene = &scene.for_sample(i);
     let Some((w, count)) = band_shape(rows.len(), s) else {
         return;
     };

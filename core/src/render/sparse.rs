@@ -126,21 +126,10 @@ pub(crate) struct Batch {
     rows: usize,
     memory: BandMemory,
     shaded: [Rgb; LANES],
-    /// The index of its samples, for the part of the caustic photons they
-    /// gather (`Lit::for_sample`): 0 unless made for another.
-    sample: u32,
 }
 
 impl Default for Batch {
     fn default() -> Batch {
-        Batch::of_sample(0)
-    }
-}
-
-impl Batch {
-    /// A batch of samples whose index is `i` (modulo `photon::PARTS`: all
-    /// gather the same part of the caustic photons).
-    pub fn of_sample(i: u32) -> Batch {
         Batch {
             xs: [[0.0; LANES]; TILE],
             ys: [[0.0; LANES]; TILE],
@@ -149,7 +138,6 @@ impl Batch {
             rows: 0,
             memory: BandMemory::default(),
             shaded: [Rgb::ZERO; LANES],
-            sample: i,
         }
     }
 }
@@ -182,7 +170,6 @@ impl Batch {
     /// time ([`sample_packet`], each at its pixel's first pupil point; no
     /// first hits, which assume a pinhole).
     pub fn flush(&mut self, scene: &Lit, (w, h): (u32, u32), sink: &mut impl Sink) {
-        let scene = &scene.for_sample(self.sample);
         let packets = self.rows + usize::from(self.lane > 0);
         if packets == 0 {
             return;
