@@ -263,12 +263,13 @@ impl<'a> Session<'a> {
 
     /// Clicks the button `name`, which goes away when it is taken (the
     /// panel's open and fold buttons), and waits for a frame after `after`
-    /// that passes `pred`. A click can be lost on a loaded machine, and a
-    /// converged viewer then presents nothing more: so where 20 s after a
-    /// click no such frame has come and the button is still on screen,
-    /// it clicks again (3 clicks at most, 140 s in all). A click that is
-    /// taken hides the button at once (the UI log is rewritten by the UI
-    /// pass that takes it), so a slow frame is never clicked twice.
+    /// that passes `pred` (`wait_frame_where`). A click can be lost on a
+    /// loaded machine, and a converged viewer then presents nothing more:
+    /// so where no such frame has come 20 s after a click (40 s after the
+    /// second, 60 s after the third) and the button is still on screen,
+    /// it clicks again, 3 clicks at most. A click that is taken hides the
+    /// button at once (the UI log is rewritten by the UI pass that takes
+    /// it), so a slow frame is never clicked twice.
     pub fn click_away(
         &self,
         ui_log: &Path,
@@ -277,18 +278,11 @@ impl<'a> Session<'a> {
         what: &str,
         pred: impl Fn(&serde_json::Value) -> bool,
     ) -> u64 {
-        let mut found = 0;
         for attempt in 1..=3u64 {
             self.click(ui_log, name);
             let waited = Duration::from_secs(20 * attempt);
-            if wait_until(waited, || {
-                found = self.latest_frame(after, 1, &pred);
-                found > 0
-            }) {
-                std::thread::sleep(Duration::from_millis(300));
-                return found;
-            }
-            if !self.rects(ui_log).contains_key(name) {
+            let came = wait_until(waited, || self.latest_frame(after, 1, &pred) > 0);
+            if came || !self.rects(ui_log).contains_key(name) {
                 return self.wait_frame_where(after, 1, what, pred);
             }
             eprintln!("no frame {waited:?} after clicking `{name}`, and it is still on screen: clicking again");
