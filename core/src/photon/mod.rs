@@ -25,7 +25,7 @@ pub use radius::initial_radius;
 use crate::color::Rgb;
 use crate::simd::gmax;
 use block::{BLOCK, Block, sum_blocks};
-use cells::{CellBits, Key, hash_mix, hash_term, one_block, reach_log2};
+use cells::{CellBits, Key, cell_hash, hash_mix, hash_term, one_block, reach_log2};
 use glam::{DVec3, Vec4};
 use grid::{Entry, Grid};
 use rayon::prelude::*;
@@ -122,6 +122,19 @@ struct Group {
     occupied: CellBits,
     /// The blocks of 2×2×2 cells that hold a photon ([`cells`]).
     near: CellBits,
+    /// The blocks of 2×2×2 coarse cells ([`COARSE`] cells a side) that
+    /// hold a photon: what turns a whole packet away at once
+    /// (`lanes::Group::packet_far`).
+    coarse: CellBits,
+}
+
+/// Cells along each side of a coarse cell of [`Group::coarse`].
+const COARSE: i64 = 8;
+
+/// The coarse cell of cell `k`.
+#[inline(always)]
+fn coarse_key(k: Key) -> Key {
+    k.map(|c| c.div_euclid(COARSE))
 }
 
 /// Bits of a group's set of occupied cells: a clear bit means no photon
@@ -139,6 +152,7 @@ impl Group {
             cells: Grid::default(),
             occupied: CellBits::new(OCCUPANCY_BITS),
             near: CellBits::new(reach_log2(0)),
+            coarse: CellBits::new(reach_log2(0)),
         }
     }
 
@@ -151,8 +165,13 @@ impl Group {
     /// distance test.
     #[inline(always)]
     fn key(&self, p: DVec3) -> Key {
-        let c = (p * self.per_cell).floor();
-        [c.x as i64, c.y as i64, c.z as i64]
+        [p.x, p.y, p.z].map(|v| self.key_of(v))
+    }
+
+    /// One coordinate of [`Group::key`]: the cell of `v` along its axis.
+    #[inline(always)]
+    fn key_of(&self, v: f64) -> i64 {
+        (v * self.per_cell).floor() as i64
     }
 
     /// The low corner of cell `k`.
@@ -204,14 +223,16 @@ impl Group {
     fn mark_near(&mut self, opened: &[Key]) {
         let log2 = reach_log2(self.cells.keys().count());
         if log2 > self.near.log2() {
-            self.near = CellBits::new(log2);
+            (self.near, self.coarse) = (CellBits::new(log2), CellBits::new(log2));
             for k in self.cells.keys() {
                 self.near.insert_blocks_of(k);
+                self.coarse.insert_blocks_of(coarse_key(k));
             }
             return;
         }
         for &k in opened {
             self.near.insert_blocks_of(k);
+            self.coarse.insert_blocks_of(coarse_key(k));
         }
     }
 
@@ -228,7 +249,7 @@ impl Group {
             return None;
         }
         let (a, b) = (self.key(x - r), self.key(x + r));
-        if one_block(a, b) && !self.near.may_hold(cells::cell_hash(a)) {
+        if one_block(a, b) && !self.near.may_hold(cell_hash(a)) {
             return None;
         }
         Some((a, b))
