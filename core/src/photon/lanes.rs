@@ -13,10 +13,11 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::block::photon_terms;
-use super::cells::{Key, cell_hash, hash_mix, hash_term};
-use super::{AxisCell, BLOCK, Block, COARSE, GatherClock, Group, PhotonMap};
+use super::cells::{Key, cell_hash, hash_mix, hash_term, one_block};
+use super::{AxisCell, BLOCK, Block, GatherClock, Group, PhotonMap, coarse_key};
 use crate::color::Rgb;
 use crate::simd::{LANES, Lanes, lane, live_lanes, mask};
+use glam::DVec3;
 
 /// The most cells along one axis of the lanes' cells together for the
 /// walk in lanes: past it the lanes gather one by one.
@@ -138,28 +139,22 @@ impl Group {
     /// (focal-spot, cubes; `perf`). Lanes at NaN find nothing either way.
     #[inline(always)]
     fn packet_far(&self, x: &[Lanes<f64>; 3], live: u32) -> bool {
-        let r = self.radius;
-        let mut from = [0i64; 3];
-        let mut one = true;
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for c in 0..3 {
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
             for l in live_lanes(live) {
                 // A lane at NaN is left out (it finds nothing).
                 let v = x[c][l];
-                lo = if v < lo { v } else { lo };
-                hi = if v > hi { v } else { hi };
+                lo[c] = if v < lo[c] { v } else { lo[c] };
+                hi[c] = if v > hi[c] { v } else { hi[c] };
             }
-            if hi + r < self.lo[c] || lo - r > self.hi[c] {
-                return true;
-            }
-            let (a, b) = (
-                self.key_of(lo - r).div_euclid(COARSE),
-                self.key_of(hi + r).div_euclid(COARSE),
-            );
-            one &= b.wrapping_sub(a) as u64 <= 1;
-            from[c] = a;
         }
-        one && !self.coarse.may_hold(cell_hash(from))
+        let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+        if self.beyond(lo, hi) {
+            return true;
+        }
+        let r = self.radius;
+        let (a, b) = (coarse_key(self.key(lo - r)), coarse_key(self.key(hi + r)));
+        one_block(a, b) && !self.coarse.may_hold(cell_hash(a))
     }
 
     /// [`Group::reach`] of each lane of `live` at `x`, as lanes: the lanes

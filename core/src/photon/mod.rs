@@ -133,7 +133,7 @@ const COARSE: i64 = 8;
 
 /// The coarse cell of cell `k`.
 #[inline(always)]
-fn coarse_key(k: Key) -> Key {
+pub(super) fn coarse_key(k: Key) -> Key {
     k.map(|c| c.div_euclid(COARSE))
 }
 
@@ -165,13 +165,8 @@ impl Group {
     /// distance test.
     #[inline(always)]
     fn key(&self, p: DVec3) -> Key {
-        [p.x, p.y, p.z].map(|v| self.key_of(v))
-    }
-
-    /// One coordinate of [`Group::key`]: the cell of `v` along its axis.
-    #[inline(always)]
-    fn key_of(&self, v: f64) -> i64 {
-        (v * self.per_cell).floor() as i64
+        let c = (p * self.per_cell).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
     }
 
     /// The low corner of cell `k`.
@@ -236,6 +231,15 @@ impl Group {
         }
     }
 
+    /// Whether every point of the box `lo ..= hi` lies beyond the
+    /// photons' box by more than the radius (along some axis): no query
+    /// there finds a photon.
+    #[inline(always)]
+    fn beyond(&self, lo: DVec3, hi: DVec3) -> bool {
+        let r = self.radius;
+        (hi + r).cmplt(self.lo).any() || (lo - r).cmpgt(self.hi).any()
+    }
+
     /// The cells a query at `x` visits (from `x − r` to `x + r`), or
     /// `None` where no photon of the group lies within reach: `x` is
     /// beyond the photons' box by more than the radius, or the query's
@@ -244,10 +248,10 @@ impl Group {
     /// find no photon, so the sums are the walk's (zero).
     #[inline(always)]
     fn reach(&self, x: DVec3) -> Option<(Key, Key)> {
-        let r = self.radius;
-        if (x + r).cmplt(self.lo).any() || (x - r).cmpgt(self.hi).any() {
+        if self.beyond(x, x) {
             return None;
         }
+        let r = self.radius;
         let (a, b) = (self.key(x - r), self.key(x + r));
         if one_block(a, b) && !self.near.may_hold(cell_hash(a)) {
             return None;
