@@ -6,7 +6,7 @@ use clap::Args;
 use lensview::color::{Tone, ToneCurve};
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
-use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
+use lensview::render::caustics::{CausticSettings, render_photons, still_map};
 use lensview::render::{Image, ImageFormat, RenderSettings, render};
 use lensview::scene::Scene;
 use lensview::{files, limits, output};
@@ -81,10 +81,10 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     let progress = super::progress::Progress::on_stderr("rendering");
     let callback = progress.callback();
     let start = Instant::now();
-    let map = still.caustics(&scene);
+    let caustics = still.caustics(&scene);
     let photon_secs = start.elapsed().as_secs_f64();
     let img = render(
-        Lit::new(&scene, map.as_ref()),
+        still.lit(&scene, caustics.as_ref()),
         &still.settings,
         callback.as_ref().map(|c| c as &(dyn Fn(f64) + Sync)),
     );
@@ -92,11 +92,16 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
     progress.finish();
     img.write_as(&a.output, format, tone)?;
     let samples = a.width as f64 * a.height as f64 * spp as f64;
-    let photons = match &map {
-        Some(m) => format!(
-            ", caustics: {} photon passes in {photon_secs:.3} s, {} photons",
+    let photons = match &caustics {
+        Some((m, thin)) => format!(
+            ", caustics: {} photon passes in {photon_secs:.3} s, {} photons{}",
             m.passes(),
-            m.photons()
+            m.photons(),
+            if *thin > 1 {
+                format!(", gathered by 1 sample in {thin}")
+            } else {
+                String::new()
+            }
         ),
         None => String::new(),
     };
@@ -119,7 +124,6 @@ pub fn render_cmd(a: RenderArgs) -> Result<()> {
 pub struct Still {
     pub settings: RenderSettings,
     photons: CausticSettings,
-    passes: u32,
 }
 
 impl Still {
@@ -130,7 +134,9 @@ impl Still {
             seed,
             ..CausticSettings::default()
         };
-        let (passes, n) = render_photons(scene, (width, height), spp, photons);
+        // (`still_map` traces more photons where its gathers are thinned
+        // only if that work fits as well.)
+        let (_, n) = render_photons(scene, (width, height), spp, photons);
         let work = limits::Work::samples(width, height, spp as u64, 1)
             .with_lights(scene.lights.len())
             .with_photons(n);
@@ -141,22 +147,26 @@ impl Still {
             spp,
             seed,
         };
-        Ok(Still {
-            settings,
-            photons,
-            passes,
-        })
+        Ok(Still { settings, photons })
     }
 
-    /// The caustics' photon map (`None`: the scene has none).
-    pub fn caustics(&self, scene: &Scene) -> Option<PhotonMap> {
-        caustic_map(scene, self.passes, self.photons)
+    /// The caustics' photon map and the thinning of its gathers (`None`:
+    /// the scene has none).
+    pub fn caustics(&self, scene: &Scene) -> Option<(PhotonMap, u32)> {
+        let s = &self.settings;
+        still_map(scene, (s.width, s.height), s.spp, self.photons)
     }
 
     /// The image, with no progress report.
     pub fn render(&self, scene: &Scene) -> Image {
-        let map = self.caustics(scene);
-        render(Lit::new(scene, map.as_ref()), &self.settings, None)
+        let caustics = self.caustics(scene);
+        render(self.lit(scene, caustics.as_ref()), &self.settings, None)
+    }
+
+    /// What the still shades `scene` with: its caustics, thinned.
+    fn lit<'a>(&self, scene: &'a Scene, caustics: Option<&'a (PhotonMap, u32)>) -> Lit<'a> {
+        let thin = caustics.map_or(1, |c| c.1);
+        Lit::new(scene, caustics.map(|c| &c.0)).thinned(thin)
     }
 }
 

@@ -18,10 +18,11 @@ use lensview::flight::look;
 use lensview::integrator::Lit;
 use lensview::photon::PhotonMap;
 use lensview::render::RenderSettings;
-use lensview::render::caustics::{CausticSettings, caustic_map, render_photons};
+use lensview::render::caustics::{CausticSettings, render_photons, still_map, still_thinning};
 use lensview::render::first_frame::hole_level;
 use lensview::render::progressive::{Progressive, Sampling, Stage, schedule};
 use lensview::render::steps::Steps;
+use lensview::render::thinning::photon_factor;
 use lensview::scene::{SCENE_FILE_CAP, Scene, SceneError, escape_controls};
 use std::sync::Arc;
 
@@ -30,6 +31,12 @@ use std::sync::Arc;
 pub const MOVE_STEP: f64 = 0.25;
 pub const TURN_STEP: f64 = 5.0;
 
+/// What the page shades `scene` with: the still's caustics, thinned.
+fn lit_of<'a>(scene: &'a Scene, map: &'a Option<(PhotonMap, u32)>) -> Lit<'a> {
+    let thin = map.as_ref().map_or(1, |m| m.1);
+    Lit::new(scene, map.as_ref().map(|m| &m.0)).thinned(thin)
+}
+
 pub struct View {
     doc: Document,
     /// Picture size, seed; `spp`: 0 takes the scene's `render.spp`, as
@@ -37,7 +44,9 @@ pub struct View {
     size: (u32, u32),
     spp: u32,
     seed: u64,
-    map: Option<PhotonMap>,
+    /// The still's photon map and the thinning of its gathers
+    /// (`still_map`).
+    map: Option<(PhotonMap, u32)>,
     /// The block previews left to draw (the last first), and what draws
     /// them.
     previews: Vec<Stage>,
@@ -114,15 +123,8 @@ impl View {
     /// the camera changed; the photon map does not depend on the camera),
     /// the block previews, then sample by sample.
     fn restart(&mut self, light: bool) {
-        let (scene, spp) = (self.doc.built(), self.target_spp());
-        if light {
-            let photons = CausticSettings {
-                seed: self.seed,
-                ..CausticSettings::default()
-            };
-            let (passes, _) = render_photons(scene, self.size, spp, photons);
-            self.map = caustic_map(scene, passes, photons);
-        }
+        self.trace_photons(light);
+        let spp = self.target_spp();
         self.previews = schedule(spp)
             .into_iter()
             .take_while(|s| matches!(s, Stage::Blocks(_)))
@@ -131,6 +133,32 @@ impl View {
         self.shown = None;
         self.progressive.reset(self.size.0, self.size.1, self.seed);
         self.new_samples();
+    }
+
+    /// The caustics' photons as `lensview render` traces them for the
+    /// document's scene: traced again when anything but the camera
+    /// changed (`light`), else kept, as long as the camera's thinning of
+    /// the gathers (`still_thinning`) leaves the photons `render` traces
+    /// the same (more where the gathers are thinned).
+    fn trace_photons(&mut self, light: bool) {
+        let (scene, spp) = (self.doc.built(), self.target_spp());
+        let photons = CausticSettings {
+            seed: self.seed,
+            ..CausticSettings::default()
+        };
+        let thinning = |(map, _): &(PhotonMap, u32)| {
+            let (passes, _) = render_photons(scene, self.size, spp, photons);
+            still_thinning(scene, map, passes, self.size.1)
+        };
+        match self.map.as_ref().map(|m| (thinning(m), m.1)) {
+            Some((now, was)) if !light && photon_factor(now) == photon_factor(was) => {
+                if let Some(m) = &mut self.map {
+                    m.1 = now;
+                }
+            }
+            _ if light || self.map.is_some() => self.map = still_map(scene, self.size, spp, photons),
+            _ => {}
+        }
     }
 
     /// The samples a pixel gets: the page's, or (0) the scene's own.
@@ -168,8 +196,9 @@ impl View {
         if w == 0 || !self.progressive.hold(|i| steps.pixel((i % w) as u32, (i / w) as u32)) {
             return false;
         }
+        self.trace_photons(false);
         let scene = self.doc.built().clone();
-        let lit = Lit::new(&scene, self.map.as_ref());
+        let lit = lit_of(&scene, &self.map);
         if !self
             .progressive
             .reproject(lit, &self.pictured, |holes| hole_level(holes, None))
@@ -188,7 +217,7 @@ impl View {
     /// RGBA pixels; `false` when the picture was already finished.
     pub fn step(&mut self, bands: usize) -> bool {
         let scene = self.doc.built();
-        let lit = Lit::new(scene, self.map.as_ref());
+        let lit = lit_of(scene, &self.map);
         if let Some(stage) = self.previews.pop() {
             self.progressive.run(lit, stage, &|| false);
             self.progressive.write_rgba8(&mut self.rgba, scene.tone);
@@ -425,9 +454,8 @@ mod tests {
             seed,
             ..CausticSettings::default()
         };
-        let (passes, _) = render_photons(scene, (width, height), spp, photons);
-        let map = caustic_map(scene, passes, photons);
-        render(Lit::new(scene, map.as_ref()), &s, None).to_srgb8_toned(scene.tone)
+        let map = still_map(scene, (width, height), spp, photons);
+        render(lit_of(scene, &map), &s, None).to_srgb8_toned(scene.tone)
     }
 
     fn rgb(v: &View) -> Vec<u8> {
@@ -532,6 +560,37 @@ mod tests {
         finish(&mut c);
         assert!(c.key("KeyW") && c.step(1));
         assert_eq!(c.stage(), "8×8 blocks");
+    }
+
+    /// Where the camera sees the caustic over several pixels (rim-lens),
+    /// the page thins its gathers as `render` does; a step back that ends
+    /// the thinning traces the photons again (`render` traces fewer
+    /// there), and the picture is `render`'s before and after.
+    #[test]
+    fn thinned_gathers_follow_the_camera_as_render_does() {
+        let (size, spp, seed) = ((160, 90), 4, 2);
+        let mut v = View::new(Some("rim-lens"), size, spp, seed).unwrap();
+        finish(&mut v);
+        let thin = |v: &View| v.map.as_ref().map(|m| m.1);
+        assert_eq!(thin(&v), Some(2));
+        assert_eq!(rgb(&v), renders(&scene_of(&v), size, spp, seed));
+        let passes = v.map.as_ref().map(|m| m.0.passes());
+        // Steps back until the radius is under 2 pixels' footprints.
+        for _ in 0..12 {
+            assert!(v.key("KeyS"));
+            if thin(&v) == Some(1) {
+                break;
+            }
+            assert_eq!(
+                v.map.as_ref().map(|m| m.0.passes()),
+                passes,
+                "the same photons while thinned"
+            );
+        }
+        finish(&mut v);
+        assert_eq!(thin(&v), Some(1), "12 steps back");
+        assert!(v.map.as_ref().map(|m| m.0.passes()) < passes, "fewer photons unthinned");
+        assert_eq!(rgb(&v), renders(&scene_of(&v), size, spp, seed));
     }
 
     /// Mouse-look turns the camera as the desktop's drag does

@@ -139,7 +139,7 @@ fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
         }
     }
     if !BARE && let Some(map) = scene.caustics {
-        add_caustics_lanes(map, at, out);
+        add_caustics_lanes(&scene, map, at, out);
     }
     at.hit != 0
 }
@@ -151,7 +151,7 @@ fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
 /// rather than in it: a gather called in the loop slowed the kernel's
 /// frames without caustics by 6 % (cubes, task-clock of 8 paired runs).
 #[inline(never)]
-fn add_caustics_lanes(map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) {
+fn add_caustics_lanes(scene: &Lit, map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) {
     let kd = &at.kd_ks_lobe[0];
     let diffuse: Lanes<bool> = std::array::from_fn(|l| gathers_caustics(kd[l]));
     let gather = at.hit & mask(&diffuse);
@@ -164,7 +164,7 @@ fn add_caustics_lanes(map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) 
         live: gather,
     });
     for l in live_lanes(gather) {
-        out[l] += caustic_term(lane(&at.color, l), e[l], kd[l]);
+        out[l] += caustic_term(lane(&at.color, l), scene.counted(e[l]), kd[l]);
     }
 }
 

@@ -140,7 +140,7 @@ pub(super) fn ambient<const GLASS: bool>(scene: Lit, s: &Surface) -> Rgb {
     if let Some(map) = scene.caustics
         && gathers_caustics(kd)
     {
-        color += caustic_term(m.color, map.irradiance(s.p, s.nf), kd);
+        color += caustic_term(m.color, scene.counted(map.irradiance(s.p, s.nf)), kd);
     }
     color
 }

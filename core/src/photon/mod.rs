@@ -355,7 +355,15 @@ pub struct PhotonMap {
     passes: u32,
     photons: usize,
     groups: Vec<Group>,
+    /// Where some of the first pass's photons landed: every
+    /// [`SPREAD_EVERY`]-th, up to [`SPREAD_MOST`] ([`PhotonMap::spread`]).
+    spread: Vec<DVec3>,
 }
+
+/// One photon in this many is kept in [`PhotonMap::spread`].
+const SPREAD_EVERY: usize = 16;
+/// The most photons [`PhotonMap::spread`] keeps.
+const SPREAD_MOST: usize = 4096;
 
 impl PhotonMap {
     /// An empty map whose first pass gathers within `r0`.
@@ -365,6 +373,7 @@ impl PhotonMap {
             passes: 0,
             photons: 0,
             groups: Vec::new(),
+            spread: Vec::new(),
         }
     }
 
@@ -393,6 +402,10 @@ impl PhotonMap {
                 self.groups.push(Group::new(r));
             }
             pending.push((photons, r));
+            if self.passes == 1 {
+                let kept = photons.iter().step_by(SPREAD_EVERY).take(SPREAD_MOST);
+                self.spread.extend(kept.map(|ph| ph.p));
+            }
             self.photons += photons.len();
         }
         self.add_to_last(&mut pending);
@@ -416,6 +429,19 @@ impl PhotonMap {
     /// Photons stored so far (those that landed after a specular bounce).
     pub fn photons(&self) -> usize {
         self.photons
+    }
+
+    /// Where some of the photons landed, for telling how the camera sees
+    /// them (`render::thinning`): photon `n` of the first pass's for every
+    /// `n` a multiple of 16, up to 4096 of them (the same whatever passes
+    /// follow).
+    pub fn spread(&self) -> &[DVec3] {
+        &self.spread
+    }
+
+    /// The first pass's radius (`r0`).
+    pub fn first_radius(&self) -> f64 {
+        self.r0
     }
 
     /// The radius the latest pass gathers with (`r0` before any pass).

@@ -9,10 +9,12 @@
 //! light paths are the same ([`Interleaved::follow`];
 //! [`Caustics::same_light_paths`] checks that in debug builds).
 
+use crate::integrator::Lit;
 use crate::integrator::{Targets, photon_pass, photons_per_light};
-use crate::limits::{PHOTON_WORK, Work};
+use crate::limits::{MAX_SAMPLES, PHOTON_WORK, Work};
 use crate::photon::{Photon, PhotonMap, initial_radius};
 use crate::render::progressive::Stage;
+use crate::render::thinning;
 use crate::scene::Scene;
 use std::sync::Arc;
 
@@ -245,6 +247,47 @@ pub fn caustic_map(scene: &Scene, passes: u32, settings: CausticSettings) -> Opt
     c.into_map()
 }
 
+/// The photon map of a still (`lensview render`, a film's frame, the web
+/// page's picture) of `width`×`height` pixels at `spp` samples, and the
+/// thinning of its gathers (for `Lit::thinned`): [`render_photons`]'s
+/// passes, then, where the still's gathers are thinned
+/// ([`thinning::gather_thinning`] of those passes, at their radius),
+/// [`thinning::THINNED_PHOTONS`] times as many in all, as far as the caps
+/// allow and where their work fits `limits::MAX_SAMPLES` (`None` when the
+/// scene computes no caustics). The same on any thread count.
+pub fn still_map(scene: &Scene, size: (u32, u32), spp: u32, settings: CausticSettings) -> Option<(PhotonMap, u32)> {
+    let (passes, _) = render_photons(scene, size, spp, settings);
+    let mut c = Caustics::new(scene, settings)?;
+    c.add_passes(scene, |n| n < passes as usize);
+    let thin = c.map().map_or(1, |m| still_thinning(scene, m, passes, size.1));
+    // The extra photons only where their work fits the limit too (that
+    // of the passes alone was checked before, `limits::check_total`).
+    let work = |passes: u32| {
+        let photons = passes as f64 * c.photons_per_pass() as f64;
+        let samples = Work::samples(size.0, size.1, spp as u64, 1).with_lights(scene.lights.len());
+        samples.with_photons(photons).total() <= MAX_SAMPLES as f64
+    };
+    let more = thinned_passes(passes, thin) - passes;
+    let more = if work(passes + more) { more } else { 0 };
+    c.add_passes(scene, |n| n < more as usize);
+    Some((c.into_map()?, thin))
+}
+
+/// [`thinning::gather_thinning`] of a still `height` pixels high whose
+/// map `map` traced `passes` before any for thinning ([`still_map`]): at
+/// those passes' radius (the same whatever the map has added since).
+pub fn still_thinning(scene: &Scene, map: &PhotonMap, passes: u32, height: u32) -> u32 {
+    let radius = PhotonMap::radius_of_pass(map.first_radius(), passes);
+    thinning::gather_thinning(scene, map, radius, height)
+}
+
+/// The passes [`still_map`] traces for [`render_photons`]'s `passes` where
+/// the still's gathers are thinned by `thin`.
+pub fn thinned_passes(passes: u32, thin: u32) -> u32 {
+    let more = (passes as f64 * thinning::photon_factor(thin)).ceil();
+    (more as u32).max(passes)
+}
+
 /// The caustics the render thread keeps from job to job: one photon map
 /// for as long as the lights, objects and materials stay the same (camera
 /// moves keep it), refined before each stage by the passes its camera
@@ -261,6 +304,8 @@ pub struct Interleaved {
     /// The latest stage's photon-pass and gather times, seconds (the
     /// photon passes before the stage, zero for a stage without any).
     times: (f64, f64),
+    /// One sample in how many of the latest stage gathered (`thinning`).
+    thinned: u32,
 }
 
 impl Interleaved {
@@ -286,14 +331,18 @@ impl Interleaved {
 
     /// Adds the passes due before a stage of `camera_work` camera samples
     /// of work (`limits::Work::total`; none for a block preview, which
-    /// adds no pass), stopping early when `cancelled` says so or the map
-    /// is full. The first pass is traced on credit.
-    pub fn refine(&mut self, camera_work: f64, cancelled: &dyn Fn() -> bool) {
+    /// adds no pass) of a picture `height` pixels high (more photons where
+    /// its gathers are thinned, `thinning::photon_factor`), stopping early
+    /// when `cancelled` says so or the map is full. The first pass is
+    /// traced on credit.
+    pub fn refine(&mut self, (camera_work, height): (f64, u32), cancelled: &dyn Fn() -> bool) {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
         let start = web_time::Instant::now();
-        self.credit += photon_allowance(camera_work);
+        // Where the stage's gathers are thinned, more photons.
+        let thin = thinning::thinning_of(&Lit::new(scene, c.map()), height);
+        self.credit += photon_allowance(camera_work) * thinning::photon_factor(thin);
         let per_pass = c.photons_per_pass() as f64;
         let first = c.passes() == 0 && camera_work > 0.0;
         let credit = &mut self.credit;
@@ -333,8 +382,14 @@ impl Interleaved {
         self.caustics.as_ref().map_or((0, 0), |c| (c.passes(), c.photons()))
     }
 
+    /// Notes that the stage about to run gathers with one sample in
+    /// `thinned` (`thinning::stage_thinning`), for [`Interleaved::stats`].
+    pub fn note_thinning(&mut self, thinned: u32) {
+        self.thinned = thinned;
+    }
+
     /// What a frame reports of the caustics: the counts, and the latest
-    /// stage's photon-pass and gather times.
+    /// stage's photon-pass and gather times and thinning.
     pub fn stats(&self) -> CausticStats {
         let (passes, photons) = self.counts();
         CausticStats {
@@ -342,6 +397,7 @@ impl Interleaved {
             photons,
             photon_ms: self.times.0 * 1e3,
             gather_ms: self.times.1 * 1e3,
+            gathered_by: self.thinned.max(1),
         }
     }
 }
@@ -356,6 +412,8 @@ pub struct CausticStats {
     pub photon_ms: f64,
     /// Gathering photons while the stage shaded (all threads together).
     pub gather_ms: f64,
+    /// One camera sample in how many gathered (1: every one).
+    pub gathered_by: u32,
 }
 
 #[cfg(test)]
@@ -411,7 +469,7 @@ mod tests {
         let base = focal_spot();
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
-        it.refine(work_for(&base, 0.5), &|| false);
+        it.refine((work_for(&base, 0.5), 360), &|| false);
         let (passes, photons) = it.counts();
         assert_eq!(passes, 1, "the first pass at once");
         assert!(photons > 1000, "{photons}");
@@ -431,7 +489,7 @@ mod tests {
         assert_eq!(it.counts(), (0, 0));
         assert!(it.map().is_none(), "no map before the new light's first pass");
         // Cancelled: no pass.
-        it.refine(work_for(&base, 4.0), &|| true);
+        it.refine((work_for(&base, 4.0), 360), &|| true);
         assert_eq!(it.counts(), (0, 0));
     }
 
@@ -443,10 +501,10 @@ mod tests {
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
         let mut passes = Vec::new();
-        it.refine(0.0, &|| false);
+        it.refine((0.0, 360), &|| false);
         assert_eq!(it.counts().0, 0, "a block preview traces no pass");
         for owed in [0.5, 1.2, 2.1, 0.8] {
-            it.refine(work_for(&base, owed), &|| false);
+            it.refine((work_for(&base, owed), 360), &|| false);
             passes.push(it.counts().0);
         }
         // 1 on credit (−0.5 left); 0.7: none; 2.8: two more; 1.6: one.

@@ -14,6 +14,7 @@ pub mod progressive;
 pub mod reproject;
 mod sparse;
 pub mod steps;
+pub mod thinning;
 pub mod upsample;
 pub mod worker;
 
@@ -393,10 +394,11 @@ pub struct BandMemory {
 /// [`Pattern::R2`] (sample 0: the pixel centre), traced one by one.
 pub fn render_pixel<'a>(scene: impl Into<Lit<'a>>, px: u32, py: u32, s: &RenderSettings) -> Rgb {
     let lit = scene.into();
-    let scene = &lit;
+    let spp = s.spp.max(1);
     let mut sum = Rgb::ZERO;
-    for i in 0..s.spp.max(1) {
-        sum += pixel_sample(scene, (px, py), (i, Pattern::R2), s);
+    for i in 0..spp {
+        let lit = thinning::lit_for_sample(&lit, i, spp);
+        sum += pixel_sample(&lit, (px, py), (i, Pattern::R2), s);
     }
     if s.spp <= 1 {
         return sum;
@@ -428,6 +430,7 @@ pub fn render_into<'a>(
     if s.width == 0 || s.height == 0 {
         return;
     }
+    let spp = s.spp.max(1);
     let done = AtomicUsize::new(0);
     let step = (s.height as usize / 100).max(1);
     let w = s.width as usize;
@@ -438,8 +441,10 @@ pub fn render_into<'a>(
             // Sample by sample over the band, in tiles of packets; each
             // pixel adds its samples in the order `render_pixel` does.
             let mut memory = BandMemory::default();
-            for i in 0..s.spp.max(1) {
-                add_band_samples(scene, (band * TILE) as u32, (i, Pattern::R2), s, &mut memory, rows);
+            for i in 0..spp {
+                // Where one sample in several gathers (`thinning`), its own.
+                let lit = thinning::lit_for_sample(scene, i, spp);
+                add_band_samples(&lit, (band * TILE) as u32, (i, Pattern::R2), s, &mut memory, rows);
             }
             if s.spp > 1 {
                 for px in rows.iter_mut() {

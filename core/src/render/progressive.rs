@@ -11,6 +11,7 @@
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::edges::{self, EDGE_BLOCK, EDGE_CONTRAST, EDGE_SHARE, Exact};
+use super::thinning::stage_thinning;
 use super::upsample::{block_centres, upsample};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits};
 use crate::color::{Rgb, Srgb8, Tone};
@@ -518,6 +519,7 @@ impl Progressive {
         };
         let (sum, pattern) = (&self.sum, self.sampling.pattern);
         let sq = (!self.sq_of_sum).then_some(&self.sq[..]);
+        let thin = stage_thinning(scene.thin(), from, target);
         let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
         let ok = bands
             .zip(next_count.par_chunks_mut(w * BAND))
@@ -535,7 +537,8 @@ impl Progressive {
                 let mut memory = BandMemory::default();
                 let y0 = (band * BAND) as u32;
                 for s in from..target {
-                    add_band_samples(scene, y0, (s, pattern), &settings, &mut memory, rows);
+                    let lit = scene.for_sample(s, from, thin);
+                    add_band_samples(&lit, y0, (s, pattern), &settings, &mut memory, rows);
                     if s == 0 && target > 1 {
                         copy_squares(sq_rows, None, rows);
                     }

@@ -5,6 +5,7 @@
 //! last step divides as it does, so the finished image is `render`'s, bit
 //! for bit (tested below).
 
+use super::thinning::lit_for_sample;
 use super::{BandMemory, Image, RenderSettings, add_band_samples};
 use crate::color::Rgb;
 use crate::integrator::Lit;
@@ -21,6 +22,22 @@ pub struct Steps {
     /// The sample being added now, and the band that takes it next.
     sample: u32,
     band: usize,
+    /// Where gathers are thinned: each pixel's sum at the end of the
+    /// last stage of samples its row finished ([`settled`]), what
+    /// [`Steps::pixel`] shows until the next (within a stage the samples
+    /// that gather count for those still to come).
+    settled: Vec<Rgb>,
+}
+
+/// The samples a row shows when it holds `n` of `spp` and gathers are
+/// thinned: the end of the last stage it finished
+/// (`thinning::sample_stage`: a power of two, or all of them).
+fn settled(n: u32, spp: u32) -> u32 {
+    if n >= spp || n == 0 {
+        n
+    } else {
+        1 << (31 - n.leading_zeros())
+    }
 }
 
 impl Steps {
@@ -31,6 +48,7 @@ impl Steps {
             memory: BandMemory::default(),
             sample: 0,
             band: 0,
+            settled: Vec::new(),
         }
     }
 
@@ -71,9 +89,14 @@ impl Steps {
         let end = (self.band + bands.max(1)).min(self.bands());
         let y0 = self.band * TILE;
         let y1 = (end * TILE).min(h);
-        let rows = &mut self.sums.pixels[y0 * w..y1 * w];
         let (i, s) = (self.sample, &self.settings);
         let last = i + 1 == s.spp.max(1) && s.spp > 1;
+        let thin = scene.thin();
+        if thin > 1 && self.settled.is_empty() {
+            self.settled = vec![Rgb::ZERO; w * h];
+        }
+        let rows = &mut self.sums.pixels[y0 * w..y1 * w];
+        let scene = &lit_for_sample(scene, i, s.spp.max(1));
         let band = |memory: &mut BandMemory, (k, rows): (usize, &mut [Rgb])| {
             add_band_samples(scene, (y0 + k * TILE) as u32, (i, Pattern::R2), s, memory, rows);
             if last {
@@ -90,6 +113,9 @@ impl Steps {
                 .enumerate()
                 .for_each_init(BandMemory::default, band);
         }
+        if thin > 1 && settled(i + 1, s.spp.max(1)) == i + 1 {
+            self.settled[y0 * w..y1 * w].copy_from_slice(rows);
+        }
         self.band = end;
         if self.band == self.bands() {
             self.band = 0;
@@ -99,10 +125,17 @@ impl Steps {
     }
 
     /// Pixel `(x, y)` as shown now: the mean of its samples so far
-    /// (`None` before its first). Once [`Steps::done`], `render`'s value.
+    /// (`None` before its first), or where gathers are thinned of those
+    /// up to the end of the last stage its row finished. Once
+    /// [`Steps::done`], `render`'s value.
     pub fn pixel(&self, x: u32, y: u32) -> Option<Rgb> {
-        let n = self.samples_of_row(y);
-        let v = self.sums.get(x, y);
+        let mut n = self.samples_of_row(y);
+        let mut v = self.sums.get(x, y);
+        let spp = self.settings.spp.max(1);
+        if !self.settled.is_empty() && settled(n, spp) < n {
+            n = settled(n, spp);
+            v = self.settled[y as usize * self.settings.width as usize + x as usize];
+        }
         match n {
             0 => None,
             n if n == self.settings.spp.max(1) => Some(v),
@@ -128,6 +161,43 @@ mod tests {
     use crate::render::caustics::{CausticSettings, caustic_map, render_photons};
     use crate::render::render;
     use crate::scene::Scene;
+
+    /// With thinned gathers too, the finished image is `render`'s; while a
+    /// stage of samples is under way, a row shows the mean up to the end
+    /// of the last stage it finished (`settled`), where the samples that
+    /// gather stand for those still to come.
+    #[test]
+    fn thinned_steps_give_renders_image_and_show_whole_stages() {
+        let scene = Scene::default_scene().1;
+        let s = RenderSettings {
+            width: 21,
+            height: 17,
+            spp: 8,
+            seed: 2,
+        };
+        let map = caustic_map(&scene, 2, CausticSettings::default());
+        let lit = Lit::new(&scene, map.as_ref()).thinned(4);
+        let mut steps = Steps::new(s);
+        let (mut shown, mut at_four) = (Vec::new(), None);
+        while let Some((y0, _)) = steps.step(&lit) {
+            if y0 == 0 {
+                // Band 0 now holds `samples_done() + 1` samples.
+                let n = steps.samples_done() + 1;
+                let v = steps.pixel(5, 3);
+                if n == 4 {
+                    at_four = v;
+                }
+                shown.push((n, v));
+            }
+        }
+        assert_eq!(steps.image(), Some(&render(lit, &s, None)));
+        let at_four = at_four.expect("band 0 reached 4 samples");
+        for (n, v) in shown {
+            if (5..8).contains(&n) {
+                assert_eq!(v, Some(at_four), "{n} samples show the first 4");
+            }
+        }
+    }
 
     /// Step by step, with the caustics' photons, the image is `render`'s
     /// bit for bit; a row shows the mean of the samples it holds.

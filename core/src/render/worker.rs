@@ -12,6 +12,7 @@ use super::caustics::{CausticStats, Interleaved, stage_work};
 use super::first_frame::{Costs, First};
 use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
+use super::thinning::{stage_thinning, thinning_of};
 use crate::integrator::Lit;
 use crate::scene::{Change, Scene};
 use crossbeam_channel::{Receiver, Sender, unbounded};
@@ -460,7 +461,7 @@ fn run(
             }
             ok
         };
-        let traced = Lit::new(&job.scene, caustics.map());
+        let traced = thinned(Lit::new(&job.scene, caustics.map()), job.height);
         let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
             Start::Shown { stage, dt, cast, first } => {
                 if !send(&prog, stage, dt, cast, first == stages.len(), caustics.stats()) {
@@ -552,19 +553,28 @@ fn run_stage(
 ) -> Option<(f64, u64)> {
     let before = prog.samples_cast;
     let t0 = Instant::now();
-    caustics.refine(
-        stage_work(stage, (prog.width, prog.height, prog.spp), scene.lights.len()),
-        cancelled,
-    );
+    let work = stage_work(stage, (prog.width, prog.height, prog.spp), scene.lights.len());
+    caustics.refine((work, prog.height), cancelled);
     let traced = Instant::now();
     caustics.gather_clock(false);
-    if !prog.run(Lit::new(scene, caustics.map()), stage, cancelled) {
+    let thin = thinning_of(&Lit::new(scene, caustics.map()), prog.height);
+    caustics.note_thinning(match stage {
+        Stage::Samples(to) => stage_thinning(thin, prog.spp, to),
+        _ => 1,
+    });
+    if !prog.run(Lit::new(scene, caustics.map()).thinned(thin), stage, cancelled) {
         return None;
     }
     caustics.gather_clock(true);
     let cost = prog.samples_cast - before;
     costs.sampled(stage, traced.elapsed().as_secs_f64(), cost);
     Some((t0.elapsed().as_secs_f64(), cost))
+}
+
+/// `lit` with its sample stages' gathers thinned as its map and camera
+/// allow at `height` pixels (`thinning::thinning_of`).
+fn thinned(lit: Lit, height: u32) -> Lit {
+    lit.thinned(thinning_of(&lit, height))
 }
 
 #[cfg(test)]

@@ -1,0 +1,229 @@
+//! Fewer gathers where the caustic is smooth at the scale of a pixel:
+//! where the photons' gather radius spans several pixels' footprints, the
+//! estimate hardly changes across a pixel, so its camera samples gather
+//! the same light over and over. There one sample in `P` of each stage
+//! gathers, counting `P` times ([`crate::integrator::Lit::for_sample`]):
+//! a stage's mean has the caustic's full weight (an unbiased estimate of
+//! the same image), at a `P`-th of the gathers, which were most of what
+//! caustics cost where the caustic covers the floor (rim-lens: 29 % of a
+//! frame, `perf`). The gathers saved buy more photons
+//! ([`THINNED_PHOTONS`]): with them the caustic's error is what it was
+//! (docs/performance.md, round 24).
+//!
+//! `P` depends on the camera, never the photon map's contents: the map is
+//! the same for every camera; only how often it is read changes.
+
+use crate::integrator::Lit;
+use crate::photon::PhotonMap;
+use crate::scene::Scene;
+
+/// The most samples one gather stands for.
+pub const MOST_THINNING: u32 = 4;
+
+/// Photons traced where gathers are thinned, for each photon the frame
+/// affords without thinning.
+pub const THINNED_PHOTONS: f64 = 1.25;
+
+/// One sample in how many gathers in a frame of `scene` (its camera)
+/// `height` pixels high, for photons spread as `map`'s
+/// (`PhotonMap::spread`) gathered within `radius`: the largest power of two
+/// `P` up to [`MOST_THINNING`] with the radius at least `P` pixel
+/// footprints where the camera sees the photons (the median distance from
+/// the camera of those in front of it, times the angle of a pixel). 1
+/// with a lens camera (whose pixels' footprints are not a pinhole's) or
+/// where no photon lies in front of the camera.
+pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, height: u32) -> u32 {
+    if scene.lens.is_some() || height == 0 {
+        return 1;
+    }
+    let cam = &scene.camera;
+    let forward = cam.forward();
+    let mut far: Vec<f64> = map
+        .spread()
+        .iter()
+        .map(|&p| p - cam.position)
+        .filter(|v| v.dot(forward) > 0.0)
+        .map(|v| v.length())
+        .collect();
+    if far.is_empty() {
+        return 1;
+    }
+    let mid = far.len() / 2;
+    let (_, &mut median, _) = far.select_nth_unstable_by(mid, f64::total_cmp);
+    let pixel = 2.0 * (0.5 * cam.fov_y_deg.to_radians()).tan() / height as f64;
+    let footprints = radius / (median * pixel);
+    let mut p = 1;
+    // NaN or infinite ratios (a degenerate camera) leave it at 1.
+    while p < MOST_THINNING && footprints.is_finite() && footprints >= 2.0 * p as f64 {
+        p *= 2;
+    }
+    p
+}
+
+/// [`gather_thinning`] of the map `lit` shades with, at its latest radius
+/// (what the viewer thins its stages by).
+pub fn thinning_of(lit: &Lit, height: u32) -> u32 {
+    lit.caustics
+        .map_or(1, |map| gather_thinning(lit.scene, map, map.radius(), height))
+}
+
+/// The thinning a stage of samples `from..to` of every pixel uses for a
+/// frame's thinning `p`: the largest power of two up to `p` that divides
+/// both `from` and the stage's samples (so that the samples that gather,
+/// `from, from + q, …`, each stand for exactly `q` of the stage's). The
+/// viewer's stages double (1, 2, 4, … samples), so a stage of `m` samples
+/// is thinned by up to `m`.
+pub fn stage_thinning(p: u32, from: u32, to: u32) -> u32 {
+    let n = to.saturating_sub(from);
+    let mut q = p.clamp(1, MOST_THINNING).next_power_of_two();
+    while q > 1 && (from % q != 0 || n % q != 0 || q > p) {
+        q /= 2;
+    }
+    q
+}
+
+/// The stage of samples `from..to` that sample `i` of `spp` belongs to
+/// in `render`: the viewer's doubling stages (`0..1`, `1..2`, `2..4`,
+/// `4..8`, …, the last cut at `spp`), so that a picture of any power of
+/// two samples (and the finished one) has each stage's full caustic, and
+/// a still has the gathers of the viewer's stages.
+pub fn sample_stage(i: u32, spp: u32) -> (u32, u32) {
+    if i == 0 {
+        return (0, 1);
+    }
+    let from = 1 << (31 - i.leading_zeros());
+    (from, from.saturating_mul(2).min(spp.max(i + 1)))
+}
+
+/// What sample `i` of `spp` gathers in `render` ([`sample_stage`]),
+/// thinned as `lit` says (`Lit::thinned`).
+pub fn lit_for_sample<'a>(lit: &Lit<'a>, i: u32, spp: u32) -> Lit<'a> {
+    let (from, to) = sample_stage(i, spp);
+    lit.for_sample(i, from, stage_thinning(lit.thin(), from, to))
+}
+
+/// The photons a frame traces for each it affords unthinned.
+pub fn photon_factor(thin: u32) -> f64 {
+    if thin > 1 { THINNED_PHOTONS } else { 1.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::color::Rgb;
+    use crate::render::caustics::{CausticSettings, caustic_map};
+    use crate::render::{RenderSettings, render, render_pixel};
+
+    fn rim_lens() -> Scene {
+        Scene::parse("rim-lens", include_str!("../../../scenes/rim-lens.toml"))
+            .unwrap()
+            .1
+    }
+
+    /// Thinned, `render`'s packets and the scalar path (`render_pixel`)
+    /// still agree bit for bit; the picture differs from the unthinned one
+    /// only by noise: the caustic's light over the picture is the same
+    /// within 3 %, and it is there (thinned samples gather).
+    #[test]
+    fn thinned_renders_agree_and_keep_the_caustics_light() {
+        let scene = rim_lens();
+        let map = caustic_map(&scene, 2, CausticSettings::default()).unwrap();
+        let s = RenderSettings {
+            width: 64,
+            height: 36,
+            spp: 16,
+            seed: 3,
+        };
+        let total = |lit: Lit| render(lit, &s, None).pixels.iter().fold(Rgb::ZERO, |a, &p| a + p);
+        let (thin, full) = (Lit::new(&scene, Some(&map)).thinned(4), Lit::new(&scene, Some(&map)));
+        let img = render(thin, &s, None);
+        for y in (0..s.height).step_by(3) {
+            for x in 0..s.width {
+                assert_eq!(img.get(x, y), render_pixel(thin, x, y, &s), "pixel {x},{y}");
+            }
+        }
+        assert_ne!(img, render(full, &s, None), "thinning changes which samples gather");
+        let none = total(Lit::new(&scene, None));
+        let (a, b) = (total(thin) - none, total(full) - none);
+        for c in 0..3 {
+            assert!(
+                b[c] > 0.01 * none[c],
+                "channel {c}: the caustic is a visible share: {b:?} of {none:?}"
+            );
+            assert!(
+                (a[c] / b[c] - 1.0).abs() < 0.03,
+                "channel {c}: thinned {a:?}, every sample {b:?}"
+            );
+        }
+    }
+
+    /// Where the caustic's radius spans pixels (rim-lens at 640×360) one
+    /// sample in four gathers; where it is under a pixel (a 32nd of the
+    /// pixels a side), every sample; every sample where no photon lies in
+    /// front of the camera or they all lie far from it.
+    #[test]
+    fn the_thinning_follows_the_pixels_footprint() {
+        let scene = rim_lens();
+        let map = caustic_map(&scene, 3, CausticSettings::default()).unwrap();
+        let lit = Lit::new(&scene, Some(&map));
+        assert_eq!(thinning_of(&lit, 360), 4);
+        assert_eq!(thinning_of(&lit, 360 / 32), 1);
+        assert_eq!(thinning_of(&Lit::new(&scene, None), 360), 1);
+        let away = glam::DVec3::new(0.0, 0.0, 1e3);
+        let mut behind = scene.clone();
+        behind.camera = crate::camera::Camera::new(away, glam::DVec3::new(0.0, 180.0, 0.0), 38.0);
+        assert_eq!(
+            thinning_of(&Lit::new(&behind, Some(&map)), 360),
+            1,
+            "no photon in front of the camera"
+        );
+        behind.camera = crate::camera::Camera::new(away, glam::DVec3::ZERO, 38.0);
+        assert_eq!(thinning_of(&Lit::new(&behind, Some(&map)), 360), 1, "far away");
+    }
+
+    /// Each stage's gathering samples weigh as much as its samples: the
+    /// estimate of every stage is unbiased, whatever the stage.
+    #[test]
+    fn the_gathers_of_a_stage_weigh_its_samples() {
+        for p in 1..=8 {
+            for from in 0..40 {
+                for to in from..80 {
+                    let q = stage_thinning(p, from, to);
+                    assert!(
+                        q.is_power_of_two() && q <= p.min(MOST_THINNING),
+                        "{p} {from}..{to}: {q}"
+                    );
+                    let gathered: u32 = (from..to).filter(|i| (i - from) % q == 0).map(|_| q).sum();
+                    assert_eq!(gathered, to - from, "{p} {from}..{to}");
+                }
+            }
+        }
+        // The viewer's doubling stages, thinned as far as the frame allows.
+        assert_eq!(stage_thinning(4, 0, 1), 1);
+        assert_eq!(stage_thinning(4, 1, 2), 1);
+        assert_eq!(stage_thinning(4, 2, 4), 2);
+        assert_eq!(stage_thinning(4, 4, 8), 4);
+        assert_eq!(stage_thinning(4, 32, 64), 4);
+        assert_eq!(stage_thinning(2, 32, 64), 2);
+        assert_eq!(stage_thinning(4, 0, 16), 4);
+        assert_eq!(stage_thinning(4, 0, 6), 2);
+        assert_eq!(stage_thinning(4, 8, 9), 1);
+    }
+
+    /// `render`'s stages are the viewer's: doubling, the last cut at the
+    /// samples asked for; every sample in one.
+    #[test]
+    fn renders_stages_double() {
+        let stages: Vec<_> = (0..12).map(|i| sample_stage(i, 12)).collect();
+        let want = [(0, 1), (1, 2), (2, 4), (2, 4), (4, 8), (4, 8), (4, 8), (4, 8)];
+        assert_eq!(stages[..8], want);
+        assert!(stages[8..].iter().all(|&s| s == (8, 12)));
+        for spp in 1..70 {
+            for i in 0..spp {
+                let (from, to) = sample_stage(i, spp);
+                assert!(from <= i && i < to && to <= spp, "{i} of {spp}: {from}..{to}");
+            }
+        }
+        assert_eq!(sample_stage(u32::MAX - 1, u32::MAX), (1 << 31, u32::MAX));
+    }
+}
