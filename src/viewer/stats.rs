@@ -76,7 +76,6 @@ impl Stats {
                 "photons": f.caustics.photons,
                 "photon_ms": f.caustics.photon_ms,
                 "gather_ms": f.caustics.gather_ms,
-                "gathered_by": f.caustics.gathered_by,
                 "camera": [f.camera.0.to_array(), f.camera.1.to_array()],
                 "reprojection": f.reprojection.map(|r| serde_json::json!({
                     "first_hits_ms": r.first_hits_s * 1e3,
@@ -127,18 +126,12 @@ impl Stats {
     }
 }
 
-/// `"caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms
-/// (1 sample in 4)"`: the map so far, and what this frame's caustics cost
-/// of its time (and, where its samples' gathers were thinned, how far).
+/// `"caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms"`:
+/// the map so far, and what this frame's caustics cost of its time.
 pub fn caustics_text(f: &Frame) -> String {
-    let c = &f.caustics;
-    let thinned = match c.gathered_by {
-        0 | 1 => String::new(),
-        n => format!(" (1 sample in {n})"),
-    };
     format!(
-        "caustics: {} photons, {} passes; photons {:.1} ms, gather {:.1} ms{thinned}",
-        c.photons, c.passes, c.photon_ms, c.gather_ms
+        "caustics: {} photons, {} passes; photons {:.1} ms, gather {:.1} ms",
+        f.caustics.photons, f.caustics.passes, f.caustics.photon_ms, f.caustics.gather_ms
     )
 }
 
@@ -319,7 +312,6 @@ mod tests {
                 photons: 4096,
                 photon_ms: 1.5,
                 gather_ms: 3.0,
-                gathered_by: 4,
             },
             camera: (glam::DVec3::new(1.0, 2.0, 3.0), glam::DVec3::new(0.0, 90.0, 0.0)),
             reprojection: None,
@@ -376,7 +368,7 @@ mod tests {
         assert_eq!(lines.len(), 2, "{text}");
         let l = &lines[0];
         let keys: Vec<&str> = l.as_object().unwrap().keys().map(|k| k.as_str()).collect();
-        assert_eq!(keys.len(), 20, "{keys:?}");
+        assert_eq!(keys.len(), 19, "{keys:?}");
         assert_eq!(l["camera"], serde_json::json!([[1.0, 2.0, 3.0], [0.0, 90.0, 0.0]]));
         assert_eq!(
             (l["overlay"].as_str(), lines[1]["overlay"].as_str()),
@@ -392,10 +384,9 @@ mod tests {
         assert!(lines[1]["stages"].as_array().unwrap().is_empty());
         assert_eq!(l["photons"], 4096);
         assert_eq!(l["gather_ms"], 3.0);
-        assert_eq!(l["gathered_by"], 4);
         assert_eq!(
             caustics_text(&f),
-            "caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms (1 sample in 4)"
+            "caustics: 4096 photons, 2 passes; photons 1.5 ms, gather 3.0 ms"
         );
         assert_eq!(l["generation"], 7);
         assert_eq!(l["level"], "4 spp");

@@ -9,7 +9,6 @@
 //! light paths are the same ([`Interleaved::follow`];
 //! [`Caustics::same_light_paths`] checks that in debug builds).
 
-use crate::integrator::Lit;
 use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::limits::{MAX_SAMPLES, PHOTON_WORK, Work};
 use crate::photon::{Photon, PhotonMap, initial_radius};
@@ -304,8 +303,6 @@ pub struct Interleaved {
     /// The latest stage's photon-pass and gather times, seconds (the
     /// photon passes before the stage, zero for a stage without any).
     times: (f64, f64),
-    /// One sample in how many of the latest stage gathered (`thinning`).
-    thinned: u32,
 }
 
 impl Interleaved {
@@ -331,18 +328,16 @@ impl Interleaved {
 
     /// Adds the passes due before a stage of `camera_work` camera samples
     /// of work (`limits::Work::total`; none for a block preview, which
-    /// adds no pass) of a picture `height` pixels high (more photons where
-    /// its gathers are thinned, `thinning::photon_factor`), stopping early
-    /// when `cancelled` says so or the map is full. The first pass is
-    /// traced on credit.
-    pub fn refine(&mut self, (camera_work, height): (f64, u32), cancelled: &dyn Fn() -> bool) {
+    /// adds no pass) whose gathers are thinned by `thinned`
+    /// (`Progressive::stage_thinning`; more photons where they are,
+    /// `thinning::photon_factor`), stopping early when `cancelled` says so
+    /// or the map is full. The first pass is traced on credit.
+    pub fn refine(&mut self, (camera_work, thinned): (f64, u32), cancelled: &dyn Fn() -> bool) {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
         let start = web_time::Instant::now();
-        // Where the stage's gathers are thinned, more photons.
-        let thin = thinning::thinning_of(&Lit::new(scene, c.map()), height);
-        self.credit += photon_allowance(camera_work) * thinning::photon_factor(thin);
+        self.credit += photon_allowance(camera_work) * thinning::photon_factor(thinned);
         let per_pass = c.photons_per_pass() as f64;
         let first = c.passes() == 0 && camera_work > 0.0;
         let credit = &mut self.credit;
@@ -382,14 +377,8 @@ impl Interleaved {
         self.caustics.as_ref().map_or((0, 0), |c| (c.passes(), c.photons()))
     }
 
-    /// Notes that the stage about to run gathers with one sample in
-    /// `thinned` (`thinning::stage_thinning`), for [`Interleaved::stats`].
-    pub fn note_thinning(&mut self, thinned: u32) {
-        self.thinned = thinned;
-    }
-
     /// What a frame reports of the caustics: the counts, and the latest
-    /// stage's photon-pass and gather times and thinning.
+    /// stage's photon-pass and gather times.
     pub fn stats(&self) -> CausticStats {
         let (passes, photons) = self.counts();
         CausticStats {
@@ -397,7 +386,6 @@ impl Interleaved {
             photons,
             photon_ms: self.times.0 * 1e3,
             gather_ms: self.times.1 * 1e3,
-            gathered_by: self.thinned.max(1),
         }
     }
 }
@@ -412,8 +400,6 @@ pub struct CausticStats {
     pub photon_ms: f64,
     /// Gathering photons while the stage shaded (all threads together).
     pub gather_ms: f64,
-    /// One camera sample in how many gathered (1: every one).
-    pub gathered_by: u32,
 }
 
 #[cfg(test)]
@@ -469,7 +455,7 @@ mod tests {
         let base = focal_spot();
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
-        it.refine((work_for(&base, 0.5), 360), &|| false);
+        it.refine((work_for(&base, 0.5), 1), &|| false);
         let (passes, photons) = it.counts();
         assert_eq!(passes, 1, "the first pass at once");
         assert!(photons > 1000, "{photons}");
@@ -489,7 +475,7 @@ mod tests {
         assert_eq!(it.counts(), (0, 0));
         assert!(it.map().is_none(), "no map before the new light's first pass");
         // Cancelled: no pass.
-        it.refine((work_for(&base, 4.0), 360), &|| true);
+        it.refine((work_for(&base, 4.0), 1), &|| true);
         assert_eq!(it.counts(), (0, 0));
     }
 
@@ -501,10 +487,10 @@ mod tests {
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
         let mut passes = Vec::new();
-        it.refine((0.0, 360), &|| false);
+        it.refine((0.0, 1), &|| false);
         assert_eq!(it.counts().0, 0, "a block preview traces no pass");
         for owed in [0.5, 1.2, 2.1, 0.8] {
-            it.refine((work_for(&base, owed), 360), &|| false);
+            it.refine((work_for(&base, owed), 1), &|| false);
             passes.push(it.counts().0);
         }
         // 1 on credit (−0.5 left); 0.7: none; 2.8: two more; 1.6: one.

@@ -11,7 +11,7 @@
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::edges::{self, EDGE_BLOCK, EDGE_CONTRAST, EDGE_SHARE, Exact};
-use super::thinning::stage_thinning;
+use super::thinning::{lit_for_sample, sample_stage, stage_thinning};
 use super::upsample::{block_centres, upsample};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits};
 use crate::color::{Rgb, Srgb8, Tone};
@@ -444,6 +444,23 @@ impl Progressive {
     /// after the first sample) a wave over the pixels that need it. The
     /// sums are replaced only when the whole stage completes; a cancelled
     /// stage leaves them untouched.
+    /// One sample in how many gathers caustic photons, at most, in
+    /// `stage` from this picture for a frame thinned by `thin`
+    /// (`Lit::thinned`): a stage of samples of every pixel thins as
+    /// `render` does (its top doubling stage's `thinning::stage_thinning`);
+    /// adaptive waves, block levels and reprojections never (a wave's
+    /// choice reads the pixels' variance, which thinned samples would
+    /// raise).
+    pub fn stage_thinning(&self, stage: Stage, thin: u32) -> u32 {
+        match stage {
+            Stage::Samples(target) if target > self.spp && (self.spp == 0 || self.sampling.adaptive.is_none()) => {
+                let (from, to) = sample_stage(target - 1, target);
+                stage_thinning(thin, from, to)
+            }
+            _ => 1,
+        }
+    }
+
     fn run_samples(&mut self, scene: &Lit, target: u32, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
         let from = self.spp;
         if target <= from {
@@ -519,7 +536,7 @@ impl Progressive {
         };
         let (sum, pattern) = (&self.sum, self.sampling.pattern);
         let sq = (!self.sq_of_sum).then_some(&self.sq[..]);
-        let thin = stage_thinning(scene.thin(), from, target);
+
         let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
         let ok = bands
             .zip(next_count.par_chunks_mut(w * BAND))
@@ -537,7 +554,8 @@ impl Progressive {
                 let mut memory = BandMemory::default();
                 let y0 = (band * BAND) as u32;
                 for s in from..target {
-                    let lit = scene.for_sample(s, from, thin);
+                    // Thinned gathers as `render` thins them (`thinning`).
+                    let lit = lit_for_sample(scene, s, target);
                     add_band_samples(&lit, y0, (s, pattern), &settings, &mut memory, rows);
                     if s == 0 && target > 1 {
                         copy_squares(sq_rows, None, rows);

@@ -12,7 +12,7 @@ use super::caustics::{CausticStats, Interleaved, stage_work};
 use super::first_frame::{Costs, First};
 use super::progressive::{Progressive, ReprojectTimes, Stage, schedule};
 use super::reproject::same_but_camera;
-use super::thinning::{stage_thinning, thinning_of};
+use super::thinning::thinning_of;
 use crate::integrator::Lit;
 use crate::scene::{Change, Scene};
 use crossbeam_channel::{Receiver, Sender, unbounded};
@@ -553,15 +553,12 @@ fn run_stage(
 ) -> Option<(f64, u64)> {
     let before = prog.samples_cast;
     let t0 = Instant::now();
+    // The stage's thinning of its gathers, and the photons that buys.
+    let thin = thinning_of(&Lit::new(scene, caustics.map()), prog.height);
     let work = stage_work(stage, (prog.width, prog.height, prog.spp), scene.lights.len());
-    caustics.refine((work, prog.height), cancelled);
+    caustics.refine((work, prog.stage_thinning(stage, thin)), cancelled);
     let traced = Instant::now();
     caustics.gather_clock(false);
-    let thin = thinning_of(&Lit::new(scene, caustics.map()), prog.height);
-    caustics.note_thinning(match stage {
-        Stage::Samples(to) => stage_thinning(thin, prog.spp, to),
-        _ => 1,
-    });
     if !prog.run(Lit::new(scene, caustics.map()).thinned(thin), stage, cancelled) {
         return None;
     }

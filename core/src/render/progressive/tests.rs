@@ -519,3 +519,41 @@ fn a_block_level_refined_at_edges_shows_the_first_samples_there() {
         assert_eq!(bits(&p.image()), bits(&plain));
     }
 }
+
+/// Thinned gathers (`Lit::thinned`): stages of every pixel thin as
+/// `render` does, so uniform stages to 8 samples give a thinned render's
+/// picture; adaptive waves never thin (their choice reads the variance).
+#[test]
+fn stages_of_every_pixel_thin_as_render_does() {
+    let text = include_str!("../../../../scenes/rim-lens.toml");
+    let s = Scene::parse("rim-lens", text).unwrap().1;
+    let settings = crate::render::caustics::CausticSettings::default();
+    let map = crate::render::caustics::caustic_map(&s, 2, settings).unwrap();
+    let lit = Lit::new(&s, Some(&map)).thinned(4);
+    let mut waves = Progressive::new(32, 18, 3).with_sampling(Sampling::UNIFORM);
+    let mut adaptive = Progressive::new(32, 18, 3);
+    for st in schedule(8) {
+        let want = match st {
+            Stage::Samples(1) => 1,
+            Stage::Samples(2) => 1,
+            Stage::Samples(4) => 2,
+            Stage::Samples(8) => 4,
+            _ => 1,
+        };
+        assert_eq!(waves.stage_thinning(st, 4), want, "{st:?}");
+        assert_eq!(adaptive.stage_thinning(st, 4), 1, "{st:?}");
+        assert!(waves.run(lit, st, &|| false));
+        assert!(adaptive.run(lit, st, &|| false));
+    }
+    let eight = RenderSettings {
+        width: 32,
+        height: 18,
+        spp: 8,
+        seed: 3,
+    };
+    let direct = render(lit, &eight, None);
+    assert_ne!(direct, render(Lit::new(&s, Some(&map)), &eight, None), "thinned");
+    for (a, b) in waves.image().pixels.iter().zip(&direct.pixels) {
+        assert!((*a - *b).abs().max_element() < 1e-12);
+    }
+}
