@@ -440,10 +440,6 @@ impl Progressive {
             .map_or(0, |((_, e), _, _)| e.map_or(0, |e| e.blocks.len()))
     }
 
-    /// A sample stage to `target` samples: the whole picture, or (adaptive,
-    /// after the first sample) a wave over the pixels that need it. The
-    /// sums are replaced only when the whole stage completes; a cancelled
-    /// stage leaves them untouched.
     /// One sample in how many gathers caustic photons, at most, in
     /// `stage` from this picture for a frame thinned by `thin`
     /// (`Lit::thinned`): a stage of samples of every pixel thins as
@@ -461,6 +457,10 @@ impl Progressive {
         }
     }
 
+    /// A sample stage to `target` samples: the whole picture, or (adaptive,
+    /// after the first sample) a wave over the pixels that need it. The
+    /// sums are replaced only when the whole stage completes; a cancelled
+    /// stage leaves them untouched.
     fn run_samples(&mut self, scene: &Lit, target: u32, cancelled: &(dyn Fn() -> bool + Sync)) -> bool {
         let from = self.spp;
         if target <= from {
@@ -536,7 +536,6 @@ impl Progressive {
         };
         let (sum, pattern) = (&self.sum, self.sampling.pattern);
         let sq = (!self.sq_of_sum).then_some(&self.sq[..]);
-
         let bands = next.par_chunks_mut(w * BAND).zip(next_sq.par_chunks_mut(w * BAND));
         let ok = bands
             .zip(next_count.par_chunks_mut(w * BAND))
