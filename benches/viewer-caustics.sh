@@ -15,14 +15,8 @@ scene=$1; A=$2; B=${3:-}; rounds=${4:-3}; size=${5:-1280x720}; spp=${6:-64}
 w=${size%x*}; h=${size#*x}
 lscpu | grep 'Model name' || true
 grep -q avx512f /proc/cpuinfo && echo "avx512f: yes" || echo "avx512f: no"
-tmp=$(mktemp -d)
-display=:${DISPLAY_NUM:-78}
-Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
-xvfb=$!
-app=""
-trap '[ -n "$app" ] && kill $app 2>/dev/null; kill $xvfb 2>/dev/null || true; rm -rf "$tmp"' EXIT
-export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
-for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
+# tmp, an Xvfb server as DISPLAY, app; all removed on exit.
+source "$(dirname "$0")/xvfb-setup.sh" 78
 python3 "$(dirname "$0")/caustics-off.py" "$scene" "$tmp/off.toml"
 
 one() { # BIN TAG ROUND on|off

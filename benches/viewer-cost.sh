@@ -23,14 +23,8 @@ set -euo pipefail
 A=$1; B=${2:-}; rounds=${3:-3}; size=${4:-1280x720}; scene=${5:-scenes/cubes.toml}; keys=${6:-8}
 w=${size%x*}; h=${size#*x}
 lscpu | grep 'Model name' || true
-tmp=$(mktemp -d)
-display=:${DISPLAY_NUM:-77}
-Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
-xvfb=$!
-app=""
-trap '[ -n "$app" ] && kill $app 2>/dev/null; kill $xvfb 2>/dev/null || true; rm -rf "$tmp"' EXIT
-export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
-for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
+# tmp, an Xvfb server as DISPLAY, app; all removed on exit.
+source "$(dirname "$0")/xvfb-setup.sh" 77
 
 # Like with like: `bench --frame-only` traces no photons and gathers none,
 # so the window and the headless frames both get the scene with its

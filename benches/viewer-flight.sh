@@ -13,14 +13,8 @@ A=$1; B=${2:-}; rounds=${3:-3}; size=${4:-1280x720}; scene=${5:-scenes/cubes.tom
 w=${size%x*}; h=${size#*x}
 lscpu | grep 'Model name' || true
 grep -o -m1 'avx512f' /proc/cpuinfo || echo "no avx512f"
-tmp=$(mktemp -d)
-display=:${DISPLAY_NUM:-78}
-Xvfb "$display" -screen 0 1920x1200x24 -nolisten tcp -noreset >/dev/null 2>&1 &
-xvfb=$!
-app=""
-trap '[ -n "$app" ] && kill $app 2>/dev/null; kill $xvfb 2>/dev/null || true; rm -rf "$tmp"' EXIT
-export DISPLAY=$display XDG_RUNTIME_DIR=$tmp
-for _ in $(seq 100); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.1; done
+# tmp, an Xvfb server as DISPLAY, app; all removed on exit.
+source "$(dirname "$0")/xvfb-setup.sh" 78
 
 one() { # BIN TAG ROUND
     local bin=$1 tag=$2 r=$3
