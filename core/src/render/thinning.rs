@@ -4,9 +4,9 @@
 //! the same light over and over. There one sample in `P` of each stage
 //! gathers, counting `P` times ([`crate::integrator::Lit::for_sample`]):
 //! a stage's mean has the caustic's full weight (an unbiased estimate of
-//! the same image), at a `P`-th of the gathers, which were most of what
-//! caustics cost where the caustic covers the floor (rim-lens: 29 % of a
-//! frame, `perf`). The gathers saved buy more photons
+//! the same image), with fewer gathers (with `P` = 4, 6 samples of 16 and
+//! 18 of 64 gather), which were most of what caustics cost where the
+//! caustic covers the floor (rim-lens: 29 % of a frame, `perf`). The gathers saved buy more photons
 //! ([`THINNED_PHOTONS`]): with them the caustic's error is what it was
 //! (docs/performance.md, round 24).
 //!
