@@ -5,7 +5,7 @@
 //! last step divides as it does, so the finished image is `render`'s, bit
 //! for bit (tested below).
 
-use super::thinning::lit_for_sample;
+use super::thinning::{lit_for_sample, sample_stage};
 use super::{BandMemory, Image, RenderSettings, add_band_samples};
 use crate::color::Rgb;
 use crate::integrator::Lit;
@@ -33,11 +33,7 @@ pub struct Steps {
 /// thinned: the end of the last stage it finished
 /// (`thinning::sample_stage`: a power of two, or all of them).
 fn settled(n: u32, spp: u32) -> u32 {
-    if n >= spp || n == 0 {
-        n
-    } else {
-        1 << (31 - n.leading_zeros())
-    }
+    if n >= spp || n == 0 { n } else { sample_stage(n, spp).0 }
 }
 
 impl Steps {
