@@ -148,7 +148,7 @@ impl View {
         };
         let thinning = |(map, _): &(PhotonMap, u32)| {
             let (passes, _) = render_photons(scene, self.size, spp, photons);
-            still_thinning(scene, map, passes, self.size.1)
+            still_thinning(scene, map, passes, self.size)
         };
         match self.map.as_ref().map(|m| (thinning(m), m.1)) {
             Some((now, was)) if !light && photon_factor(now) == photon_factor(was) => {

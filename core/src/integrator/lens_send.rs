@@ -19,7 +19,7 @@ use super::shade::{
 use super::surface::Surface;
 use crate::color::Rgb;
 use crate::geometry::{Inside, Lens, Pruning};
-use crate::scene::Object;
+use crate::scene::{Object, Scene};
 use crate::simd::{LANES, Lanes, lane, live_lanes, mask, with_avx2};
 
 /// [`send_onward`](super::packet) for the lanes whose passes through a lens
@@ -50,7 +50,7 @@ pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MI
     for l in 0..LANES {
         (shares[0][l], shares[1][l]) = glass_shares::<MIRROR>(m, passes.pass.entry_fresnel[l]);
     }
-    let left = lens_onward(scene, (first.index, first.object), passes, paths, &shares, onward);
+    let left = lens_onward(scene.scene, (first.index, first.object), passes, paths, &shares, onward);
     for l in live_lanes(left) {
         let Some(s) = &surfaces[l] else { continue };
         let Some(lens) = s.object.lens() else { continue };
@@ -96,7 +96,7 @@ pub(super) fn send_through_lens<const SHADOWS: bool, const GLASS: bool, const MI
 /// lanes whose refracted rays are left to the scalar steps.
 #[inline(always)]
 fn lens_onward_impl(
-    scene: Lit,
+    scene: &Scene,
     (index, object): (usize, &Object),
     passes: &LensPasses,
     paths: &PacketPaths,
@@ -122,10 +122,10 @@ fn lens_onward_impl(
         mirror.write(l, &reflected(&at, lane(&passes.dir, l), depth, weight, kr[l]));
         sent[2][l] = live & followed(kr[l], weight);
         let through = live & followed(kt[l], weight);
-        let f = passes.finished(l, &lens_pruning(scene.scene, depth, weight, kt[l]));
+        let f = passes.finished(l, &lens_pruning(scene, depth, weight, kt[l]));
         let done = through & f.done;
-        let a = done & f.kept[0] & within_depth(scene.scene, depth, 2);
-        let b = done & f.kept[1] & within_depth(scene.scene, depth, 3);
+        let a = done & f.kept[0] & within_depth(scene, depth, 2);
+        let b = done & f.kept[1] & within_depth(scene, depth, 3);
         let (first, second) = (passes.ray_out(0, l, f.out[0]), passes.ray_out(1, l, f.out[1]));
         let firsts = if a { first } else { second };
         out0.write(l, &carried_on(&at, depth, weight, kt[l], firsts));
@@ -143,7 +143,7 @@ fn lens_onward_impl(
 with_avx2! {
     /// [`lens_onward_impl`], built for AVX2 where the CPU has it.
     fn lens_onward / lens_onward_avx2 => lens_onward_impl(
-        scene: Lit,
+        scene: &Scene,
         lens: (usize, &Object),
         passes: &LensPasses,
         paths: &PacketPaths,

@@ -153,7 +153,7 @@ fn local_lanes<'s, const GLASS: bool, const MIRROR: bool, const BARE: bool>(
 #[inline(never)]
 fn add_caustics_lanes(scene: &Lit, map: &PhotonMap, at: &SurfaceLanes, out: &mut Lanes<Rgb>) {
     let kd = &at.kd_ks_lobe[0];
-    let diffuse: Lanes<bool> = std::array::from_fn(|l| gathers_caustics(kd[l]));
+    let diffuse: Lanes<bool> = std::array::from_fn(|l| gathers_caustics(kd[l]) && scene.gathers(l));
     let gather = at.hit & mask(&diffuse);
     if gather == 0 {
         return;
@@ -164,7 +164,7 @@ fn add_caustics_lanes(scene: &Lit, map: &PhotonMap, at: &SurfaceLanes, out: &mut
         live: gather,
     });
     for l in live_lanes(gather) {
-        out[l] += caustic_term(lane(&at.color, l), scene.counted(e[l]), kd[l]);
+        out[l] += caustic_term(lane(&at.color, l), scene.counted_lane(e[l], l), kd[l]);
     }
 }
 

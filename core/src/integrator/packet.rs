@@ -163,7 +163,12 @@ impl Onward {
             for l in live_lanes(self.live) {
                 let sec = self.secondary(l);
                 back[l] = kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
-                    scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight,
+                    scene.lane(l),
+                    &sec.ray,
+                    sec.skip,
+                    sec.depth,
+                    lambda_um,
+                    sec.weight,
                 );
             }
             return;
@@ -467,7 +472,14 @@ pub(super) fn further<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool
         lane,
         tint: sec.tint,
         factor: sec.factor,
-        back: kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, &sec.ray, sec.skip, sec.depth, lambda_um, sec.weight),
+        back: kernel::<SHADOWS, GLASS, MIRROR, SPECULAR>(
+            scene.lane(lane),
+            &sec.ray,
+            sec.skip,
+            sec.depth,
+            lambda_um,
+            sec.weight,
+        ),
     }
 }
 

@@ -10,6 +10,7 @@
 //! is the same on any number of threads.
 
 use super::sparse::{Batch, FirstHit};
+use super::thinning::{observations, sample_stage, sample_weight, stage_thinning};
 use super::{LensBatch, RenderSettings};
 use crate::color::Rgb;
 use crate::integrator::Lit;
@@ -82,6 +83,15 @@ pub(super) struct SumsMut<'a> {
 }
 
 impl Sums<'_> {
+    /// Copies the sums of the pixels from `start` on into a band's `sum`,
+    /// `sq` and `count` (as long as each other).
+    fn copy_band(&self, start: usize, (sum, sq, count): (&mut [Rgb], &mut [[f32; 3]], &mut [u32])) {
+        let end = start + sum.len();
+        sum.copy_from_slice(&self.sum[start..end]);
+        copy_squares(sq, self.sq.map(|q| &q[start..end]), &self.sum[start..end]);
+        count.copy_from_slice(&self.count[start..end]);
+    }
+
     /// Every pixel's mean, clamped, into `out`.
     fn means(&self, out: &mut Vec<[f32; 3]>) {
         out.resize(self.sum.len(), [0.0; 3]);
@@ -102,7 +112,19 @@ impl Sums<'_> {
 impl Adaptive {
     /// Whether pixel `(x, y)` of a `w × h` picture is refined by a wave to
     /// `target` samples (`means`: [`Sums::means`]).
-    fn wants(&self, s: &Sums, means: &Means, (w, h): (usize, usize), (x, y): (usize, usize), target: u32) -> bool {
+    ///
+    /// Where the caustic gathers are thinned by `thin` the squares are
+    /// those of groups ([`GroupSquares`]): the variance is that of the
+    /// groups' means, and the standard error divides it by the number of
+    /// groups ([`observations`]), not of samples.
+    fn wants(
+        &self,
+        s: &Sums,
+        means: &Means,
+        (w, h, thin): (usize, usize, u32),
+        (x, y): (usize, usize),
+        target: u32,
+    ) -> bool {
         let i = y * w + x;
         let n = s.count[i];
         if n >= target {
@@ -110,12 +132,13 @@ impl Adaptive {
         }
         if n >= 2 {
             let nf = n as f64;
+            let mf = observations(thin, n) as f64;
             debug_assert!(s.sq.is_some(), "squares of sums stand for one sample only");
             let q = s.sq.map_or_else(|| square(s.sum[i]), |sq| sq[i]);
             let sq = Rgb::new(q[0] as f64, q[1] as f64, q[2] as f64);
             let mean = s.sum[i] / nf;
-            let var = ((sq / nf - mean * mean) * (nf / (nf - 1.0))).max(Rgb::ZERO);
-            if (var / nf).max_element() > self.error * self.error {
+            let var = ((sq / nf - mean * mean) * (mf / (mf - 1.0))).max(Rgb::ZERO);
+            if (var / mf).max_element() > self.error * self.error {
                 return true;
             }
         }
@@ -147,6 +170,9 @@ impl Adaptive {
     ) -> Option<u64> {
         old.means(means);
         let means = &means[..];
+        // One sample in how many gathers, stage by stage (1 with a lens
+        // camera or without caustics: `thinning`).
+        let thin = scene.thin();
         let band = w * TILE;
         let size = (w as u32, h as u32);
         let settings = RenderSettings {
@@ -163,16 +189,14 @@ impl Adaptive {
                 if cancelled() {
                     return None;
                 }
-                let start = b * band;
-                sum.copy_from_slice(&old.sum[start..start + sum.len()]);
-                let end = start + sq.len();
-                copy_squares(sq, old.sq.map(|q| &q[start..end]), &old.sum[start..end]);
-                count.copy_from_slice(&old.count[start..start + count.len()]);
+                old.copy_band(b * band, (sum, sq, count));
+                let mut groups = GroupSquares::new(thin, target);
+                // A pixel's samples come in the order pushed, one after the
+                // other (`Batch`, `LensBatch`): its groups whole.
                 let mut sink = |dst: u32, c: Rgb, _: &dyn Fn() -> FirstHit| {
                     let d = dst as usize;
                     sum[d] += c;
-                    let c2 = (c * c).as_vec3();
-                    sq[d] = [sq[d][0] + c2.x, sq[d][1] + c2.y, sq[d][2] + c2.z];
+                    groups.add(&mut sq[d], count[d], c);
                     count[d] += 1;
                 };
                 let mut batch = Batch::default();
@@ -183,7 +207,7 @@ impl Adaptive {
                 for x0 in (0..w).step_by(LANES) {
                     for y in y0..y0 + rows {
                         for x in x0..(x0 + LANES).min(w) {
-                            if !self.wants(old, means, (w, h), (x, y), target) {
+                            if !self.wants(old, means, (w, h, thin), (x, y), target) {
                                 continue;
                             }
                             let pixel = (y * w + x) as u64;
@@ -198,7 +222,9 @@ impl Adaptive {
                                     lens_batch.push(scene, lens, at, &settings, dst, &mut to);
                                 } else {
                                     let (jx, jy) = pixel_offset(pattern, seed, pixel, i);
-                                    batch.push(scene, size, (x as f64 + jx, y as f64 + jy), dst, &mut sink);
+                                    let weight = if thin > 1 { sample_weight(thin, i, target).0 } else { 1 };
+                                    let at = ((x as f64 + jx, y as f64 + jy), weight);
+                                    batch.push_weighted(scene, size, at, dst, &mut sink);
                                 }
                                 cast += 1;
                             }
@@ -212,5 +238,95 @@ impl Adaptive {
                 Some(cast)
             })
             .try_reduce(|| 0, |a, b| Some(a + b))
+    }
+}
+
+/// The squares a wave adds to a pixel's sums (its samples in order): each
+/// sample's square, or where its stage's gathers are thinned by `q`
+/// (`thinning::sample_weight`), each group of `q` samples' (one gathering
+/// for all, `q` times) as `q` samples at the group's mean (`S²/q` for the
+/// group's sum `S`). A thinned sample alone is its light with `q` times the
+/// caustic's or none: the squares of groups leave out that spread, which
+/// no sample of the picture's mean has (its groups' means estimate it),
+/// so a wave refines a pixel for its noise, not for its thinning.
+struct GroupSquares {
+    thin: u32,
+    target: u32,
+    /// The sum of the group's samples so far.
+    group: Rgb,
+}
+
+impl GroupSquares {
+    /// For a wave to `target` samples thinned by `thin`.
+    fn new(thin: u32, target: u32) -> Self {
+        GroupSquares {
+            thin,
+            target,
+            group: Rgb::ZERO,
+        }
+    }
+
+    /// Adds sample `i` of a pixel, of colour `c`, to its squares `sq`.
+    #[inline]
+    fn add(&mut self, sq: &mut [f32; 3], i: u32, c: Rgb) {
+        let (from, q) = if self.thin > 1 {
+            let (from, to) = sample_stage(i, self.target);
+            (from, stage_thinning(self.thin, from, to))
+        } else {
+            (0, 1)
+        };
+        let c2 = if q <= 1 {
+            (c * c).as_vec3()
+        } else {
+            debug_assert!((i - from) % q != 0 || self.group == Rgb::ZERO, "a group left open");
+            self.group += c;
+            if (i - from + 1) % q != 0 {
+                return;
+            }
+            let g = std::mem::replace(&mut self.group, Rgb::ZERO);
+            (g * g / q as f64).as_vec3()
+        };
+        *sq = [sq[0] + c2.x, sq[1] + c2.y, sq[2] + c2.z];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pixel of constant light whose stages from 4 samples on gather
+    /// one sample in 4, counting 4 times (`thinning::sample_weight`): each
+    /// sample's square would give it a large variance, which is the
+    /// thinning's alone (as the waves read it before they thinned); the
+    /// squares of groups give none, so a wave leaves it.
+    #[test]
+    fn groups_square_away_the_thinning() {
+        let (d, caustic) = (Rgb::splat(0.3), Rgb::new(0.2, 0.1, 0.05));
+        let a = Adaptive::default();
+        let target = 64;
+        let wants = |thin: u32, grouped: bool| {
+            let mut g = GroupSquares::new(if grouped { thin } else { 1 }, target);
+            let (mut sum, mut sq) = (Rgb::ZERO, [0.0f32; 3]);
+            for i in 0..16 {
+                let (w, _) = sample_weight(thin, i, target);
+                let c = d + caustic * w as f64;
+                sum += c;
+                g.add(&mut sq, i, c);
+            }
+            assert_eq!(g.group, Rgb::ZERO, "whole groups");
+            let sums = Sums {
+                sum: &[sum],
+                sq: Some(&[sq]),
+                count: &[16],
+            };
+            let mean = (sum / 16.0).as_vec3().to_array();
+            let off = (sum / 16.0 - (d + caustic)).abs().max_element();
+            assert!(off < 1e-12, "the thinned mean is the caustic's: {sum}");
+            let read = if grouped { thin } else { 1 };
+            a.wants(&sums, &[mean], (1, 1, read), (0, 0), target)
+        };
+        assert!(!wants(1, true), "unthinned: no variance");
+        assert!(!wants(4, true), "groups: no variance");
+        assert!(wants(4, false), "each sample's square: the thinning's spread");
     }
 }

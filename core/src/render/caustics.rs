@@ -258,7 +258,7 @@ pub fn still_map(scene: &Scene, size: (u32, u32), spp: u32, settings: CausticSet
     let (passes, _) = render_photons(scene, size, spp, settings);
     let mut c = Caustics::new(scene, settings)?;
     c.add_passes(scene, |n| n < passes as usize);
-    let thin = c.map().map_or(1, |m| still_thinning(scene, m, passes, size.1));
+    let thin = c.map().map_or(1, |m| still_thinning(scene, m, passes, size));
     // The extra photons only where their work fits the limit too (that
     // of the passes alone was checked before, `limits::check_total`).
     let work = |passes: u32| {
@@ -272,12 +272,12 @@ pub fn still_map(scene: &Scene, size: (u32, u32), spp: u32, settings: CausticSet
     Some((c.into_map()?, thin))
 }
 
-/// [`thinning::gather_thinning`] of a still `height` pixels high whose
+/// [`thinning::gather_thinning`] of a still of `size` pixels whose
 /// map `map` traced `passes` before any for thinning ([`still_map`]): at
 /// those passes' radius (the same whatever the map has added since).
-pub fn still_thinning(scene: &Scene, map: &PhotonMap, passes: u32, height: u32) -> u32 {
+pub fn still_thinning(scene: &Scene, map: &PhotonMap, passes: u32, size: (u32, u32)) -> u32 {
     let radius = PhotonMap::radius_of_pass(map.first_radius(), passes);
-    thinning::gather_thinning(scene, map, radius, height)
+    thinning::gather_thinning(scene, map, radius, size)
 }
 
 /// The passes [`still_map`] traces for [`render_photons`]'s `passes` where
@@ -328,16 +328,16 @@ impl Interleaved {
 
     /// Adds the passes due before a stage of `camera_work` camera samples
     /// of work (`limits::Work::total`; none for a block preview, which
-    /// adds no pass) whose gathers are thinned by `thinned`
-    /// (`Progressive::stage_thinning`; more photons where they are,
-    /// `thinning::photon_factor`), stopping early when `cancelled` says so
-    /// or the map is full. The first pass is traced on credit.
-    pub fn refine(&mut self, (camera_work, thinned): (f64, u32), cancelled: &dyn Fn() -> bool) {
+    /// adds no pass), `factor` times the photons that affords (more where
+    /// its gathers are thinned: `Progressive::stage_photons`), stopping
+    /// early when `cancelled` says so or the map is full. The first pass
+    /// is traced on credit.
+    pub fn refine(&mut self, (camera_work, factor): (f64, f64), cancelled: &dyn Fn() -> bool) {
         let (Some(c), Some(scene)) = (&mut self.caustics, &self.scene) else {
             return;
         };
         let start = web_time::Instant::now();
-        self.credit += photon_allowance(camera_work) * thinning::photon_factor(thinned);
+        self.credit += photon_allowance(camera_work) * factor;
         let per_pass = c.photons_per_pass() as f64;
         let first = c.passes() == 0 && camera_work > 0.0;
         let credit = &mut self.credit;
@@ -455,7 +455,7 @@ mod tests {
         let base = focal_spot();
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
-        it.refine((work_for(&base, 0.5), 1), &|| false);
+        it.refine((work_for(&base, 0.5), 1.0), &|| false);
         let (passes, photons) = it.counts();
         assert_eq!(passes, 1, "the first pass at once");
         assert!(photons > 1000, "{photons}");
@@ -475,7 +475,7 @@ mod tests {
         assert_eq!(it.counts(), (0, 0));
         assert!(it.map().is_none(), "no map before the new light's first pass");
         // Cancelled: no pass.
-        it.refine((work_for(&base, 4.0), 1), &|| true);
+        it.refine((work_for(&base, 4.0), 1.0), &|| true);
         assert_eq!(it.counts(), (0, 0));
     }
 
@@ -487,10 +487,10 @@ mod tests {
         let mut it = Interleaved::default();
         it.follow(&Arc::new(base.clone()), false);
         let mut passes = Vec::new();
-        it.refine((0.0, 1), &|| false);
+        it.refine((0.0, 1.0), &|| false);
         assert_eq!(it.counts().0, 0, "a block preview traces no pass");
         for owed in [0.5, 1.2, 2.1, 0.8] {
-            it.refine((work_for(&base, owed), 1), &|| false);
+            it.refine((work_for(&base, owed), 1.0), &|| false);
             passes.push(it.counts().0);
         }
         // 1 on credit (−0.5 left); 0.7: none; 2.8: two more; 1.6: one.

@@ -11,7 +11,7 @@
 
 use super::adaptive::{Sums, SumsMut, copy_squares};
 use super::edges::{self, EDGE_BLOCK, EDGE_CONTRAST, EDGE_SHARE, Exact};
-use super::thinning::{lit_for_sample, sample_stage, stage_thinning};
+use super::thinning::{lit_for_sample, photon_factor, sample_stage, stage_thinning, wave_photon_factor};
 use super::upsample::{block_centres, upsample};
 use super::{Adaptive, BandMemory, FirstHit, RenderSettings, add_band_samples, band_first_hits};
 use crate::color::{Rgb, Srgb8, Tone};
@@ -442,18 +442,31 @@ impl Progressive {
 
     /// One sample in how many gathers caustic photons, at most, in
     /// `stage` from this picture for a frame thinned by `thin`
-    /// (`Lit::thinned`): a stage of samples of every pixel thins as
-    /// `render` does (its top doubling stage's `thinning::stage_thinning`);
-    /// adaptive waves, block levels and reprojections never (a wave's
-    /// choice reads the pixels' variance, which thinned samples would
-    /// raise).
+    /// (`Lit::thinned`): a stage of samples thins as `render` does (its
+    /// top doubling stage's `thinning::stage_thinning`), an adaptive wave
+    /// sample by sample the same (`thinning::sample_weight`; its choice
+    /// reads the variance of groups, `render::adaptive`); block levels and
+    /// reprojections never.
     pub fn stage_thinning(&self, stage: Stage, thin: u32) -> u32 {
         match stage {
-            Stage::Samples(target) if target > self.spp && (self.spp == 0 || self.sampling.adaptive.is_none()) => {
+            Stage::Samples(target) if target > self.spp => {
                 let (from, to) = sample_stage(target - 1, target);
                 stage_thinning(thin, from, to)
             }
             _ => 1,
+        }
+    }
+
+    /// The photons `stage` from this picture traces for each its camera
+    /// work affords unthinned, in a frame thinned by `thin`
+    /// ([`Progressive::stage_thinning`]): `thinning::photon_factor`, or for
+    /// an adaptive wave `thinning::wave_photon_factor`.
+    pub fn stage_photons(&self, stage: Stage, thin: u32) -> f64 {
+        let q = self.stage_thinning(stage, thin);
+        if self.spp > 0 && self.sampling.adaptive.is_some() {
+            wave_photon_factor(q)
+        } else {
+            photon_factor(q)
         }
     }
 

@@ -120,6 +120,9 @@ pub(crate) struct Batch {
     xs: [[f64; LANES]; TILE],
     ys: [[f64; LANES]; TILE],
     dst: [[u32; LANES]; TILE],
+    /// What each point's gather counts for (`Lit::with_lane_weights`: 0
+    /// for none, 1 unless thinned).
+    weights: [[u32; LANES]; TILE],
     /// Points in the packet being filled (packet `rows`).
     lane: usize,
     /// Full packets before it.
@@ -134,6 +137,7 @@ impl Default for Batch {
             xs: [[0.0; LANES]; TILE],
             ys: [[0.0; LANES]; TILE],
             dst: [[0; LANES]; TILE],
+            weights: [[1; LANES]; TILE],
             lane: 0,
             rows: 0,
             memory: BandMemory::default(),
@@ -151,10 +155,26 @@ impl Batch {
     /// Adds the camera sample at continuous position `(x, y)` whose result
     /// goes to `dst`; casts the tile when it is full.
     #[inline]
-    pub fn push(&mut self, scene: &Lit, (w, h): (u32, u32), (x, y): (f64, f64), dst: u32, sink: &mut impl Sink) {
+    pub fn push(&mut self, scene: &Lit, size: (u32, u32), at: (f64, f64), dst: u32, sink: &mut impl Sink) {
+        self.push_weighted(scene, size, (at, 1), dst, sink);
+    }
+
+    /// [`Batch::push`] of a camera sample whose gather counts `weight`
+    /// times (0: it gathers nothing; `Lit::for_sample`'s thinning, sample
+    /// by sample).
+    #[inline]
+    pub fn push_weighted(
+        &mut self,
+        scene: &Lit,
+        (w, h): (u32, u32),
+        ((x, y), weight): ((f64, f64), u32),
+        dst: u32,
+        sink: &mut impl Sink,
+    ) {
         self.xs[self.rows][self.lane] = x;
         self.ys[self.rows][self.lane] = y;
         self.dst[self.rows][self.lane] = dst;
+        self.weights[self.rows][self.lane] = weight;
         self.lane += 1;
         if self.lane == LANES {
             self.lane = 0;
@@ -180,6 +200,8 @@ impl Batch {
         }
         (self.rows, self.lane) = (0, 0);
         if scene.lens.is_some() {
+            // A lens camera's gathers are never thinned (`thinning`).
+            debug_assert!((0..packets).all(|r| self.weights[r][..n[r]].iter().all(|&w| w == 1)));
             for (r, &len) in n.iter().enumerate().take(packets) {
                 let (xs, ys) = (&self.xs[r], &self.ys[r]);
                 self.shaded = sample_packet(scene, xs, ys, len, w, h, &mut self.memory.scratch);
@@ -201,7 +223,10 @@ impl Batch {
         );
         for (r, &len) in n.iter().enumerate().take(packets) {
             let (p, hits) = (&tile.packets[r], &tile.hits[r]);
-            shade_camera_packet(scene, p, hits, len, &mut self.memory.scratch, &mut self.shaded);
+            // Unused lanes count as 1: they shade nothing.
+            let weights = std::array::from_fn(|l| if l < len { self.weights[r][l] } else { 1 });
+            let lit = scene.with_lane_weights(&weights);
+            shade_camera_packet(&lit, p, hits, len, &mut self.memory.scratch, &mut self.shaded);
             for l in 0..len {
                 sink(self.dst[r][l], self.shaded[l], &|| FirstHit::of(scene, p, hits, l));
             }

@@ -20,37 +20,55 @@ use crate::scene::Scene;
 /// The most samples one gather stands for.
 pub const MOST_THINNING: u32 = 4;
 
+/// The share of the photons (of `PhotonMap::spread`) that must lie in the
+/// camera's field of view for its gathers to be thinned.
+pub const IN_VIEW: f64 = 0.125;
+
 /// Photons traced where gathers are thinned, for each photon the frame
 /// affords without thinning.
 pub const THINNED_PHOTONS: f64 = 1.25;
 
+/// The same for the viewer's adaptive waves ([`wave_photon_factor`]): a
+/// wave spends its samples where pixels are noisy, so its thinned pixels
+/// gather fewer times for their samples than a stage's do, and more
+/// photons keep the caustic's error (docs/performance.md, round 25).
+pub const WAVE_THINNED_PHOTONS: f64 = 1.5;
+
 /// One sample in how many gathers in a frame of `scene` (its camera)
-/// `height` pixels high, for photons spread as `map`'s
+/// `width`×`height` pixels, for photons spread as `map`'s
 /// (`PhotonMap::spread`) gathered within `radius`: the largest power of two
 /// `P` up to [`MOST_THINNING`] with the radius at least `P` pixel
 /// footprints where the camera sees the photons (the median distance from
-/// the camera of those in front of it, times the angle of a pixel). 1
-/// with a lens camera (whose pixels' footprints are not a pinhole's) or
-/// where no photon lies in front of the camera.
-pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, height: u32) -> u32 {
-    if scene.lens.is_some() || height == 0 {
+/// the camera of those in its field of view, times the angle of a pixel).
+/// 1 with a lens camera (whose pixels' footprints are not a pinhole's), or
+/// where fewer than [`IN_VIEW`] of the photons lie in the field of view:
+/// there few samples gather near photons, so thinning saves little, while
+/// the photons it buys ([`THINNED_PHOTONS`]) cost their whole price
+/// (cubes, whose caustic lies mostly out of view: round 25).
+pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, (width, height): (u32, u32)) -> u32 {
+    if scene.lens.is_some() || height == 0 || width == 0 {
         return 1;
     }
     let cam = &scene.camera;
-    let forward = cam.forward();
+    let (forward, right, up) = (cam.forward(), cam.right(), cam.up());
+    let tan_y = (0.5 * cam.fov_y_deg.to_radians()).tan();
+    let tan_x = tan_y * width as f64 / height as f64;
     let mut far: Vec<f64> = map
         .spread()
         .iter()
         .map(|&p| p - cam.position)
-        .filter(|v| v.dot(forward) > 0.0)
+        .filter(|v| {
+            let z = v.dot(forward);
+            z > 0.0 && v.dot(right).abs() <= z * tan_x && v.dot(up).abs() <= z * tan_y
+        })
         .map(|v| v.length())
         .collect();
-    if far.is_empty() {
+    if far.is_empty() || (far.len() as f64) < IN_VIEW * map.spread().len() as f64 {
         return 1;
     }
     let mid = far.len() / 2;
     let (_, &mut median, _) = far.select_nth_unstable_by(mid, f64::total_cmp);
-    let pixel = 2.0 * (0.5 * cam.fov_y_deg.to_radians()).tan() / height as f64;
+    let pixel = 2.0 * tan_y / height as f64;
     let footprints = radius / (median * pixel);
     let mut p = 1;
     // NaN or infinite ratios (a degenerate camera) leave it at 1.
@@ -61,10 +79,10 @@ pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, height: u32)
 }
 
 /// [`gather_thinning`] of the map `lit` shades with, at its latest radius
-/// (what the viewer thins its stages by).
-pub fn thinning_of(lit: &Lit, height: u32) -> u32 {
+/// (what the viewer thins its stages by), for a `width`×`height` frame.
+pub fn thinning_of(lit: &Lit, size: (u32, u32)) -> u32 {
     lit.caustics
-        .map_or(1, |map| gather_thinning(lit.scene, map, map.radius(), height))
+        .map_or(1, |map| gather_thinning(lit.scene, map, map.radius(), size))
 }
 
 /// The thinning a stage of samples `from..to` of every pixel uses for a
@@ -102,9 +120,46 @@ pub fn lit_for_sample<'a>(lit: &Lit<'a>, i: u32, spp: u32) -> Lit<'a> {
     lit.for_sample(i, from, stage_thinning(lit.thin(), from, to))
 }
 
+/// What camera sample `i` of `spp` gathers counts for where one sample in
+/// `thin` gathers ([`lit_for_sample`]'s thinning, as a number: 0 where
+/// it gathers nothing), and the thinning `q` of its stage
+/// ([`stage_thinning`] of [`sample_stage`]): for samples cast one by one
+/// in a batch of many pixels' (the viewer's adaptive waves,
+/// `Lit::with_lane_weights`).
+pub fn sample_weight(thin: u32, i: u32, spp: u32) -> (u32, u32) {
+    let (from, to) = sample_stage(i, spp);
+    let q = stage_thinning(thin, from, to);
+    let weight = if q <= 1 || (i - from) % q == 0 { q.max(1) } else { 0 };
+    (weight, q)
+}
+
+/// The observations a pixel's first `n` samples make where the stages
+/// of samples are thinned by `thin` ([`sample_stage`], [`stage_thinning`]):
+/// each unthinned sample one, each group of `q` samples of a stage thinned
+/// by `q` (one gathers for all) one. With `thin` = 1, `n`. What the
+/// standard error of an adaptive wave divides by (`render::adaptive`).
+pub fn observations(thin: u32, n: u32) -> u32 {
+    if thin <= 1 {
+        return n;
+    }
+    let (mut from, mut m) = (0, 0);
+    while from < n {
+        let (_, to) = sample_stage(from, n);
+        m += (to - from) / stage_thinning(thin, from, to);
+        from = to;
+    }
+    m
+}
+
 /// The photons a frame traces for each it affords unthinned.
 pub fn photon_factor(thin: u32) -> f64 {
     if thin > 1 { THINNED_PHOTONS } else { 1.0 }
+}
+
+/// The photons an adaptive wave thinned by `thin` traces for each it
+/// affords unthinned.
+pub fn wave_photon_factor(thin: u32) -> f64 {
+    if thin > 1 { WAVE_THINNED_PHOTONS } else { 1.0 }
 }
 
 #[cfg(test)]
@@ -160,25 +215,42 @@ mod tests {
     /// Where the caustic's radius spans pixels (rim-lens at 640×360) one
     /// sample in four gathers; where it is under a pixel (a 32nd of the
     /// pixels a side), every sample; every sample where no photon lies in
-    /// front of the camera or they all lie far from it.
+    /// front of the camera, where they all lie far from it, or where few
+    /// lie in its field of view.
     #[test]
     fn the_thinning_follows_the_pixels_footprint() {
         let scene = rim_lens();
         let map = caustic_map(&scene, 3, CausticSettings::default()).unwrap();
         let lit = Lit::new(&scene, Some(&map));
-        assert_eq!(thinning_of(&lit, 360), 4);
-        assert_eq!(thinning_of(&lit, 360 / 32), 1);
-        assert_eq!(thinning_of(&Lit::new(&scene, None), 360), 1);
+        assert_eq!(thinning_of(&lit, (640, 360)), 4);
+        assert_eq!(thinning_of(&lit, (20, 360 / 32)), 1);
+        assert_eq!(thinning_of(&Lit::new(&scene, None), (640, 360)), 1);
         let away = glam::DVec3::new(0.0, 0.0, 1e3);
         let mut behind = scene.clone();
         behind.camera = crate::camera::Camera::new(away, glam::DVec3::new(0.0, 180.0, 0.0), 38.0);
         assert_eq!(
-            thinning_of(&Lit::new(&behind, Some(&map)), 360),
+            thinning_of(&Lit::new(&behind, Some(&map)), (640, 360)),
             1,
             "no photon in front of the camera"
         );
         behind.camera = crate::camera::Camera::new(away, glam::DVec3::ZERO, 38.0);
-        assert_eq!(thinning_of(&Lit::new(&behind, Some(&map)), 360), 1, "far away");
+        assert_eq!(thinning_of(&Lit::new(&behind, Some(&map)), (640, 360)), 1, "far away");
+        // Cubes: a radius of about ten footprints, but the caustic lies
+        // mostly out of view (under a twelfth of the photons in it).
+        let cubes = Scene::default_scene().1;
+        let map = caustic_map(&cubes, 3, CausticSettings::default()).unwrap();
+        let all = gather_thinning(&cubes, &map, map.radius(), (640, 360));
+        assert_eq!(all, 1, "cubes: few photons in view");
+        // The same camera turned toward the photons' middle: thinned.
+        let mut facing = cubes.clone();
+        let n = map.spread().len() as f64;
+        let middle = map.spread().iter().fold(glam::DVec3::ZERO, |a, &p| a + p) / n;
+        let turn = crate::math::angles_looking_along(middle - cubes.camera.position);
+        facing.camera = crate::camera::Camera::new(cubes.camera.position, turn, cubes.camera.fov_y_deg);
+        assert!(
+            gather_thinning(&facing, &map, map.radius(), (640, 360)) > 1,
+            "cubes facing its caustic"
+        );
     }
 
     /// Each stage's gathering samples weigh as much as its samples: the
@@ -208,6 +280,40 @@ mod tests {
         assert_eq!(stage_thinning(4, 0, 16), 4);
         assert_eq!(stage_thinning(4, 0, 6), 2);
         assert_eq!(stage_thinning(4, 8, 9), 1);
+    }
+
+    /// A sample's weight alone (`sample_weight`, the adaptive waves') is
+    /// what `lit_for_sample` gives it, and the samples up to any count
+    /// whose stages are whole weigh that count; the observations are the
+    /// gathering samples (6 of 16 and 18 of 64 thinned by 4), each sample
+    /// unthinned.
+    #[test]
+    fn sample_weights_are_the_samples_thinning() {
+        let scene = rim_lens();
+        let map = caustic_map(&scene, 1, CausticSettings::default()).unwrap();
+        for thin in [1, 2, 4] {
+            let lit = Lit::new(&scene, Some(&map)).thinned(thin);
+            for spp in [1, 5, 16, 48, 64] {
+                let mut total = 0;
+                for i in 0..spp {
+                    let (w, _) = sample_weight(thin, i, spp);
+                    let alone = lit_for_sample(&lit, i, spp);
+                    let e = Rgb::ONE;
+                    let want = if alone.caustics.is_some() {
+                        alone.counted(e).x as u32
+                    } else {
+                        0
+                    };
+                    assert_eq!(w, want, "thin {thin}, sample {i} of {spp}");
+                    total += w;
+                }
+                assert_eq!(total, spp, "thin {thin}, {spp} samples");
+                let gathering = (0..spp).filter(|&i| sample_weight(thin, i, spp).0 > 0).count() as u32;
+                assert_eq!(observations(thin, spp), gathering, "thin {thin}, {spp} samples");
+            }
+            assert_eq!(observations(thin, 64), [64, 33, 18][thin.trailing_zeros() as usize]);
+        }
+        assert_eq!(observations(4, 16), 6);
     }
 
     /// `render`'s stages are the viewer's: doubling, the last cut at the

@@ -461,7 +461,7 @@ fn run(
             }
             ok
         };
-        let traced = thinned(Lit::new(&job.scene, caustics.map()), job.height);
+        let traced = thinned(Lit::new(&job.scene, caustics.map()), (job.width, job.height));
         let first = match start(&mut prog, &mut shown, &job, traced, &stages, &mut costs) {
             Start::Shown { stage, dt, cast, first } => {
                 if !send(&prog, stage, dt, cast, first == stages.len(), caustics.stats()) {
@@ -554,9 +554,9 @@ fn run_stage(
     let before = prog.samples_cast;
     let t0 = Instant::now();
     // The stage's thinning of its gathers, and the photons that buys.
-    let thin = thinning_of(&Lit::new(scene, caustics.map()), prog.height);
+    let thin = thinning_of(&Lit::new(scene, caustics.map()), (prog.width, prog.height));
     let work = stage_work(stage, (prog.width, prog.height, prog.spp), scene.lights.len());
-    caustics.refine((work, prog.stage_thinning(stage, thin)), cancelled);
+    caustics.refine((work, prog.stage_photons(stage, thin)), cancelled);
     let traced = Instant::now();
     caustics.gather_clock(false);
     if !prog.run(Lit::new(scene, caustics.map()).thinned(thin), stage, cancelled) {
@@ -569,9 +569,9 @@ fn run_stage(
 }
 
 /// `lit` with its sample stages' gathers thinned as its map and camera
-/// allow at `height` pixels (`thinning::thinning_of`).
-fn thinned(lit: Lit, height: u32) -> Lit {
-    lit.thinned(thinning_of(&lit, height))
+/// allow in a frame of `size` pixels (`thinning::thinning_of`).
+fn thinned(lit: Lit, size: (u32, u32)) -> Lit {
+    lit.thinned(thinning_of(&lit, size))
 }
 
 #[cfg(test)]
