@@ -267,7 +267,7 @@ impl GroupSquares {
     }
 
     /// Adds sample `i` of a pixel, of colour `c`, to its squares `sq`.
-    #[inline]
+    #[inline(always)]
     fn add(&mut self, sq: &mut [f32; 3], i: u32, c: Rgb) {
         let (from, q) = if self.thin > 1 {
             let (from, to) = sample_stage(i, self.target);

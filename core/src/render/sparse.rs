@@ -121,8 +121,10 @@ pub(crate) struct Batch {
     ys: [[f64; LANES]; TILE],
     dst: [[u32; LANES]; TILE],
     /// What each point's gather counts for (`Lit::with_lane_weights`: 0
-    /// for none, 1 unless thinned).
+    /// for none, 1 unless thinned), read only where `weighted`.
     weights: [[u32; LANES]; TILE],
+    /// Whether a point pushed since the last cast counts other than once.
+    weighted: bool,
     /// Points in the packet being filled (packet `rows`).
     lane: usize,
     /// Full packets before it.
@@ -138,6 +140,7 @@ impl Default for Batch {
             ys: [[0.0; LANES]; TILE],
             dst: [[0; LANES]; TILE],
             weights: [[1; LANES]; TILE],
+            weighted: false,
             lane: 0,
             rows: 0,
             memory: BandMemory::default(),
@@ -162,7 +165,7 @@ impl Batch {
     /// [`Batch::push`] of a camera sample whose gather counts `weight`
     /// times (0: it gathers nothing; `Lit::for_sample`'s thinning, sample
     /// by sample).
-    #[inline]
+    #[inline(always)]
     pub fn push_weighted(
         &mut self,
         scene: &Lit,
@@ -175,6 +178,7 @@ impl Batch {
         self.ys[self.rows][self.lane] = y;
         self.dst[self.rows][self.lane] = dst;
         self.weights[self.rows][self.lane] = weight;
+        self.weighted |= weight != 1;
         self.lane += 1;
         if self.lane == LANES {
             self.lane = 0;
@@ -199,6 +203,7 @@ impl Batch {
             n[self.rows] = self.lane;
         }
         (self.rows, self.lane) = (0, 0);
+        let weighted = std::mem::take(&mut self.weighted);
         if scene.lens.is_some() {
             // A lens camera's gathers are never thinned (`thinning`).
             debug_assert!((0..packets).all(|r| self.weights[r][..n[r]].iter().all(|&w| w == 1)));
@@ -224,8 +229,11 @@ impl Batch {
         for (r, &len) in n.iter().enumerate().take(packets) {
             let (p, hits) = (&tile.packets[r], &tile.hits[r]);
             // Unused lanes count as 1: they shade nothing.
-            let weights = std::array::from_fn(|l| if l < len { self.weights[r][l] } else { 1 });
-            let lit = scene.with_lane_weights(&weights);
+            let lit = if weighted {
+                scene.with_lane_weights(&std::array::from_fn(|l| if l < len { self.weights[r][l] } else { 1 }))
+            } else {
+                *scene
+            };
             shade_camera_packet(&lit, p, hits, len, &mut self.memory.scratch, &mut self.shaded);
             for l in 0..len {
                 sink(self.dst[r][l], self.shaded[l], &|| FirstHit::of(scene, p, hits, l));
