@@ -116,7 +116,10 @@ impl Adaptive {
     /// Where the caustic gathers are thinned by `thin` the squares are
     /// those of groups ([`GroupSquares`]): the variance is that of the
     /// groups' means, and the standard error divides it by the number of
-    /// groups ([`observations`]), not of samples.
+    /// groups ([`observations`]), not of samples. The groups are counted
+    /// at the frame's thinning now: where an earlier wave thinned more
+    /// (the radius shrinks as passes are added), a pixel counts a few
+    /// more groups than it had, a slightly smaller error.
     fn wants(
         &self,
         s: &Sums,
