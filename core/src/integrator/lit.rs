@@ -71,13 +71,30 @@ impl<'a> Lit<'a> {
         if thin <= 1 || self.caustics.is_none() {
             return self;
         }
-        if i.wrapping_sub(from) % thin == 0 {
-            Lit {
-                caustic_weight: thin as f64,
+        self.counting(Lit::sample_counts(i, from, thin))
+    }
+
+    /// What camera sample `i` of a stage of samples `from..` counts its
+    /// gather for where one sample in `thin` gathers ([`Lit::for_sample`]):
+    /// `thin` for samples `from, from + thin, …`, 0 for the others, 1
+    /// with `thin` ≤ 1.
+    pub fn sample_counts(i: u32, from: u32, thin: u32) -> u32 {
+        match thin {
+            0 | 1 => 1,
+            _ if i.wrapping_sub(from) % thin == 0 => thin,
+            _ => 0,
+        }
+    }
+
+    /// The same, its gathers counting `w` times (0: it gathers nothing).
+    #[inline(always)]
+    fn counting(self, w: u32) -> Self {
+        match w {
+            0 => Lit { caustics: None, ..self },
+            w => Lit {
+                caustic_weight: w as f64,
                 ..self
-            }
-        } else {
-            Lit { caustics: None, ..self }
+            },
         }
     }
 
@@ -126,18 +143,15 @@ impl<'a> Lit<'a> {
         if self.lane_weights == 0 {
             return self;
         }
-        match self.lane_log(l) {
-            0 => Lit {
-                caustics: None,
-                lane_weights: 0,
-                ..self
-            },
-            log => Lit {
-                caustic_weight: (1u32 << (log - 1)) as f64,
-                lane_weights: 0,
-                ..self
-            },
+        let w = match self.lane_log(l) {
+            0 => 0,
+            log => 1 << (log - 1),
+        };
+        Lit {
+            lane_weights: 0,
+            ..self
         }
+        .counting(w)
     }
 
     /// Whether lane `l` of a packet gathers caustic photons at all (given

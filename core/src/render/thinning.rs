@@ -129,8 +129,7 @@ pub fn lit_for_sample<'a>(lit: &Lit<'a>, i: u32, spp: u32) -> Lit<'a> {
 pub fn sample_weight(thin: u32, i: u32, spp: u32) -> (u32, u32) {
     let (from, to) = sample_stage(i, spp);
     let q = stage_thinning(thin, from, to);
-    let weight = if q <= 1 || (i - from) % q == 0 { q.max(1) } else { 0 };
-    (weight, q)
+    (Lit::sample_counts(i, from, q), q)
 }
 
 /// The observations a pixel's first `n` samples make where the stages
