@@ -3,13 +3,14 @@
 //! `progressive::schedule`, photon passes before each as `render::worker`
 //! traces them), with the adaptive waves thinned as the window thins them
 //! (`new`) or not thinned (`old`, round 24's window), against a
-//! `render` reference. Prints each mode's time (two threads unless
+//! `render` reference; `pfF` is `new` with `F` times the photons of each
+//! stage (`pf2`, `pf0.5`). Prints each mode's time (two threads unless
 //! RAYON_NUM_THREADS says), photons, samples cast and RMS error over every
 //! pixel and over the caustic's pixels (where the reference with caustics
 //! exceeds the one without by over 2 % of the largest excess).
 //!
 //!   cargo run --release -p lensview-core --example wave_error -- \
-//!       SCENE.toml WIDTH HEIGHT MAX_SPP REF_SPP old new [old new …]
+//!       SCENE.toml WIDTH HEIGHT MAX_SPP REF_SPP old new [pf2 …]
 
 use lensview_core::integrator::Lit;
 use lensview_core::render::caustics::{CausticSettings, Interleaved, stage_work, still_map};
@@ -46,7 +47,7 @@ fn main() {
                 thinning_of(&Lit::new(&scene, c.map()), (w, h))
             };
             let work = stage_work(st, (w, h, p.spp), scene.lights.len());
-            c.refine((work, p.stage_photons(st, thin)), &|| false);
+            c.refine((work, p.stage_photons(st, thin) * photon_factor(mode)), &|| false);
             assert!(p.run(Lit::new(&scene, c.map()).thinned(thin), st, &|| false));
         }
         let secs = t.elapsed().as_secs_f64();
@@ -92,4 +93,11 @@ fn rms(img: &Image, reference: &Image, caustic: &[bool]) -> (f64, f64) {
         }
     }
     ((all / img.pixels.len() as f64).sqrt(), (hot / n.max(1) as f64).sqrt())
+}
+
+/// The photons a mode `pfF` traces for each the window traces (`F` times
+/// as many: the window's photons against its error and time); 1 for
+/// `old` and `new`.
+fn photon_factor(mode: &str) -> f64 {
+    mode.strip_prefix("pf").and_then(|f| f.parse().ok()).unwrap_or(1.0)
 }
