@@ -125,9 +125,9 @@ fn cone(from: DVec3, (c, r): (DVec3, f64)) -> (f64, f64) {
 
 /// What emission from one light toward the targets needs of the light and
 /// the targets alone, worked out once a pass ([`Emitter::all`]) instead of
-/// once a photon: each target's cone (square roots, divisions) and the
-/// basis about its axis, for every photon and every target in the density
-/// sum. The same operations on the same values, so the same bits; a
+/// once a photon: each target's cone (square roots, divisions), the basis
+/// about its axis and its term of the density sum (a directional light's
+/// basis and discs alike). The same operations on the same values, so the same bits; a
 /// pass's photons 3 % faster in focal-spot, 7 % in primitives (whose two
 /// lights aim at three targets; docs/performance.md, round 26).
 enum Emitter {
@@ -137,11 +137,14 @@ enum Emitter {
         power: (Rgb, f64),
         cones: Vec<Cone>,
     },
-    /// A directional light: the light and the basis across its beam.
+    /// A directional light: the light, the basis across its beam and, for
+    /// each target, the photons per unit area its share of the light's
+    /// photons gives across its disc.
     Directional {
         direction: DVec3,
         power: (Rgb, f64),
         basis: (DVec3, DVec3),
+        per_area: Vec<f64>,
     },
 }
 
@@ -159,9 +162,11 @@ struct Cone {
 }
 
 impl Emitter {
-    /// Each light's emitter for `t`, in the scene's order of lights, with
-    /// `share` photons of a light aimed at each target.
-    fn all(scene: &Scene, t: &Targets, share: f64) -> Vec<Emitter> {
+    /// Each light's emitter for `t`, in the scene's order of lights, where
+    /// each light shoots `per_light` photons (a whole share for every
+    /// target, [`photons_per_light`]).
+    fn all(scene: &Scene, t: &Targets, per_light: usize) -> Vec<Emitter> {
+        let share = (per_light / t.spheres.len().max(1)) as f64;
         let cone_of = |position: DVec3, s: (DVec3, f64)| {
             let (cos_max, omega) = cone(position, s);
             let axis = (s.0 - position).try_normalize().unwrap_or(DVec3::Z);
@@ -191,22 +196,22 @@ impl Emitter {
                 direction,
                 power: (color, intensity),
                 basis: orthonormal_basis(direction),
+                per_area: t.spheres.iter().map(|&(_, r)| share / (PI * r * r)).collect(),
             },
         };
         scene.lights.iter().map(emitter).collect()
     }
 }
 
-/// A photon's first ray and the power it carries: photon `i` of `per_light`
-/// of the light whose [`Emitter`] is `e` aims at target `i mod T`;
+/// A photon's first ray and the power it carries: photon `i` of the light
+/// whose [`Emitter`] is `e` aims at target `i mod T`;
 /// its power is the light's over the number of photons and the density of
 /// the mixture of all targets' cones (discs for a directional light) at
 /// the ray drawn, so that the photons of a pass deliver the light's power
 /// exactly in expectation.
-fn emit(e: &Emitter, t: &Targets, (i, per_light): (usize, usize), rng: &mut Sampler) -> (Ray, Rgb) {
+fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
     let n_t = t.spheres.len();
     let aim = t.spheres[i % n_t];
-    let share = (per_light / n_t) as f64;
     let (u1, u2) = rng.next_2d();
     match *e {
         Emitter::Point {
@@ -235,6 +240,7 @@ fn emit(e: &Emitter, t: &Targets, (i, per_light): (usize, usize), rng: &mut Samp
             direction,
             power: (color, intensity),
             basis: (a, b),
+            ref per_area,
         } => {
             let rr = aim.1 * u1.sqrt();
             let phi = 2.0 * PI * u2;
@@ -245,13 +251,10 @@ fn emit(e: &Emitter, t: &Targets, (i, per_light): (usize, usize), rng: &mut Samp
             let density: f64 = t
                 .spheres
                 .iter()
-                .map(|&(c, r)| {
+                .zip(per_area)
+                .map(|(&(c, r), &d)| {
                     let off = (q - c) - direction * (q - c).dot(direction);
-                    if off.length_squared() <= r * r {
-                        share / (PI * r * r)
-                    } else {
-                        0.0
-                    }
+                    if off.length_squared() <= r * r { d } else { 0.0 }
                 })
                 .sum();
             let power = color * (intensity / density.max(f64::MIN_POSITIVE));
@@ -286,7 +289,7 @@ impl Flight {
         let mut rng = Sampler::new(seed, i as u64, pass as u64);
         let e = &emitters[i / per_light];
         let (lambda, tint) = colour_of(scene, i % per_light, targets.spheres.len());
-        let (ray, power) = emit(e, targets, (i % per_light, per_light), &mut rng);
+        let (ray, power) = emit(e, targets, i % per_light, &mut rng);
         Flight {
             ray,
             power: power * tint,
@@ -524,7 +527,7 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
     }
     let per_light = photons_per_light(scene, targets, per_light);
     let total = per_light * scene.lights.len();
-    let emitters = Emitter::all(scene, targets, (per_light / targets.spheres.len()) as f64);
+    let emitters = Emitter::all(scene, targets, per_light);
     let chunks: Vec<Vec<Photon>> = (0..total.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
@@ -630,7 +633,7 @@ material = "glass"
         for scene in &scenes {
             let targets = Targets::of(scene);
             let per_light = photons_per_light(scene, &targets, 2000);
-            let emitters = Emitter::all(scene, &targets, (per_light / targets.spheres.len()) as f64);
+            let emitters = Emitter::all(scene, &targets, per_light);
             let got = photon_pass(scene, &targets, 3, 2000, 7);
             let (mut want, mut branches) = (Vec::new(), Vec::new());
             for i in 0..per_light * scene.lights.len() {
