@@ -127,7 +127,7 @@ fn cone(from: DVec3, (c, r): (DVec3, f64)) -> (f64, f64) {
 /// the targets alone, worked out once a pass ([`Emitter::all`]) instead of
 /// once a photon: each target's cone (square roots, divisions), the basis
 /// about its axis and its term of the density sum (a directional light's
-/// basis and discs alike). The same operations on the same values, so the same bits; a
+/// basis too). The same operations on the same values, so the same bits; a
 /// pass's photons 3 % faster in focal-spot, 7 % in primitives (whose two
 /// lights aim at three targets; docs/performance.md, round 26).
 enum Emitter {
@@ -137,14 +137,13 @@ enum Emitter {
         power: (Rgb, f64),
         cones: Vec<Cone>,
     },
-    /// A directional light: the light, the basis across its beam and, for
-    /// each target, the photons per unit area its share of the light's
-    /// photons gives across its disc.
+    /// A directional light: the light, the basis across its beam and the
+    /// photons it aims at each target.
     Directional {
         direction: DVec3,
         power: (Rgb, f64),
         basis: (DVec3, DVec3),
-        per_area: Vec<f64>,
+        share: f64,
     },
 }
 
@@ -196,7 +195,7 @@ impl Emitter {
                 direction,
                 power: (color, intensity),
                 basis: orthonormal_basis(direction),
-                per_area: t.spheres.iter().map(|&(_, r)| share / (PI * r * r)).collect(),
+                share,
             },
         };
         scene.lights.iter().map(emitter).collect()
@@ -240,7 +239,7 @@ fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
             direction,
             power: (color, intensity),
             basis: (a, b),
-            ref per_area,
+            share,
         } => {
             let rr = aim.1 * u1.sqrt();
             let phi = 2.0 * PI * u2;
@@ -251,10 +250,13 @@ fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
             let density: f64 = t
                 .spheres
                 .iter()
-                .zip(per_area)
-                .map(|(&(c, r), &d)| {
+                .map(|&(c, r)| {
                     let off = (q - c) - direction * (q - c).dot(direction);
-                    if off.length_squared() <= r * r { d } else { 0.0 }
+                    if off.length_squared() <= r * r {
+                        share / (PI * r * r)
+                    } else {
+                        0.0
+                    }
                 })
                 .sum();
             let power = color * (intensity / density.max(f64::MIN_POSITIVE));
