@@ -3,7 +3,8 @@
 builds side by side (issue 29.3: "at the same caustic accuracy").
 
   benches/caustics-error.py REF_BINARY SCENE.toml --bins OLD NEW
-      [--spp 4,16,64] [--ref-spp 256] [--size 640x360] [--threads 1]
+      [--spp 4,16,64] [--ref-spp 256] [--ref-seed 1] [--size 640x360]
+      [--threads 1]
 
 For each scene: a reference (REF_BINARY at --ref-spp, EXR), the same scene
 without caustics (benches/caustics-off.py) at --ref-spp, and each binary at
@@ -13,7 +14,10 @@ count, the wall time of the render (as `render` reports it) and the RMS
 error against the reference in linear RGB over every pixel and over the
 caustic's pixels (where the reference with caustics exceeds the one
 without by more than 2 % of the brighter's 99th percentile). Binaries
-alternate within each sample count. Needs numpy and mitsuba (to read EXR):
+alternate within each sample count. The reference is rendered from
+another seed (--ref-seed) than the binaries (seed 0): with the same seed
+its first photon passes would be theirs (a build whose passes spread
+evenly would then look closer than it is). Needs numpy and mitsuba (to read EXR):
 run it with the venv of benches/mitsuba_speed.py.
 """
 
@@ -32,9 +36,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 TIME = re.compile(r"in ([\d.]+) s \(")
 
 
-def render(binary, scene, out, size, spp, threads):
+def render(binary, scene, out, size, spp, threads, seed=0):
     w, h = size.split("x")
-    cmd = [binary, "render", scene, "--width", w, "--height", h, "--spp", str(spp), "-o", out]
+    cmd = [binary, "render", scene, "--width", w, "--height", h, "--spp", str(spp), "--seed", str(seed), "-o", out]
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
     run = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True)
     m = TIME.search(run.stdout + run.stderr)
@@ -61,6 +65,7 @@ def main():
     ap.add_argument("--bins", nargs="+", required=True)
     ap.add_argument("--spp", default="4,16,64")
     ap.add_argument("--ref-spp", type=int, default=256)
+    ap.add_argument("--ref-seed", type=int, default=1)
     ap.add_argument("--size", default="640x360")
     ap.add_argument("--threads", type=int, default=1)
     a = ap.parse_args()
@@ -68,15 +73,15 @@ def main():
         (ln.split(":", 1)[1].strip() for ln in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines() if ln.startswith("Model name")),
         "?",
     )
-    print(f"CPU: {model}; {a.size}, {a.threads} thread(s), reference {a.ref_binary} at {a.ref_spp} spp")
+    print(f"CPU: {model}; {a.size}, {a.threads} thread(s), reference {a.ref_binary} at {a.ref_spp} spp, seed {a.ref_seed}")
     with tempfile.TemporaryDirectory() as tmp:
         for scene in a.scenes:
             name = os.path.splitext(os.path.basename(scene))[0]
             off_toml = os.path.join(tmp, f"{name}-off.toml")
             subprocess.run([sys.executable, os.path.join(HERE, "caustics-off.py"), scene, off_toml], check=True)
             ref, ref_off = os.path.join(tmp, "ref.exr"), os.path.join(tmp, "ref-off.exr")
-            render(a.ref_binary, scene, ref, a.size, a.ref_spp, os.cpu_count())
-            render(a.ref_binary, off_toml, ref_off, a.size, a.ref_spp, os.cpu_count())
+            render(a.ref_binary, scene, ref, a.size, a.ref_spp, os.cpu_count(), a.ref_seed)
+            render(a.ref_binary, off_toml, ref_off, a.size, a.ref_spp, os.cpu_count(), a.ref_seed)
             r, r_off = load(ref), load(ref_off)
             lum = r.mean(axis=2)
             caustic = (r - r_off).mean(axis=2) > 0.02 * np.percentile(lum, 99)

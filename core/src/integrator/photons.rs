@@ -5,8 +5,10 @@
 //! its weight, [`system_branch`]), through other glass and off mirrors by
 //! Russian roulette on the Fresnel split, and recorded where
 //! they land on a diffuse surface after at least one specular bounce
-//! ([`photon_pass`]). Every photon draws from `Sampler(seed, photon, pass)`
-//! and the pass keeps them in photon order, so a pass is the same on any
+//! ([`photon_pass`]). Photons leave their light at the points of scrambled
+//! Sobol sequences (one per light, target and colour: [`emission_point`]),
+//! every later choice draws from `Sampler(seed, photon, pass)`, and the
+//! pass keeps them in photon order, so a pass is the same on any
 //! number of threads. Photons fly [`LANES`] at a time, by target: each
 //! step finds their rays' closest hits as one packet (the scalar walk's
 //! hits, bit for bit), which made a focal-spot pass about a fifth faster
@@ -22,7 +24,7 @@ use crate::light::Light;
 use crate::math::{Ray, orthonormal_basis};
 use crate::optics::{self, RGB_WAVELENGTHS_UM, WAVELENGTH_D_UM};
 use crate::photon::Photon;
-use crate::sampling::Sampler;
+use crate::sampling::{Sampler, concentric_disc, mix64, sobol_owen_2d};
 use crate::scene::{Object, Scene};
 use crate::simd::LANES;
 use crate::trace::{NO_OBJECT, Packet, closest_hits, lane_object};
@@ -203,15 +205,17 @@ impl Emitter {
 }
 
 /// A photon's first ray and the power it carries: photon `i` of the light
-/// whose [`Emitter`] is `e` aims at target `i mod T`;
-/// its power is the light's over the number of photons and the density of
-/// the mixture of all targets' cones (discs for a directional light) at
-/// the ray drawn, so that the photons of a pass deliver the light's power
-/// exactly in expectation.
-fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
+/// whose [`Emitter`] is `e` aims at target `i mod T`, at the point of its
+/// cone (disc for a directional light) that `u` in [0, 1)² maps to
+/// area for area ([`concentric_disc`]; evenly spread `u`, evenly spread
+/// rays); its power is the light's over the number of photons and the
+/// density of the mixture of all targets' cones (discs) at the ray drawn,
+/// so that the photons of a pass deliver the light's power exactly in
+/// expectation.
+fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, Rgb) {
     let n_t = t.spheres.len();
     let aim = t.spheres[i % n_t];
-    let (u1, u2) = rng.next_2d();
+    let (x, y) = concentric_disc(u);
     match *e {
         Emitter::Point {
             position,
@@ -219,11 +223,15 @@ fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
             ref cones,
         } => {
             let c = &cones[i % n_t];
-            let cos = 1.0 - u1 * (1.0 - c.cos_max);
-            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            // The cap's area above a cosine is 2π(1 − cos): a disc's r²
+            // spread over 1 − cos_max, area for area.
+            let r2 = x * x + y * y;
+            let one_less = r2 * (1.0 - c.cos_max);
+            let cos = 1.0 - one_less;
+            let sin = (one_less * (2.0 - one_less)).max(0.0).sqrt();
+            let across = if r2 > 0.0 { sin / r2.sqrt() } else { 0.0 };
             let (a, b) = c.basis;
-            let phi = 2.0 * PI * u2;
-            let dir = (c.axis * cos + a * (sin * phi.cos()) + b * (sin * phi.sin())).normalize();
+            let dir = (c.axis * cos + (a * x + b * y) * across).normalize();
             // Photons per steradian along `dir`, summed over the targets.
             let density: f64 = cones
                 .iter()
@@ -241,9 +249,7 @@ fn emit(e: &Emitter, t: &Targets, i: usize, rng: &mut Sampler) -> (Ray, Rgb) {
             basis: (a, b),
             share,
         } => {
-            let rr = aim.1 * u1.sqrt();
-            let phi = 2.0 * PI * u2;
-            let q = aim.0 + a * (rr * phi.cos()) + b * (rr * phi.sin());
+            let q = aim.0 + (a * x + b * y) * aim.1;
             let back = (q - t.world.0).dot(direction).max(0.0) + t.world.1 + 1.0;
             let origin = q - direction * back;
             // Photons per unit area across the beam, summed over the discs.
@@ -288,10 +294,11 @@ impl Flight {
         (seed, pass, i): (u64, u32, usize),
         per_light: usize,
     ) -> Flight {
-        let mut rng = Sampler::new(seed, i as u64, pass as u64);
-        let e = &emitters[i / per_light];
-        let (lambda, tint) = colour_of(scene, i % per_light, targets.spheres.len());
-        let (ray, power) = emit(e, targets, i % per_light, &mut rng);
+        let rng = Sampler::new(seed, i as u64, pass as u64);
+        let (light, j) = (i / per_light, i % per_light);
+        let (lambda, tint) = colour_of(scene, j, targets.spheres.len());
+        let u = emission_point(strata(scene, targets), per_light, (seed, pass), (light, j));
+        let (ray, power) = emit(&emitters[light], targets, j, u);
         Flight {
             ray,
             power: power * tint,
@@ -545,18 +552,89 @@ pub fn photon_pass(scene: &Scene, targets: &Targets, pass: u32, per_light: usize
     chunks.concat()
 }
 
+/// The point in [0, 1)² that photon `j` of light `light` in pass `pass`
+/// (from 1) is emitted at ([`emit`]), where each light shoots `per_light`
+/// photons in `groups` groups ([`strata`]: photon `j` is of group
+/// `j mod groups`). Each group's photons, pass after pass, are one
+/// scrambled Sobol sequence ([`sobol_owen_2d`], keyed by the seed, the light
+/// and the group): pass `p`'s are its points `(p − 1)·n` to `p·n − 1`
+/// for `n` a pass, so that a pass's photons and all passes' together
+/// spread evenly (a caustic's photon counts vary far less than with
+/// independent points), and each photon alone is uniform. Indices wrap at
+/// 2^32, past [`MAX_PHOTONS_TRACED`](crate::render::caustics::MAX_PHOTONS_TRACED).
+fn emission_point(groups: usize, per_light: usize, (seed, pass): (u64, u32), (light, j): (usize, usize)) -> (f64, f64) {
+    let (group, k) = (j % groups, j / groups);
+    let n = (per_light / groups) as u64;
+    let index = u64::from(pass.max(1) - 1) * n + k as u64;
+    let key = mix64(seed ^ mix64((light as u64) << 32 | group as u64));
+    sobol_owen_2d(index as u32, key)
+}
+
+/// The groups a light's photons fall in, by target and colour channel:
+/// photon `j` aims at target `j mod T` and, with dispersive glass, carries
+/// channel `(j / T) mod 3` ([`colour_of`]), so `j mod 3T` (`j mod T`
+/// without dispersion) is its group.
+fn strata(scene: &Scene, targets: &Targets) -> usize {
+    let t = targets.spheres.len().max(1);
+    if scene.features.dispersion { 3 * t } else { t }
+}
+
 /// The photons [`photon_pass`] shoots from each light when asked for
 /// `per_light`: rounded up to a whole share for every target (and colour
 /// channel, with dispersion), so at least one a target.
 pub fn photons_per_light(scene: &Scene, targets: &Targets, per_light: usize) -> usize {
-    let t = targets.spheres.len().max(1);
-    let share = if scene.features.dispersion { 3 * t } else { t };
+    let share = strata(scene, targets);
     per_light.max(1).div_ceil(share) * share
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A group's emission points, mapped onto the disc, fill 64 cells of
+    /// equal area (8 rings by 8 sectors) far more evenly than independent
+    /// points: one pass, and two passes together (the second continues
+    /// the first's sequence). Squared deviations from the mean count,
+    /// summed, against their expectation for independent points (the
+    /// number of points); groups and lights get different points.
+    #[test]
+    fn emission_points_spread_evenly_pass_by_pass() {
+        let (groups, per_light) = (3, 3 * 1024);
+        let cell = |(x, y): (f64, f64)| {
+            let ring = ((x * x + y * y) * 8.0).min(7.0) as usize;
+            let sector = ((y.atan2(x) / std::f64::consts::TAU + 0.5) * 8.0).min(7.0) as usize;
+            ring * 8 + sector
+        };
+        let spread = |points: &[(f64, f64)]| {
+            let mut counts = [0.0f64; 64];
+            points.iter().for_each(|&u| counts[cell(concentric_disc(u))] += 1.0);
+            let mean = points.len() as f64 / 64.0;
+            counts.iter().map(|c| (c - mean).powi(2)).sum::<f64>() / points.len() as f64
+        };
+        for (light, group) in [(0, 0), (0, 2), (1, 1)] {
+            let pass = |p: u32| -> Vec<(f64, f64)> {
+                (0..1024)
+                    .map(|k| emission_point(groups, per_light, (9, p), (light, k * groups + group)))
+                    .collect()
+            };
+            let (one, two) = (pass(1), pass(2));
+            let both: Vec<_> = one.iter().chain(&two).copied().collect();
+            for (what, pts) in [("pass 1", &one), ("pass 2", &two), ("both", &both)] {
+                assert!(
+                    spread(pts) < 0.2,
+                    "{what}: {} of the independent points' 1",
+                    spread(pts)
+                );
+            }
+            assert_ne!(one[5], two[5]);
+        }
+        let mut rng = Sampler::new(1, 2, 3);
+        let uniform: Vec<_> = (0..2048).map(|_| rng.next_2d()).collect();
+        assert!(spread(&uniform) > 0.5, "{}", spread(&uniform));
+        let first = |light, group| emission_point(groups, per_light, (9, 1), (light, group));
+        assert_ne!(first(0, 0), first(0, 1));
+        assert_ne!(first(0, 0), first(1, 0));
+    }
 
     /// Every point of a tilted lens, a turned cuboid and a sphere lies in
     /// its target sphere, and some lie near its surface (the sphere is not
