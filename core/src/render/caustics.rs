@@ -27,7 +27,11 @@ pub const MIN_PASSES: u32 = 8;
 /// samples a photon) that photon passes may add: a frame of `n` camera
 /// samples affords `PHOTON_SHARE · n / PHOTON_WORK` photons traced
 /// ([`photon_allowance`]), in `lensview render` and in the viewer alike.
-pub const PHOTON_SHARE: f64 = 0.125;
+/// 0.09 since round 27 (0.125 before): evenly spread photons
+/// (`integrator::photons::emission_point`) give the caustic pixels a
+/// lower error with fewer of them; with 0.0625 optical-bench's error at
+/// 16 spp was half again round 26's (docs/performance.md, round 27).
+pub const PHOTON_SHARE: f64 = 0.09;
 /// The starting radius holds about this many photons of the first pass.
 pub const FIRST_PASS_NEIGHBOURS: usize = 24;
 /// The most photons kept: past it no pass is added (the estimate stays).

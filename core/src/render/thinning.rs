@@ -1,6 +1,6 @@
 //! Fewer gathers where the caustic is smooth at the scale of a pixel:
-//! where the photons' gather radius spans several pixels' footprints, the
-//! estimate hardly changes across a pixel, so its camera samples gather
+//! where the photons' gather radius spans a pixel's footprint or more
+//! ([`THIN_FROM`]), the estimate changes little across a pixel, so its camera samples gather
 //! the same light over and over. There one sample in `P` of each stage
 //! gathers, counting `P` times ([`crate::integrator::Lit::for_sample`]):
 //! a stage's mean has the caustic's full weight (an unbiased estimate of
@@ -19,6 +19,19 @@ use crate::scene::Scene;
 
 /// The most samples one gather stands for.
 pub const MOST_THINNING: u32 = 4;
+/// The gather radius, in pixel footprints, from which one sample in 2,
+/// then one sample in 4, gathers. One in 2 from half a footprint (round
+/// 27; two footprints before): since the photons leave their lights evenly
+/// spread (`integrator::photons::emission_point`), the quarter more
+/// photons a thinned frame traces ([`THINNED_PHOTONS`]) buy more than
+/// the gathers it drops lose, down to radii of half a pixel: against
+/// 256-spp references the caustic pixels' error at 16 and 64 spp is below
+/// the unthinned frame's of round 26 in every shipped scene, in less time
+/// (docs/performance.md, round 27). One in 4 still from four footprints:
+/// from one footprint it raised lens-family's error at 64 spp by a third
+/// (its caustic seen through other lenses, whose pixels' footprints are
+/// smaller than a pinhole's).
+pub const THIN_FROM: [f64; 2] = [0.5, 4.0];
 
 /// The share of the photons (of `PhotonMap::spread`) that must lie in the
 /// camera's field of view for its gathers to be thinned.
@@ -37,9 +50,10 @@ pub const WAVE_THINNED_PHOTONS: f64 = 1.5;
 /// One sample in how many gathers in a frame of `scene` (its camera)
 /// `width`×`height` pixels, for photons spread as `map`'s
 /// (`PhotonMap::spread`) gathered within `radius`: the largest power of two
-/// `P` up to [`MOST_THINNING`] with the radius at least `P` pixel
-/// footprints where the camera sees the photons (the median distance from
-/// the camera of those in its field of view, times the angle of a pixel).
+/// `P` up to [`MOST_THINNING`] whose [`THIN_FROM`] the radius reaches, in
+/// pixel footprints where the camera sees the photons (the median
+/// distance from the camera of those in its field of view, times the
+/// angle of a pixel).
 /// 1 with a lens camera (whose pixels' footprints are not a pinhole's), or
 /// where fewer than [`IN_VIEW`] of the photons lie in the field of view:
 /// there few samples gather near photons, so thinning saves little, while
@@ -72,7 +86,7 @@ pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, (width, heig
     let footprints = radius / (median * pixel);
     let mut p = 1;
     // NaN or infinite ratios (a degenerate camera) leave it at 1.
-    while p < MOST_THINNING && footprints.is_finite() && footprints >= 2.0 * p as f64 {
+    while p < MOST_THINNING && footprints.is_finite() && footprints >= THIN_FROM[p.trailing_zeros() as usize] {
         p *= 2;
     }
     p
