@@ -125,6 +125,40 @@ pub fn lens_point(seed: u64, pixel: u64, i: u32) -> (f64, f64) {
     (frac(rx + radical_inverse(i, 2)), frac(ry + radical_inverse(i, 3)))
 }
 
+/// Sobol's dimension 1 of each byte of an index, by the byte's place:
+/// the xor of the direction numbers of its set bits (1, 3, 5, 15, 17, …,
+/// Pascal's triangle mod 2: each the last xor itself shifted right once).
+/// Four loads a point, where a loop over the index's bits cost a
+/// mispredicted branch for about every other bit.
+const SOBOL_1: [[u32; 256]; 4] = {
+    let mut dir = [0u32; 32];
+    let mut v = 1u32 << 31;
+    let mut b = 0;
+    while b < 32 {
+        dir[b] = v;
+        v ^= v >> 1;
+        b += 1;
+    }
+    let mut t = [[0u32; 256]; 4];
+    let mut place = 0;
+    while place < 4 {
+        let mut byte = 0;
+        while byte < 256 {
+            let (mut y, mut bit) = (0u32, 0);
+            while bit < 8 {
+                if byte >> bit & 1 == 1 {
+                    y ^= dir[place * 8 + bit];
+                }
+                bit += 1;
+            }
+            t[place][byte] = y;
+            byte += 1;
+        }
+        place += 1;
+    }
+    t
+};
+
 /// Point `index` of the first two dimensions of Sobol's sequence, each
 /// Owen-scrambled with its own key from `seed` (nested uniform
 /// scrambling by hashing: Burley 2020, "Practical Hash-based Owen
@@ -135,16 +169,10 @@ pub fn lens_point(seed: u64, pixel: u64, i: u32) -> (f64, f64) {
 /// point alone is uniform (the scrambling's keys are random), so
 /// estimates over the points stay unbiased.
 pub fn sobol_owen_2d(index: u32, seed: u64) -> (f64, f64) {
-    // Dimension 1's direction numbers 1, 3, 5, 15, 17, … (Pascal's
-    // triangle mod 2): each the last xor itself shifted right once.
-    let (mut y, mut v, mut i) = (0u32, 1u32 << 31, index);
-    while i != 0 {
-        if i & 1 == 1 {
-            y ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
-    }
+    let y = SOBOL_1[0][(index & 255) as usize]
+        ^ SOBOL_1[1][(index >> 8 & 255) as usize]
+        ^ SOBOL_1[2][(index >> 16 & 255) as usize]
+        ^ SOBOL_1[3][(index >> 24) as usize];
     let key = mix64(seed ^ 0x736f_626f_6c32_6421);
     let scramble = |x: u32, k: u32| {
         let mut x = x.reverse_bits().wrapping_add(k);
@@ -164,19 +192,22 @@ pub fn sobol_owen_2d(index: u32, seed: u64) -> (f64, f64) {
 /// The point of the unit disc that `u` in [0, 1)² maps to by Shirley and
 /// Chiu's concentric map: area for area, and squares to nearly square
 /// patches (a polar map stretches them into slivers at the centre), so
-/// that evenly spread points stay evenly spread on the disc.
-pub fn concentric_disc((u1, u2): (f64, f64)) -> (f64, f64) {
+/// that evenly spread points stay evenly spread on the disc. As
+/// `(r, (cos φ, sin φ))`, the point `r·(cos φ, sin φ)` with `r` in
+/// [−1, 1] (negative on half the square: the angle is then φ + π), so that
+/// a caller needs neither the radius's square root nor a division by it.
+pub fn concentric_disc((u1, u2): (f64, f64)) -> (f64, (f64, f64)) {
     use std::f64::consts::FRAC_PI_4;
     let (a, b) = (2.0 * u1 - 1.0, 2.0 * u2 - 1.0);
     if a == 0.0 && b == 0.0 {
-        return (0.0, 0.0);
+        return (0.0, (1.0, 0.0));
     }
     let (r, phi) = if a * a > b * b {
         (a, FRAC_PI_4 * (b / a))
     } else {
         (b, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (a / b))
     };
-    (r * phi.cos(), r * phi.sin())
+    (r, (phi.cos(), phi.sin()))
 }
 
 #[cfg(test)]
@@ -317,14 +348,15 @@ mod tests {
         let n = 40_000;
         let mut inner = 0;
         for _ in 0..n {
-            let (x, y) = concentric_disc(s.next_2d());
-            let r2 = x * x + y * y;
+            let (r, (c, s)) = concentric_disc(s.next_2d());
+            assert!(((c * c + s * s) - 1.0).abs() < 1e-12);
+            let r2 = r * r;
             assert!(r2 <= 1.0 + 1e-12);
             inner += usize::from(r2 < 0.25);
         }
         assert!((inner as f64 / n as f64 - 0.25).abs() < 0.01, "{inner}");
-        assert_eq!(concentric_disc((0.5, 0.5)), (0.0, 0.0));
-        let (x, y) = concentric_disc((1.0, 0.5));
-        assert!((x - 1.0).abs() < 1e-15 && y.abs() < 1e-15);
+        assert_eq!(concentric_disc((0.5, 0.5)).0, 0.0);
+        let (r, (c, s)) = concentric_disc((1.0, 0.5));
+        assert!((r * c - 1.0).abs() < 1e-15 && (r * s).abs() < 1e-15);
     }
 }

@@ -215,7 +215,7 @@ impl Emitter {
 fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, Rgb) {
     let n_t = t.spheres.len();
     let aim = t.spheres[i % n_t];
-    let (x, y) = concentric_disc(u);
+    let (r, (cos_phi, sin_phi)) = concentric_disc(u);
     match *e {
         Emitter::Point {
             position,
@@ -225,13 +225,11 @@ fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, Rgb) {
             let c = &cones[i % n_t];
             // The cap's area above a cosine is 2π(1 − cos): a disc's r²
             // spread over 1 − cos_max, area for area.
-            let r2 = x * x + y * y;
-            let one_less = r2 * (1.0 - c.cos_max);
+            let one_less = r * r * (1.0 - c.cos_max);
             let cos = 1.0 - one_less;
             let sin = (one_less * (2.0 - one_less)).max(0.0).sqrt();
-            let across = if r2 > 0.0 { sin / r2.sqrt() } else { 0.0 };
             let (a, b) = c.basis;
-            let dir = (c.axis * cos + (a * x + b * y) * across).normalize();
+            let dir = (c.axis * cos + (a * cos_phi + b * sin_phi) * sin.copysign(r)).normalize();
             // Photons per steradian along `dir`, summed over the targets.
             let density: f64 = cones
                 .iter()
@@ -249,7 +247,7 @@ fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, Rgb) {
             basis: (a, b),
             share,
         } => {
-            let q = aim.0 + (a * x + b * y) * aim.1;
+            let q = aim.0 + (a * cos_phi + b * sin_phi) * (r * aim.1);
             let back = (q - t.world.0).dot(direction).max(0.0) + t.world.1 + 1.0;
             let origin = q - direction * back;
             // Photons per unit area across the beam, summed over the discs.
@@ -607,7 +605,10 @@ mod tests {
         };
         let spread = |points: &[(f64, f64)]| {
             let mut counts = [0.0f64; 64];
-            points.iter().for_each(|&u| counts[cell(concentric_disc(u))] += 1.0);
+            points.iter().for_each(|&u| {
+                let (r, (c, s)) = concentric_disc(u);
+                counts[cell((r * c, r * s))] += 1.0
+            });
             let mean = points.len() as f64 / 64.0;
             counts.iter().map(|c| (c - mean).powi(2)).sum::<f64>() / points.len() as f64
         };
