@@ -1,7 +1,7 @@
 //! Fewer gathers where the caustic is smooth at the scale of a pixel:
-//! where the photons' gather radius spans a pixel's footprint or more
-//! ([`THIN_FROM`]), the estimate changes little across a pixel, so its camera samples gather
-//! the same light over and over. There one sample in `P` of each stage
+//! where the photons' gather radius spans half a pixel's footprint or
+//! more ([`THIN_FROM`]), the estimate changes little across a pixel, so
+//! its camera samples gather the same light over and over. There one sample in `P` of each stage
 //! gathers, counting `P` times ([`crate::integrator::Lit::for_sample`]):
 //! a stage's mean has the caustic's full weight (an unbiased estimate of
 //! the same image), with fewer gathers (with `P` = 4, 6 samples of 16 and
@@ -29,9 +29,11 @@ pub const MOST_THINNING: u32 = 4;
 /// the unthinned frame's of round 26 in every shipped scene, in less time
 /// (docs/performance.md, round 27). One in 4 still from four footprints:
 /// from one footprint it raised lens-family's error at 64 spp by a third
-/// (its caustic seen through other lenses, whose pixels' footprints are
-/// smaller than a pinhole's).
-pub const THIN_FROM: [f64; 2] = [0.5, 4.0];
+/// (likely because its caustic is seen through other lenses, where a
+/// pixel's footprint is smaller than the pinhole's this measures; not
+/// checked pixel by pixel). One entry per doubling up to
+/// [`MOST_THINNING`].
+pub const THIN_FROM: [f64; MOST_THINNING.trailing_zeros() as usize] = [0.5, 4.0];
 
 /// The share of the photons (of `PhotonMap::spread`) that must lie in the
 /// camera's field of view for its gathers to be thinned.
@@ -236,6 +238,9 @@ mod tests {
         let map = caustic_map(&scene, 3, CausticSettings::default()).unwrap();
         let lit = Lit::new(&scene, Some(&map));
         assert_eq!(thinning_of(&lit, (640, 360)), 4);
+        // About a footprint (an eighth of the pixels a side): one in two
+        // (round 27; two footprints were needed before).
+        assert_eq!(thinning_of(&lit, (80, 45)), 2);
         assert_eq!(thinning_of(&lit, (20, 360 / 32)), 1);
         assert_eq!(thinning_of(&Lit::new(&scene, None), (640, 360)), 1);
         let away = glam::DVec3::new(0.0, 0.0, 1e3);
