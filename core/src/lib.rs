@@ -67,7 +67,7 @@
 //! | feature dispatch, entry points | `integrator/mod.rs` |
 //! | rendering an image, the progressive schedule, the render thread | `render/{mod,progressive,worker}.rs` |
 //! | `render` in steps of one band of one sample, on the calling thread (the web page) | `render/steps.rs` |
-//! | caustics: the photon map, photons traced, passes scheduled | `photon/`, `integrator/photons.rs`, `render/caustics.rs` |
+//! | caustics: the photon map, photons traced, passes scheduled | `photon/`, `integrator/emission.rs`, `integrator/photons.rs`, `render/caustics.rs` |
 //! | every scene change (undo, save, add, edit) | `edit.rs`, `edit/document.rs`, `edit/document/*.rs` |
 //! | benchmark scenes, timings, error against time | `bench/{scenes,timing,features,convergence}.rs` |
 //! | the viewer's shell, flight, refinement, statistics; its heap policy | `viewer/{mod,flight,refine,stats,session,screen,input,heap}.rs` (binary) |

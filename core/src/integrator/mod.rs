@@ -26,6 +26,9 @@
 //! - `lens_send.rs`: what the lanes entering a lens together send on (the
 //!   rays out at the first two exits and the reflected rays), written into
 //!   the packets as lane arrays;
+//! - `emission.rs`: where caustic photons start: the targets worth a
+//!   photon ([`Targets`]), each light's emitter and each photon's first ray,
+//!   at evenly spread points;
 //! - `photons.rs`: caustic photons from the lights through the glass and
 //!   off the mirrors to the diffuse surfaces ([`photon_pass`]).
 //!
@@ -47,6 +50,7 @@ macro_rules! with_features {
     };
 }
 
+mod emission;
 mod lens_pass;
 mod lens_send;
 mod lit;
@@ -59,10 +63,11 @@ mod shade;
 mod surface;
 mod system_pass;
 
+pub use emission::{Targets, photons_per_light};
 pub use lens_pass::Transmitted;
 pub use lit::Lit;
 pub use packet::PacketScratch;
-pub use photons::{Targets, photon_pass, photons_per_light};
+pub use photons::photon_pass;
 pub use refraction::{transmitted_ray, transmitted_rays};
 pub use shade::{GHOST_ROULETTE, LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};

@@ -28,7 +28,7 @@ pub const MIN_PASSES: u32 = 8;
 /// samples affords `PHOTON_SHARE · n / PHOTON_WORK` photons traced
 /// ([`photon_allowance`]), in `lensview render` and in the viewer alike.
 /// 0.09 since round 27 (0.125 before): evenly spread photons
-/// (`integrator::photons::emission_point`) give the caustic pixels a
+/// (`integrator::emission::emission_point`) give the caustic pixels a
 /// lower error with fewer of them; with 0.0625 optical-bench's error at
 /// 16 spp was half again round 26's (docs/performance.md, round 27).
 pub const PHOTON_SHARE: f64 = 0.09;

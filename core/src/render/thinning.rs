@@ -22,7 +22,7 @@ pub const MOST_THINNING: u32 = 4;
 /// The gather radius, in pixel footprints, from which one sample in 2,
 /// then one sample in 4, gathers. One in 2 from half a footprint (round
 /// 27; two footprints before): since the photons leave their lights evenly
-/// spread (`integrator::photons::emission_point`), the quarter more
+/// spread (`integrator::emission::emission_point`), the quarter more
 /// photons a thinned frame traces ([`THINNED_PHOTONS`]) buy more than
 /// the gathers it drops lose, down to radii of half a pixel: against
 /// 256-spp references the caustic pixels' error at 16 and 64 spp is below
