@@ -131,13 +131,13 @@ pub(super) enum Emitter {
 }
 
 /// A target as a point light at `from` sees it: the cosine of its cone's
-/// half-angle (−1: the whole sphere), the unit vector toward its centre,
-/// the basis about that axis (the cone's directions are drawn in), and
-/// the photons per steradian its share of a light's photons gives inside
-/// its cone.
+/// half-angle (−1: the whole sphere), the unit vector toward its centre
+/// (the cone's axis; +z where the light is at the centre, a whole sphere
+/// whose axis only orients its basis), the basis about that axis (the
+/// cone's directions are drawn in), and the photons per steradian its
+/// share of a light's photons gives inside its cone.
 pub(super) struct Cone {
     cos_max: f64,
-    toward: DVec3,
     axis: DVec3,
     basis: (DVec3, DVec3),
     per_sr: f64,
@@ -154,7 +154,6 @@ impl Emitter {
             let axis = (s.0 - position).try_normalize().unwrap_or(DVec3::Z);
             Cone {
                 cos_max,
-                toward: (s.0 - position).normalize(),
                 axis,
                 basis: orthonormal_basis(axis),
                 per_sr: share / omega,
@@ -195,7 +194,6 @@ impl Emitter {
 /// expectation.
 pub(super) fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, Rgb) {
     let n_t = t.spheres.len();
-    let aim = t.spheres[i % n_t];
     let (r, (cos_phi, sin_phi)) = concentric_disc(u);
     match *e {
         Emitter::Point {
@@ -215,7 +213,7 @@ pub(super) fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, R
             let density: f64 = cones
                 .iter()
                 .map(|s| {
-                    let inside = s.cos_max <= -1.0 || dir.dot(s.toward) >= s.cos_max;
+                    let inside = s.cos_max <= -1.0 || dir.dot(s.axis) >= s.cos_max;
                     if inside { s.per_sr } else { 0.0 }
                 })
                 .sum();
@@ -228,6 +226,7 @@ pub(super) fn emit(e: &Emitter, t: &Targets, i: usize, u: (f64, f64)) -> (Ray, R
             basis: (a, b),
             share,
         } => {
+            let aim = t.spheres[i % n_t];
             let q = aim.0 + (a * cos_phi + b * sin_phi) * (r * aim.1);
             let back = (q - t.world.0).dot(direction).max(0.0) + t.world.1 + 1.0;
             let origin = q - direction * back;
