@@ -197,17 +197,21 @@ pub fn sobol_owen_2d(index: u32, seed: u64) -> (f64, f64) {
 /// [−1, 1] (negative on half the square: the angle is then φ + π), so that
 /// a caller needs neither the radius's square root nor a division by it.
 pub fn concentric_disc((u1, u2): (f64, f64)) -> (f64, (f64, f64)) {
+    use crate::math::sin_cos_quarter;
     use std::f64::consts::FRAC_PI_4;
     let (a, b) = (2.0 * u1 - 1.0, 2.0 * u2 - 1.0);
     if a == 0.0 && b == 0.0 {
         return (0.0, (1.0, 0.0));
     }
-    let (r, phi) = if a * a > b * b {
-        (a, FRAC_PI_4 * (b / a))
+    // φ = π/4·(b/a), or π/2 − π/4·(a/b), whose cosine and sine are the
+    // sine and cosine of π/4·(a/b): a quarter turn at most either way
+    // (`math::sin_cos_quarter`, the same bits on every platform).
+    if a * a > b * b {
+        let (sin, cos) = sin_cos_quarter(FRAC_PI_4 * (b / a));
+        (a, (cos, sin))
     } else {
-        (b, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (a / b))
-    };
-    (r, (phi.cos(), phi.sin()))
+        (b, sin_cos_quarter(FRAC_PI_4 * (a / b)))
+    }
 }
 
 #[cfg(test)]
