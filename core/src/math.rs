@@ -205,8 +205,9 @@ pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
 /// `k_sin.c` and `k_cos.c` (what musl and Rust's `libm` evaluate there,
 /// within one unit in the last place of the true values; the same
 /// doubles, written as their shortest decimals), with `+`, `−` and `×`
-/// alone: `libm`'s `sin` and `cos` bit for bit over the quarter turn. The platform's `sin` and `cos` are not the same function
-/// everywhere: glibc's (native builds) and `libm`'s (wasm32) gave other
+/// alone: `libm`'s `sin` and `cos` bit for bit over the quarter turn.
+/// The platform's `sin` and `cos` are not the same function everywhere:
+/// glibc's (native builds) and `libm`'s (wasm32) gave other
 /// last bits for 3.1 % of angles (10⁷ uniform in [−π, π), glibc 2.36
 /// against `libm` 0.2.16, a throw-away comparison), so a photon
 /// emitted through them left in another direction in the browser.
