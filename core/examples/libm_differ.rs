@@ -49,4 +49,14 @@ fn main() {
         pow += usize::from(c.powf(s).to_bits() != libm::pow(c, s).to_bits());
     }
     println!("pow(cos, shininess): {pow} of {m} differ");
+    // What moving Phong's `pow` to libm would cost a call.
+    let xs: Vec<f64> = (0..m).map(|_| next()).collect();
+    let time = |f: &dyn Fn(f64) -> f64| {
+        let t = std::time::Instant::now();
+        let s: f64 = xs.iter().map(|&c| f(c)).sum();
+        (t.elapsed().as_secs_f64() * 1e9 / m as f64, s)
+    };
+    let (platform, a) = time(&|c: f64| c.powf(48.0));
+    let (ours, b) = time(&|c: f64| libm::pow(c, 48.0));
+    println!("pow(cos, 48): platform {platform:.1} ns a call, libm {ours:.1} ns (sums {a:.3}, {b:.3})");
 }
