@@ -317,7 +317,10 @@ impl Lens {
     /// both where the axis is oblique (a ball lens by up to 20% of d).
     pub fn bounds(&self) -> Aabb {
         let a = self.axis;
-        let rim = 0.5 * self.d * (DVec3::ONE - a * a).max(DVec3::ZERO).powf(0.5);
+        // √ per axis (IEEE's, the same bits everywhere; `powf(0.5)` was the
+        // platform's `pow`).
+        let s = (DVec3::ONE - a * a).max(DVec3::ZERO);
+        let rim = 0.5 * self.d * DVec3::new(s.x.sqrt(), s.y.sqrt(), s.z.sqrt());
         let (p, q) = (self.vertex(LensSurface::S1), self.vertex(LensSurface::S2));
         Aabb::new(p.min(q) - rim, p.max(q) + rim)
     }
