@@ -27,7 +27,7 @@ impl Camera {
             rotation_deg,
             fov_y_deg,
             basis: rotation_from_degrees(rotation_deg),
-            tan_half_fov: (0.5 * fov_y_deg.to_radians()).tan(),
+            tan_half_fov: libm::tan(0.5 * fov_y_deg.to_radians()),
         }
     }
 

@@ -15,7 +15,7 @@ pub fn linear_to_srgb(x: f64) -> f64 {
     if x <= 0.003_130_8 {
         12.92 * x
     } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
+        1.055 * libm::pow(x, 1.0 / 2.4) - 0.055
     }
 }
 
@@ -30,7 +30,7 @@ pub fn srgb_to_linear(x: f64) -> f64 {
     if x <= 0.040_45 {
         x / 12.92
     } else {
-        ((x + 0.055) / 1.055).powf(2.4)
+        libm::pow((x + 0.055) / 1.055, 2.4)
     }
 }
 
@@ -198,7 +198,7 @@ impl Tone {
     /// A linear colour as the display gets it (before sRGB encoding).
     #[inline]
     pub fn apply(self, c: Rgb) -> Rgb {
-        let c = c * self.exposure.exp2();
+        let c = c * libm::exp2(self.exposure);
         DVec3::new(self.curve.map(c.x), self.curve.map(c.y), self.curve.map(c.z))
     }
 
@@ -225,19 +225,19 @@ pub fn blackbody(kelvin: f64) -> Rgb {
     let r = if t <= 66.0 {
         255.0
     } else {
-        329.698_727_446 * (t - 60.0).powf(-0.133_204_759_2)
+        329.698_727_446 * libm::pow(t - 60.0, -0.133_204_759_2)
     };
     let g = if t <= 66.0 {
-        99.470_802_586_1 * t.ln() - 161.119_568_166_1
+        99.470_802_586_1 * libm::log(t) - 161.119_568_166_1
     } else {
-        288.122_169_528_3 * (t - 60.0).powf(-0.075_514_849_2)
+        288.122_169_528_3 * libm::pow(t - 60.0, -0.075_514_849_2)
     };
     let b = if t >= 66.0 {
         255.0
     } else if t <= 19.0 {
         0.0
     } else {
-        138.517_731_223_1 * (t - 10.0).ln() - 305.044_792_730_7
+        138.517_731_223_1 * libm::log(t - 10.0) - 305.044_792_730_7
     };
     let c = DVec3::new(r, g, b).clamp(DVec3::ZERO, DVec3::splat(255.0)) / 255.0;
     let lin = DVec3::new(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));

@@ -243,7 +243,11 @@ fn turn_axis(axis: V3, yaw: f64, pitch: f64) -> V3 {
     let a = DVec3::from(axis).normalize_or(DVec3::Z);
     let turned = rotation_from_degrees(DVec3::new(0.0, yaw, 0.0)) * a;
     let side = turned.cross(DVec3::Y).normalize_or(DVec3::X);
-    let turned = glam::DQuat::from_axis_angle(side, pitch.to_radians()) * turned;
+    // glam's `DQuat::from_axis_angle`, from `libm`'s sine and cosine (the
+    // same bits in the browser as on the desktop: ARCHITECTURE.md).
+    let (s, c) = libm::sincos(pitch.to_radians() * 0.5);
+    let v = side * s;
+    let turned = glam::DQuat::from_xyzw(v.x, v.y, v.z, c) * turned;
     turned.normalize().to_array()
 }
 

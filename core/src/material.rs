@@ -65,7 +65,7 @@ impl Material {
     /// (a lobe of 1 wherever `r·v > 0`).
     pub fn lobe_cos_min(&self) -> f64 {
         if self.shininess > 0.0 {
-            LOBE_FLOOR.powf(1.0 / self.shininess).clamp(0.0, 1.0)
+            libm::pow(LOBE_FLOOR, 1.0 / self.shininess).clamp(0.0, 1.0)
         } else {
             0.0
         }

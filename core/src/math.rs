@@ -165,15 +165,22 @@ pub const RENORMALIZE_MAX: f64 = 1.0 / (1u64 << 20) as f64;
 /// convention of a fly camera: yaw turns about the world's up axis.
 pub fn rotation_from_degrees(deg: DVec3) -> DMat3 {
     let r = deg * (std::f64::consts::PI / 180.0);
-    DMat3::from_rotation_y(r.y) * DMat3::from_rotation_x(r.x) * DMat3::from_rotation_z(r.z)
+    // glam's `from_rotation_y`, `_x` and `_z`, from `libm`'s sine and
+    // cosine (glam's call the platform's, whose last bit differs between
+    // a native build and the browser's: ARCHITECTURE.md, "Determinism").
+    let ((sy, cy), (sx, cx), (sz, cz)) = (libm::sincos(r.y), libm::sincos(r.x), libm::sincos(r.z));
+    let y = DMat3::from_cols(DVec3::new(cy, 0.0, -sy), DVec3::Y, DVec3::new(sy, 0.0, cy));
+    let x = DMat3::from_cols(DVec3::X, DVec3::new(0.0, cx, sx), DVec3::new(0.0, -sx, cx));
+    let z = DMat3::from_cols(DVec3::new(cz, sz, 0.0), DVec3::new(-sz, cz, 0.0), DVec3::Z);
+    y * x * z
 }
 
 /// Angles (degrees, the convention of [`rotation_from_degrees`], no roll) that
 /// turn the default view direction −z toward `dir`.
 pub fn angles_looking_along(dir: DVec3) -> DVec3 {
     let d = dir.normalize();
-    let pitch = d.y.clamp(-1.0, 1.0).asin();
-    let yaw = (-d.x).atan2(-d.z);
+    let pitch = libm::asin(d.y.clamp(-1.0, 1.0));
+    let yaw = libm::atan2(-d.x, -d.z);
     DVec3::new(pitch.to_degrees(), yaw.to_degrees(), 0.0)
 }
 

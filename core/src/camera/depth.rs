@@ -17,7 +17,7 @@ impl LensCamera {
     /// The circle of confusion the focus readout uses: the sensor's
     /// diagonal over 1500 (a full frame's 0.029 mm).
     pub fn circle_of_confusion(&self) -> f64 {
-        self.sensor[0].hypot(self.sensor[1]) / 1500.0
+        libm::hypot(self.sensor[0], self.sensor[1]) / 1500.0
     }
 
     /// The nearest and farthest distances from the camera whose blur on

@@ -154,7 +154,7 @@ impl LensCamera {
         }
         let media: Vec<Vec<f64>> = RGB_WAVELENGTHS_UM.iter().map(|&l| system.media(l).to_vec()).collect();
         let (sensor_z, rear_z) = (rear + sensor_distance - e, rear - e);
-        let half_diagonal = 0.5 * sw.hypot(sh);
+        let half_diagonal = 0.5 * libm::hypot(sw, sh);
         // The axial ray must pass: else nothing does near the centre.
         let axial = system.pass(DVec3::new(0.0, 0.0, sensor_z), DVec3::NEG_Z, &media[1]);
         if axial.is_none() {
@@ -284,7 +284,7 @@ fn centre_weight(planes: &Planes, b: &PupilBox) -> f64 {
         .map(|i| {
             let p = b.lerp((((i % N) as f64 + 0.5) / N as f64, ((i / N) as f64 + 0.5) / N as f64));
             if planes.passes((0.0, 0.0), p) {
-                cos4(p.0.hypot(p.1), z)
+                cos4(libm::hypot(p.0, p.1), z)
             } else {
                 0.0
             }
@@ -423,7 +423,7 @@ impl LensCamera {
     pub fn fov_y_deg(&self) -> f64 {
         let (ep, xp) = (self.paraxial.entrance_pupil, self.paraxial.exit_pupil);
         let g = (self.sensor_distance - xp.position) * ep.semi_diameter / xp.semi_diameter;
-        2.0 * (0.5 * self.sensor[1] / g).atan().to_degrees()
+        2.0 * libm::atan(0.5 * self.sensor[1] / g).to_degrees()
     }
 
     /// The exit pupil's box of each interval of sensor radius, from the
@@ -452,7 +452,7 @@ impl LensCamera {
         let sy = (0.5 - y / height as f64) * ph;
         // The sensor point opposite the upright one: the lens inverts.
         let film = DVec3::new(-sx, -sy, self.sensor_z);
-        let r = sx.hypot(sy);
+        let r = libm::hypot(sx, sy);
         let b = &self.sampling().pupil[self.interval(r)];
         if b.is_empty() {
             return None;
@@ -475,7 +475,7 @@ impl LensCamera {
             return None;
         }
         let (d, z) = (aim.d, self.sensor_z - self.rear_z);
-        let weight = cos4(d.x.hypot(d.y), z) * aim.area / (z * z) * self.sampling().exposure;
+        let weight = cos4(libm::hypot(d.x, d.y), z) * aim.area / (z * z) * self.sampling().exposure;
         Some(LocalRay { origin, dir, weight })
     }
 

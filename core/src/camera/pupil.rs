@@ -60,7 +60,7 @@ impl PupilBox {
     }
 
     fn diagonal(&self) -> f64 {
-        (self.hi[0] - self.lo[0]).hypot(self.hi[1] - self.lo[1])
+        libm::hypot(self.hi[0] - self.lo[0], self.hi[1] - self.lo[1])
     }
 
     /// The point at `(u, v)` ∈ [0, 1)² of the box.

@@ -94,7 +94,7 @@ fn phong_lobe(rv: f64, shininess: f64) -> f64 {
     if shininess.fract() == 0.0 && shininess <= 4096.0 {
         rv.powi(shininess as i32)
     } else {
-        rv.powf(shininess)
+        libm::pow(rv, shininess)
     }
 }
 

@@ -115,7 +115,7 @@ impl Document {
     pub fn step_f_number(&mut self, stops: f64) -> Option<Result<(String, Change), Rejected>> {
         let lens = self.lens_camera()?;
         let open = lens.open_f_number;
-        let want = lens.f_number * 2f64.sqrt().powf(stops);
+        let want = lens.f_number * libm::pow(2f64.sqrt(), stops);
         let (n, what) = if want <= open * (1.0 + 1e-9) {
             (None, format!("f/{open:.2}: wide open"))
         } else if want > 64.0 {

@@ -358,7 +358,7 @@ pub fn preset_scale(name: &str) -> Option<f64> {
         return None;
     }
     let s = NEW_DIAMETER / widest;
-    let digits = 10f64.powi(3 - s.log10().floor() as i32);
+    let digits = 10f64.powi(3 - libm::log10(s).floor() as i32);
     Some((s * digits).round() / digits)
 }
 

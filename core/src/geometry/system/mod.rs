@@ -192,7 +192,7 @@ impl LensSystem {
         let length = *z.last().unwrap_or(&0.0);
         let mid = vertex - axis * (0.5 * length);
         // Sags reach at most the radius from the vertex planes.
-        let half = (0.5 * length + radius).hypot(radius);
+        let half = libm::hypot(0.5 * length + radius, radius);
         let size = length.max(radius);
         let sys = LensSystem {
             vertex,
@@ -320,7 +320,7 @@ impl LensSystem {
 
     /// The glass cell holding the local point `x`, if any.
     pub fn cell_at(&self, x: DVec3) -> Option<usize> {
-        let r = x.x.hypot(x.y);
+        let r = libm::hypot(x.x, x.y);
         (0..self.len())
             .find(|&k| self.rim[k] > 0.0 && r <= self.rim[k] && x.z >= self.front(k, r) && x.z <= self.back(k, r))
     }
