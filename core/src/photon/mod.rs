@@ -378,25 +378,10 @@ impl PhotonMap {
     }
 
     /// The gather radius of pass `k` (from 1): `r_0 · (2^L)^((α−1)/2)`
-    /// for the level `L = ⌊log₂ k⌋` the pass belongs to: with α = 2/3,
-    /// `2^(−L/6)`, as `2^(−(L mod 6)/6)` (a correctly rounded constant)
-    /// times `2^(−⌊L/6⌋)` (exact). Not the platform's `pow`, whose last
-    /// bit differs between glibc and wasm32's `libm`
-    /// (`examples/libm_differ`): the same radii, so the same photon map,
-    /// on every platform.
+    /// for the level `L = ⌊log₂ k⌋` the pass belongs to
+    /// (`radius::of_pass`: the same bits on every platform).
     pub fn radius_of_pass(r0: f64, k: u32) -> f64 {
-        const _: () = assert!(ALPHA == 2.0 / 3.0, "SIXTH_ROOTS hold 2^(-s/6): (alpha - 1)/2 = -1/6");
-        /// `2^(−s/6)` for `s` in 0..6, each the double nearest the true value.
-        const SIXTH_ROOTS: [f64; 6] = [
-            1.0,
-            0.8908987181403393,
-            0.7937005259840998,
-            std::f64::consts::FRAC_1_SQRT_2,
-            0.6299605249474366,
-            0.5612310241546865,
-        ];
-        let level = 31 - k.max(1).leading_zeros();
-        r0 * SIXTH_ROOTS[(level % 6) as usize] * 0.5f64.powi((level / 6) as i32)
+        radius::of_pass(r0, k)
     }
 
     /// Adds one pass's photons (in their order: the sums are the same
@@ -530,20 +515,6 @@ mod tests {
         assert_eq!(PhotonMap::radius_of_pass(1.0, 1), 1.0);
         let r2 = PhotonMap::radius_of_pass(1.0, 2);
         assert!((r2 - 2f64.powf(-1.0 / 6.0)).abs() < 1e-15);
-        // Every level within a few units in the last place of the
-        // platform's `pow` (whose exponent (α − 1)/2 is −1/6 rounded, off by
-        // 2.8e-17: at level L that moves the true value by about L·2e-17
-        // of itself), and within one of 2^(−s/6) for the levels below 6.
-        let ulps = |a: f64, b: f64| (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
-        for level in 0..31u32 {
-            let got = PhotonMap::radius_of_pass(1.0, 1 << level);
-            let pow = ((1u64 << level) as f64).powf((ALPHA - 1.0) / 2.0);
-            assert!(ulps(got, pow) <= 4, "level {level}: {got} against {pow}");
-            if level < 6 {
-                let exact = 2f64.powf(-(level as f64) / 6.0);
-                assert!(ulps(got, exact) <= 1, "level {level}: {got} against {exact}");
-            }
-        }
         assert_eq!(PhotonMap::radius_of_pass(1.0, 3), r2);
         assert!(PhotonMap::radius_of_pass(1.0, 4) < r2);
         let mut m = PhotonMap::new(0.5);

@@ -1,6 +1,7 @@
-//! The map's starting radius from its first pass ([`initial_radius`]).
+//! The map's starting radius from its first pass ([`initial_radius`]),
+//! and how it shrinks pass by pass ([`of_pass`]).
 
-use super::Photon;
+use super::{ALPHA, Photon};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -21,6 +22,27 @@ pub fn initial_radius(photons: &[Photon], k: usize, floor: f64) -> Option<f64> {
     let mid = radii.len() / 2;
     radii.select_nth_unstable_by(mid, f64::total_cmp);
     Some(radii[mid].max(floor))
+}
+
+/// The gather radius of pass `k` (from 1): `r_0 · (2^L)^((α−1)/2)` for
+/// the level `L = ⌊log₂ k⌋` the pass belongs to: with α = 2/3,
+/// `2^(−L/6)`, as `2^(−(L mod 6)/6)` (a correctly rounded constant) times
+/// `2^(−⌊L/6⌋)` (exact). Not the platform's `pow`, whose last bit differs
+/// between glibc and wasm32's `libm` (`examples/libm_differ`): the same
+/// radii, so the same photon map, on every platform.
+pub fn of_pass(r0: f64, k: u32) -> f64 {
+    const _: () = assert!(ALPHA == 2.0 / 3.0, "SIXTH_ROOTS hold 2^(-s/6): (alpha - 1)/2 = -1/6");
+    /// `2^(−s/6)` for `s` in 0..6, each the double nearest the true value.
+    const SIXTH_ROOTS: [f64; 6] = [
+        1.0,
+        0.8908987181403393,
+        0.7937005259840998,
+        std::f64::consts::FRAC_1_SQRT_2,
+        0.6299605249474366,
+        0.5612310241546865,
+    ];
+    let level = 31 - k.max(1).leading_zeros();
+    r0 * SIXTH_ROOTS[(level % 6) as usize] * 0.5f64.powi((level / 6) as i32)
 }
 
 /// The `k`-th smallest (from 0) squared distance from `a` to the points
@@ -67,6 +89,25 @@ fn keep_smallest(best: &mut [f64], d: f64) {
 mod tests {
     use super::super::tests::photon;
     use super::*;
+
+    /// Every level's radius within a few units in the last place of the
+    /// platform's `pow` (whose exponent (α − 1)/2 is −1/6 rounded, off by
+    /// 2.8e-17: at level L that moves the true value by about L·2e-17 of
+    /// itself), and within one of 2^(−s/6) for the levels below 6.
+    #[test]
+    fn the_radius_schedule_is_the_power_it_stands_for() {
+        let ulps = |a: f64, b: f64| (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
+        for level in 0..31u32 {
+            let got = of_pass(1.0, 1 << level);
+            let pow = ((1u64 << level) as f64).powf((ALPHA - 1.0) / 2.0);
+            assert!(ulps(got, pow) <= 4, "level {level}: {got} against {pow}");
+            if level < 6 {
+                let exact = 2f64.powf(-(level as f64) / 6.0);
+                assert!(ulps(got, exact) <= 1, "level {level}: {got} against {exact}");
+            }
+            assert_eq!(of_pass(1.0, (1 << level) + (1 << level) / 2), got, "one radius a level");
+        }
+    }
 
     /// The slab scan gives the k-th smallest distance a scan of every point
     /// gives, bit for bit, in clouds flat, round and with ties in `x`.
