@@ -214,10 +214,10 @@ pub fn orthonormal_basis(n: DVec3) -> (DVec3, DVec3) {
 /// doubles, written as their shortest decimals), with `+`, `−` and `×`
 /// alone: `libm`'s `sin` and `cos` bit for bit over the quarter turn.
 /// The platform's `sin` and `cos` are not the same function everywhere:
-/// glibc's (native builds) and `libm`'s (wasm32) gave other
-/// last bits for 3.1 % of angles (10⁷ uniform in [−π, π), glibc 2.36
-/// against `libm` 0.2.16, a throw-away comparison), so a photon
-/// emitted through them left in another direction in the browser.
+/// glibc's (native builds) and `libm`'s (wasm32) gave other last bits for
+/// 3.1 % of angles (10⁷ uniform in [−π, π), glibc 2.36 against `libm`
+/// 0.2.16: `examples/libm_differ`), so a photon emitted through them left
+/// in another direction in the browser.
 /// IEEE arithmetic without fused operations (Rust never contracts) gives
 /// these the same bits on every platform, without a call
 /// (`sampling::concentric_disc`, one per photon).
@@ -375,6 +375,23 @@ mod tests {
         assert!(worst <= 1, "{worst} units in the last place");
         assert!(differ < 20_000, "{differ} of 400 000 differ by one unit");
         assert_eq!(sin_cos_quarter(0.0), (0.0, 1.0));
-        assert_eq!(sin_cos_quarter(quarter).0, quarter.sin());
+        assert_eq!(sin_cos_quarter(quarter).0, libm::sin(quarter));
+    }
+
+    /// The camera's rotation from `libm`'s sines is glam's from the
+    /// platform's to rounding, and a rotation.
+    #[test]
+    fn the_rotation_is_glams() {
+        for deg in [
+            DVec3::ZERO,
+            DVec3::new(-12.5, 33.0, 4.0),
+            DVec3::new(89.0, -170.0, -30.0),
+        ] {
+            let r = deg * (std::f64::consts::PI / 180.0);
+            let glam = DMat3::from_rotation_y(r.y) * DMat3::from_rotation_x(r.x) * DMat3::from_rotation_z(r.z);
+            let ours = rotation_from_degrees(deg);
+            assert!(ours.abs_diff_eq(glam, 1e-15), "{deg}: {ours} against {glam}");
+            assert!((ours * ours.transpose()).abs_diff_eq(DMat3::IDENTITY, 1e-15), "{deg}");
+        }
     }
 }
