@@ -7,13 +7,8 @@
 //!   cargo run --release -p lensview-core --example libm_differ
 
 fn main() {
-    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut next = move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        (x >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = lensview_core::sampling::Sampler::new(1, 0, 0);
+    let mut next = move || rng.next_f64();
     let n = 10_000_000;
     let (mut sin, mut cos) = (0, 0);
     for _ in 0..n {

@@ -31,6 +31,12 @@ impl Camera {
         }
     }
 
+    /// `tan(fov/2)`, as the camera's rays use it (`libm`'s: the same bits
+    /// on every platform).
+    pub fn tan_half_fov(&self) -> f64 {
+        self.tan_half_fov
+    }
+
     pub fn forward(&self) -> DVec3 {
         self.basis * DVec3::NEG_Z
     }

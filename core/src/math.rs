@@ -345,13 +345,10 @@ mod tests {
     fn quarter_sine_and_cosine_match_the_platform() {
         let ulp = |a: f64, b: f64| (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
         let quarter = std::f64::consts::FRAC_PI_4;
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut rng = crate::sampling::Sampler::new(11, 0, 0);
         let (mut worst, mut differ) = (0, 0);
         for i in 0..200_000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let u = (x >> 11) as f64 / (1u64 << 53) as f64;
+            let u = rng.next_f64();
             // Uniform over the quarter turn, and a few near 0 and its ends.
             let t = match i % 4 {
                 0 => (2.0 * u - 1.0) * 1e-6,

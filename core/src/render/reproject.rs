@@ -66,7 +66,7 @@ pub struct Projector {
 
 impl Projector {
     pub fn new(cam: &Camera, (w, h): (u32, u32)) -> Projector {
-        let tan = libm::tan(0.5 * cam.fov_y_deg.to_radians());
+        let tan = cam.tan_half_fov();
         let (cx, cy) = (0.5 * w as f64, 0.5 * h as f64);
         let (sx, sy) = (cx / (tan * w as f64 / h as f64), cy / tan);
         Projector {

@@ -67,7 +67,7 @@ pub fn gather_thinning(scene: &Scene, map: &PhotonMap, radius: f64, (width, heig
     }
     let cam = &scene.camera;
     let (forward, right, up) = (cam.forward(), cam.right(), cam.up());
-    let tan_y = libm::tan(0.5 * cam.fov_y_deg.to_radians());
+    let tan_y = cam.tan_half_fov();
     let tan_x = tan_y * width as f64 / height as f64;
     let mut far: Vec<f64> = map
         .spread()
