@@ -4,7 +4,7 @@ builds side by side (issue 29.3: "at the same caustic accuracy").
 
   benches/caustics-error.py REF_BINARY SCENE.toml --bins OLD NEW
       [--spp 4,16,64] [--ref-spp 256] [--ref-seed 1] [--size 640x360]
-      [--threads 1]
+      [--threads 1] [--ref-cache DIR]
 
 For each scene: a reference (REF_BINARY at --ref-spp, EXR), the same scene
 without caustics (benches/caustics-off.py) at --ref-spp, and each binary at
@@ -18,7 +18,9 @@ alternate within each sample count. The reference is rendered from
 another seed (--ref-seed) than the binaries (seed 0): with the same seed
 its first photon passes would be theirs (a build whose passes spread
 evenly would then look closer than it is). Needs numpy and mitsuba (to read EXR):
-run it with the venv of benches/mitsuba_speed.py.
+run it with the venv of benches/mitsuba_speed.py. With --ref-cache the
+references are kept in DIR and taken from there on later runs (only from
+the same REF_BINARY: the file names do not say which binary made them).
 """
 
 import argparse
@@ -68,6 +70,7 @@ def main():
     ap.add_argument("--ref-seed", type=int, default=1)
     ap.add_argument("--size", default="640x360")
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--ref-cache", help="folder to keep the references in and take them from (keyed by scene, size, spp and seed)")
     a = ap.parse_args()
     model = next(
         (ln.split(":", 1)[1].strip() for ln in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines() if ln.startswith("Model name")),
@@ -79,9 +82,13 @@ def main():
             name = os.path.splitext(os.path.basename(scene))[0]
             off_toml = os.path.join(tmp, f"{name}-off.toml")
             subprocess.run([sys.executable, os.path.join(HERE, "caustics-off.py"), scene, off_toml], check=True)
-            ref, ref_off = os.path.join(tmp, "ref.exr"), os.path.join(tmp, "ref-off.exr")
-            render(a.ref_binary, scene, ref, a.size, a.ref_spp, os.cpu_count(), a.ref_seed)
-            render(a.ref_binary, off_toml, ref_off, a.size, a.ref_spp, os.cpu_count(), a.ref_seed)
+            keep = a.ref_cache or tmp
+            os.makedirs(keep, exist_ok=True)
+            stem = os.path.join(keep, f"{name}-{a.size}-{a.ref_spp}spp-seed{a.ref_seed}")
+            ref, ref_off = stem + ".exr", stem + "-off.exr"
+            for toml, out in [(scene, ref), (off_toml, ref_off)]:
+                if not (a.ref_cache and os.path.exists(out)):
+                    render(a.ref_binary, toml, out, a.size, a.ref_spp, os.cpu_count(), a.ref_seed)
             r, r_off = load(ref), load(ref_off)
             lum = r.mean(axis=2)
             caustic = (r - r_off).mean(axis=2) > 0.02 * np.percentile(lum, 99)

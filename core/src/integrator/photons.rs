@@ -34,10 +34,16 @@ use std::ops::Range;
 /// Photons traced by one task of a pass.
 const CHUNK: usize = 1024;
 
+/// The family of a photon last sent by object `index` ([`Photon::family`]):
+/// reflected off it, or through it.
+fn family_of(index: usize, reflected: bool) -> u32 {
+    (index as u32).wrapping_mul(2) | u32::from(reflected)
+}
+
 /// One photon in flight, at wavelength `lambda` (µm): the ray it travels,
 /// the power it carries, its own random numbers, the object it is leaving
-/// (`usize::MAX`: none), the depth used and whether it has been bent or
-/// mirrored yet.
+/// (`usize::MAX`: none), the depth used, whether it has been bent or
+/// mirrored yet and by what last ([`family_of`]).
 struct Flight {
     ray: Ray,
     power: Rgb,
@@ -46,6 +52,7 @@ struct Flight {
     skip: usize,
     depth: u32,
     bounced: bool,
+    family: u32,
 }
 
 impl Flight {
@@ -70,6 +77,7 @@ impl Flight {
             skip: usize::MAX,
             depth: 0,
             bounced: false,
+            family: 0,
         }
     }
 
@@ -102,7 +110,7 @@ impl Flight {
         let s = surface(scene, &ray, i, h);
         let m = &s.object.material;
         if self.bounced && m.diffuse * (1.0 - m.transparency) > 0.0 {
-            out.push(Photon::new(s.p, ray.dir, self.power));
+            out.push(Photon::new(s.p, ray.dir, self.power).with_family(self.family));
         }
         let ior = s.object.ior().at(self.lambda);
         let system = s.object.system();
@@ -126,6 +134,7 @@ impl Flight {
             self.ray = spawn_ray(s.p, s.nf, r, s.object.scale);
             self.skip = s.leaving(r);
             self.depth += 1;
+            self.family = family_of(s.index, true);
         } else {
             let rng = &mut self.rng;
             let tr = match system {
@@ -143,6 +152,7 @@ impl Flight {
             };
             self.ray = tr.ray;
             self.depth += tr.bounces;
+            self.family = family_of(s.index, false);
         }
         self.bounced = true;
         self.flies(scene)

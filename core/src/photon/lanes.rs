@@ -381,6 +381,50 @@ mod tests {
         assert!((60..200).contains(&walked), "{walked} of 240 packets walked in lanes");
     }
 
+    /// With families gathered within radii of their own (layers of groups
+    /// at four scales), each lane still gets its own irradiance, bit for
+    /// bit.
+    #[test]
+    fn lanes_give_each_lanes_irradiance_with_families() {
+        let mut rng = Sampler::new(12, 3, 1);
+        let mut m = PhotonMap::with_families(0.04, &[(1, 2), (2, -2), (5, 3)]);
+        for _ in 0..6 {
+            let pass: Vec<Photon> = (0..3000)
+                .map(|i| {
+                    let (u, v) = rng.next_2d();
+                    let p = DVec3::new(u - 0.5, v - 0.5, 0.0);
+                    Photon::new(p, -DVec3::Z, DVec3::new(1e-3, 2e-3, 5e-4)).with_family(i % 7)
+                })
+                .collect();
+            m.add_pass(&pass);
+        }
+        let mut found = 0;
+        for spread in [1e-3, 0.02, 0.1, 0.6] {
+            for _ in 0..40 {
+                let (u, v) = rng.next_2d();
+                let (mut x, nv) = ([[0.0; LANES]; 3], [0.0, 0.0, 1.0].map(|c| [c; LANES]));
+                for l in 0..LANES {
+                    let (a, b) = rng.next_2d();
+                    let p = DVec3::new(u - 0.5 + spread * (a - 0.5), v - 0.5 + spread * (b - 0.5), 0.0);
+                    for c in 0..3 {
+                        x[c][l] = p[c];
+                    }
+                }
+                let got = m.irradiance_lanes(Queries {
+                    x: &x,
+                    n: &nv,
+                    live: 0xff,
+                });
+                for l in 0..LANES {
+                    let want = m.irradiance(lane(&x, l), lane(&nv, l));
+                    assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "spread {spread}, lane {l}");
+                    found += usize::from(want.x > 0.0);
+                }
+            }
+        }
+        assert!(found > 1000, "{found} lanes find photons");
+    }
+
     /// A packet is turned away at once only where every lane finds
     /// nothing, and most packets in empty space are: sparse photons in a
     /// box, packets of lanes close together (one cell, several, many),

@@ -12,13 +12,22 @@
 //! each photon weighed `1/(π r²)` of its own pass). With `α < 1` the
 //! bias (∝ r²) and the variance (∝ 1/(K·N·r²)) of the mean both go to zero
 //! (Hachisuka & Jensen 2009; Knaus & Zwicker 2011).
+//!
+//! A caustic family (the photons last sent by one object's reflection or
+//! transmission, [`family`]) may gather within `s·r_k`, `s` a power of √2
+//! of its own: its photons are kept in a layer of groups of that scale, so
+//! the sum above runs over each photon's own family radius. The map's
+//! `r_0` and radius (`PhotonMap::radius`) are those of the families not
+//! given one.
 
 mod block;
 mod cells;
+mod family;
 mod grid;
 mod lanes;
 mod radius;
 
+pub use family::family_scales;
 pub use lanes::Queries;
 pub use radius::initial_radius;
 
@@ -76,13 +85,16 @@ pub fn take_gather_seconds() -> f64 {
 pub const ALPHA: f64 = 2.0 / 3.0;
 
 /// One photon where it landed: its position, the unit direction it arrived
-/// along, and the power it carries (scene units of light: a pass's photons
-/// sum to the power the pass delivers).
+/// along, the power it carries (scene units of light: a pass's photons
+/// sum to the power the pass delivers) and its family: the specular event
+/// that last sent it, `2·i + 1` for a reflection off object `i`, `2·i`
+/// for a way through it (the caustic it belongs to: `family`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Photon {
     pub p: DVec3,
     pub dir: [f32; 3],
     pub power: [f32; 3],
+    pub family: u32,
 }
 
 impl Photon {
@@ -92,7 +104,13 @@ impl Photon {
             p,
             dir: f(dir),
             power: f(power),
+            family: 0,
         }
+    }
+
+    /// The photon, of family `family`.
+    pub fn with_family(self, family: u32) -> Self {
+        Photon { family, ..self }
     }
 }
 
@@ -354,7 +372,12 @@ pub struct PhotonMap {
     r0: f64,
     passes: u32,
     photons: usize,
+    /// Every layer's groups ([`family`]), in the order made.
     groups: Vec<Group>,
+    /// The layers of families, each with its own scale on the radii.
+    layers: family::Layers,
+    /// Each layer's latest group (an index into `groups`).
+    latest: Vec<Option<usize>>,
     /// Where some of the first pass's photons landed: every
     /// [`SPREAD_EVERY`]-th, up to [`SPREAD_MOST`] ([`PhotonMap::spread`]).
     spread: Vec<DVec3>,
@@ -366,13 +389,24 @@ const SPREAD_EVERY: usize = 16;
 const SPREAD_MOST: usize = 4096;
 
 impl PhotonMap {
-    /// An empty map whose first pass gathers within `r0`.
+    /// An empty map whose first pass gathers within `r0`, whatever the
+    /// photons' families.
     pub fn new(r0: f64) -> Self {
+        Self::with_families(r0, &[])
+    }
+
+    /// An empty map whose first pass gathers the families `listed` (each
+    /// with its radius over `r0` in half octaves: [`family_scales`])
+    /// within `r0` times their scale, and every other family within `r0`.
+    pub fn with_families(r0: f64, listed: &[(u32, i32)]) -> Self {
+        let layers = family::Layers::of(listed);
         PhotonMap {
             r0,
             passes: 0,
             photons: 0,
             groups: Vec::new(),
+            latest: vec![None; layers.len()],
+            layers,
             spread: Vec::new(),
         }
     }
@@ -393,30 +427,44 @@ impl PhotonMap {
     /// Adds passes' photons, in order: the map [`PhotonMap::add_pass`]
     /// gives one pass after the other, with each group's cells merged once.
     pub fn add_passes(&mut self, passes: &[&[Photon]]) {
-        let mut pending: Vec<(&[Photon], f64)> = Vec::new();
-        for &photons in passes {
+        // Each pass's photons by layer, where there are layers to split.
+        let split: Vec<Vec<Vec<Photon>>> = if self.layers.len() > 1 {
+            passes.par_iter().map(|p| self.layers.split(p)).collect()
+        } else {
+            Vec::new()
+        };
+        let mut pending: Vec<Vec<(&[Photon], f64)>> = vec![Vec::new(); self.layers.len()];
+        for (i, &photons) in passes.iter().enumerate() {
             self.passes += 1;
-            let r = self.radius();
-            if self.groups.last().is_none_or(|g| r < GROUP_SHRINK * g.radius) {
-                self.add_to_last(&mut pending);
-                self.groups.push(Group::new(r));
+            let base = self.radius();
+            for (l, pending) in pending.iter_mut().enumerate() {
+                let part = split.get(i).map_or(photons, |parts| &parts[l]);
+                let r = base * self.layers.scales[l];
+                if self.latest[l].is_none_or(|g| r < GROUP_SHRINK * self.groups[g].radius) {
+                    self.add_to_latest(l, pending);
+                    self.groups.push(Group::new(r));
+                    self.latest[l] = Some(self.groups.len() - 1);
+                }
+                pending.push((part, r));
             }
-            pending.push((photons, r));
             if self.passes == 1 {
                 let kept = photons.iter().step_by(SPREAD_EVERY).take(SPREAD_MOST);
                 self.spread.extend(kept.map(|ph| ph.p));
             }
             self.photons += photons.len();
         }
-        self.add_to_last(&mut pending);
+        for (l, pending) in pending.iter_mut().enumerate() {
+            self.add_to_latest(l, pending);
+        }
     }
 
-    /// Adds the `pending` passes to the last group, and forgets them.
-    fn add_to_last(&mut self, pending: &mut Vec<(&[Photon], f64)>) {
-        if let Some(g) = self.groups.last_mut()
+    /// Adds the `pending` passes to layer `l`'s latest group, and forgets
+    /// them.
+    fn add_to_latest(&mut self, l: usize, pending: &mut Vec<(&[Photon], f64)>) {
+        if let Some(g) = self.latest[l]
             && !pending.is_empty()
         {
-            g.add(pending);
+            self.groups[g].add(pending);
         }
         pending.clear();
     }
@@ -439,12 +487,13 @@ impl PhotonMap {
         &self.spread
     }
 
-    /// The first pass's radius (`r0`).
+    /// The first pass's radius (`r0`; a family's own is a scale times it).
     pub fn first_radius(&self) -> f64 {
         self.r0
     }
 
-    /// The radius the latest pass gathers with (`r0` before any pass).
+    /// The radius the latest pass gathers with (`r0` before any pass),
+    /// where its family has no scale of its own ([`family`]).
     pub fn radius(&self) -> f64 {
         Self::radius_of_pass(self.r0, self.passes)
     }
@@ -487,204 +536,4 @@ crate::simd::with_avx2! {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    pub(super) fn photon(x: f64, y: f64, power: f64) -> Photon {
-        Photon::new(DVec3::new(x, y, 0.0), -DVec3::Z, Rgb::splat(power))
-    }
-
-    /// One photon of power 1 at the origin: within the radius the estimate
-    /// is 1/(πr²) on the side it arrived on (to `f32`: a photon's share is
-    /// stored so), zero outside or behind.
-    #[test]
-    fn one_photon_gives_its_power_over_the_disc() {
-        let mut m = PhotonMap::new(0.5);
-        m.add_pass(&[photon(0.0, 0.0, 1.0)]);
-        let e = m.irradiance(DVec3::new(0.3, 0.2, 0.0), DVec3::Z);
-        let want = 1.0 / (std::f64::consts::PI * 0.25);
-        assert!((e.x / want - 1.0).abs() < 1e-7, "{e}");
-        assert_eq!(m.irradiance(DVec3::new(0.5, 0.1, 0.0), DVec3::Z), Rgb::ZERO);
-        assert_eq!(m.irradiance(DVec3::ZERO, -DVec3::Z), Rgb::ZERO);
-    }
-
-    /// The radius shrinks by level as `(2^L)^((α−1)/2)`, and the estimate is
-    /// the mean over passes: a second pass with nothing near halves it.
-    #[test]
-    fn radius_schedule_and_mean_over_passes() {
-        assert_eq!(PhotonMap::radius_of_pass(1.0, 1), 1.0);
-        let r2 = PhotonMap::radius_of_pass(1.0, 2);
-        assert!((r2 - 2f64.powf(-1.0 / 6.0)).abs() < 1e-15);
-        assert_eq!(PhotonMap::radius_of_pass(1.0, 3), r2);
-        assert!(PhotonMap::radius_of_pass(1.0, 4) < r2);
-        let mut m = PhotonMap::new(0.5);
-        m.add_pass(&[photon(0.0, 0.0, 1.0)]);
-        let e1 = m.irradiance(DVec3::ZERO, DVec3::Z);
-        m.add_pass(&[photon(5.0, 0.0, 1.0)]);
-        assert_eq!(m.irradiance(DVec3::ZERO, DVec3::Z), e1 / 2.0);
-        assert_eq!(m.passes(), 2);
-        assert_eq!(m.photons(), 2);
-    }
-
-    /// Photons across cell boundaries are all found: a uniform grid of
-    /// photons gives its density everywhere inside.
-    #[test]
-    fn a_uniform_field_gives_its_density() {
-        let mut v = Vec::new();
-        let h = 0.01;
-        for i in -200..200 {
-            for j in -200..200 {
-                v.push(photon((i as f64 + 0.5) * h, (j as f64 + 0.5) * h, h * h));
-            }
-        }
-        let mut m = PhotonMap::new(0.1);
-        m.add_pass(&v);
-        for x in [DVec3::ZERO, DVec3::new(0.7, -0.33, 0.0), DVec3::new(-1.2, 1.1, 0.0)] {
-            let e = m.irradiance(x, DVec3::Z).x;
-            assert!((e - 1.0).abs() < 0.03, "{x}: {e}");
-        }
-    }
-
-    /// Twenty passes (five levels, two groups of cells) against the sum
-    /// over every photon of every pass, each within its pass's radius.
-    #[test]
-    fn many_passes_give_the_brute_force_estimate() {
-        let mut rng = crate::sampling::Sampler::new(1, 2, 3);
-        let mut m = PhotonMap::new(0.2);
-        let (mut all, mut passes) = (Vec::new(), Vec::new());
-        for k in 1..=20u32 {
-            let pass: Vec<Photon> = (0..300)
-                .map(|_| {
-                    let (u, v) = rng.next_2d();
-                    let dir = if rng.next_f64() < 0.8 { -DVec3::Z } else { DVec3::Z };
-                    Photon::new(DVec3::new(u - 0.5, v - 0.5, 0.0), dir, Rgb::splat(1e-3))
-                })
-                .collect();
-            m.add_pass(&pass);
-            all.extend(pass.iter().map(|&p| (p, PhotonMap::radius_of_pass(0.2, k))));
-            passes.push(pass);
-        }
-        assert!(m.groups.len() == 2, "{} groups", m.groups.len());
-        // The same passes added in batches (one across the groups' border)
-        // give the same map, bit for bit.
-        let mut b = PhotonMap::new(0.2);
-        for batch in [0..1, 1..4, 4..9, 9..20] {
-            b.add_passes(&passes[batch].iter().map(Vec::as_slice).collect::<Vec<_>>());
-        }
-        for i in 0..50 {
-            let x = DVec3::new(0.02 * i as f64 - 0.5, 0.3 - 0.011 * i as f64, 0.0);
-            let want: f64 = all
-                .iter()
-                .filter(|(p, r)| (p.p - x).length() < *r && p.dir[2] < 0.0)
-                .map(|(p, r)| p.power[0] as f64 / (std::f64::consts::PI * r * r))
-                .sum::<f64>()
-                / 20.0;
-            let got = m.irradiance(x, DVec3::Z).x;
-            assert!((got - want).abs() <= 1e-5 * want, "{x}: {got} vs {want}");
-            assert_eq!(b.irradiance(x, DVec3::Z).x.to_bits(), got.to_bits(), "{x}");
-        }
-    }
-
-    /// No photon within reach is missed, nor one out of reach let in:
-    /// around queries in a cell, on a cell's corner and near a face,
-    /// photons just inside the radius in every direction are all counted
-    /// and those just outside none.
-    #[test]
-    fn photons_just_inside_the_radius_are_all_found() {
-        let r = 0.25;
-        let queries = [
-            DVec3::new(0.2, 0.3, 0.1),
-            DVec3::new(0.5, 0.5, 0.5),
-            DVec3::new(0.49, -0.01, 0.26),
-        ];
-        for (k, &q) in queries.iter().enumerate() {
-            let mut rng = crate::sampling::Sampler::new(7, k as u64, 0);
-            let mut pass = Vec::new();
-            for i in 0..400 {
-                let (u, v) = rng.next_2d();
-                let (z, phi) = (2.0 * u - 1.0, 2.0 * std::f64::consts::PI * v);
-                let s = (1.0 - z * z).sqrt();
-                let dir = DVec3::new(s * phi.cos(), s * phi.sin(), z);
-                let reach = if i % 2 == 0 { 1.0 - 1e-5 } else { 1.0 + 1e-5 };
-                pass.push(Photon::new(q + dir * (r * reach), -DVec3::Z, Rgb::ONE));
-            }
-            let mut m = PhotonMap::new(r);
-            m.add_pass(&pass);
-            let want = 200.0 / (std::f64::consts::PI * r * r);
-            let e = m.irradiance(q, DVec3::Z).x;
-            assert!((e / want - 1.0).abs() < 1e-6, "{q}: {e} vs {want}");
-        }
-    }
-
-    /// A later pass that occupies new cells of the same group is found
-    /// there: its cells' blocks are marked as it is added.
-    #[test]
-    fn a_later_pass_in_new_cells_is_found() {
-        let r = 0.3;
-        let mut m = PhotonMap::new(r);
-        m.add_pass(&[photon(0.0, 0.0, 1.0)]);
-        m.add_pass(&[photon(5.0, 5.0, 1.0)]);
-        assert_eq!(m.groups.len(), 1, "both passes share a group");
-        let r2 = PhotonMap::radius_of_pass(r, 2);
-        let at = |x: f64| m.irradiance(DVec3::new(x, 5.0, 0.0), DVec3::Z).x;
-        let want = 1.0 / (std::f64::consts::PI * r2 * r2) as f32 as f64 / 2.0;
-        assert!(
-            (at(5.0 + 0.9 * r2) / want - 1.0).abs() < 1e-6,
-            "{} vs {want}",
-            at(5.0 + 0.9 * r2)
-        );
-        assert_eq!(at(5.0 + 1.1 * r2), 0.0);
-    }
-
-    /// Sparse photons (most queries' blocks of cells hold none, and the
-    /// group's bit says so): queries just inside a photon's radius still
-    /// find it, from any side and across cells, those just outside and
-    /// those in empty space get exactly zero, and the bit does turn most
-    /// of the empty-space queries away.
-    #[test]
-    fn sparse_photons_are_found_and_empty_space_is_turned_away() {
-        let r = 0.3;
-        let mut rng = crate::sampling::Sampler::new(5, 0, 9);
-        let mut point = |scale: f64| {
-            let (u, v) = rng.next_2d();
-            let (w, _) = rng.next_2d();
-            DVec3::new(u - 0.5, v - 0.5, w - 0.5) * scale
-        };
-        let pass: Vec<Photon> = (0..60).map(|_| Photon::new(point(10.0), -DVec3::Z, Rgb::ONE)).collect();
-        let mut m = PhotonMap::new(r);
-        m.add_pass(&pass);
-        let want_at = |x: DVec3| -> f64 {
-            let n = pass.iter().filter(|p| (p.p - x).length() < r).count();
-            n as f64 / (std::f64::consts::PI * r * r)
-        };
-        let mut queries = Vec::new();
-        for p in &pass {
-            for i in 0..8 {
-                let d = (point(2.0) + DVec3::splat(1e-3)).normalize();
-                let reach = if i % 2 == 0 { 1.0 - 1e-4 } else { 1.0 + 1e-4 };
-                queries.push(p.p + d * r * reach);
-            }
-        }
-        let (mut found, mut empty, mut turned_away) = (0, 0, 0);
-        for _ in 0..2000 {
-            let x = point(10.0);
-            empty += usize::from(want_at(x) == 0.0);
-            turned_away += usize::from(m.groups.iter().all(|g| g.reach(x).is_none()));
-            queries.push(x);
-        }
-        for &x in &queries {
-            let (got, want) = (m.irradiance(x, DVec3::Z).x, want_at(x));
-            if want == 0.0 {
-                assert_eq!(got, 0.0, "{x}");
-            } else {
-                found += 1;
-                assert!((got / want - 1.0).abs() < 1e-6, "{x}: {got} vs {want}");
-            }
-        }
-        assert!(found >= 240, "{found} queries within reach");
-        assert!(
-            turned_away * 10 > empty * 6,
-            "{turned_away} of {empty} empty queries turned away"
-        );
-    }
-}
+mod tests;

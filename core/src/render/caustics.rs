@@ -11,7 +11,7 @@
 
 use crate::integrator::{Targets, photon_pass, photons_per_light};
 use crate::limits::{MAX_SAMPLES, PHOTON_WORK, Work};
-use crate::photon::{Photon, PhotonMap, initial_radius};
+use crate::photon::{Photon, PhotonMap, family_scales, initial_radius};
 use crate::render::progressive::Stage;
 use crate::render::thinning;
 use crate::scene::Scene;
@@ -171,11 +171,11 @@ impl Caustics {
         let s = self.settings;
         let map = self.map.get_or_insert_with(|| {
             let floor = 1e-9 * (1.0 + scene.camera.position.length());
-            let r0 = s
-                .initial_radius
-                .or_else(|| initial_radius(first, FIRST_PASS_NEIGHBOURS, floor))
-                .unwrap_or(1e-3);
-            PhotonMap::new(r0)
+            if let Some(r0) = s.initial_radius {
+                return PhotonMap::new(r0);
+            }
+            let r0 = initial_radius(first, FIRST_PASS_NEIGHBOURS, floor).unwrap_or(1e-3);
+            PhotonMap::with_families(r0, &family_scales(first, FIRST_PASS_NEIGHBOURS, r0))
         });
         let passes: Vec<&[Photon]> = batch.iter().map(Vec::as_slice).collect();
         map.add_passes(&passes);
