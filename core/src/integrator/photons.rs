@@ -34,10 +34,24 @@ use std::ops::Range;
 /// Photons traced by one task of a pass.
 const CHUNK: usize = 1024;
 
-/// The family of a photon last sent by object `index` ([`Photon::family`]):
-/// reflected off it, or through it.
-fn family_of(index: usize, reflected: bool) -> u32 {
-    (index as u32).wrapping_mul(2) | u32::from(reflected)
+/// How a photon left the object that last sent it ([`family_of`]).
+#[derive(Clone, Copy)]
+enum Sent {
+    /// Through it: refracted (out of a lens or lens system, straight
+    /// through, without reflecting inside).
+    Through = 0,
+    /// Reflected off it.
+    Reflected = 1,
+    /// Out of a lens or lens system after reflecting inside it: a ghost,
+    /// whose light spreads wide and thin where the direct light is
+    /// focused.
+    Ghost = 2,
+}
+
+/// The family of a photon last sent by object `index` ([`Photon::family`],
+/// `photon::family`): how it left it, 4 families an object.
+fn family_of(index: usize, sent: Sent) -> u32 {
+    (index as u32).wrapping_mul(4) | sent as u32
 }
 
 /// One photon in flight, at wavelength `lambda` (µm): the ray it travels,
@@ -134,7 +148,7 @@ impl Flight {
             self.ray = spawn_ray(s.p, s.nf, r, s.object.scale);
             self.skip = s.leaving(r);
             self.depth += 1;
-            self.family = family_of(s.index, true);
+            self.family = family_of(s.index, Sent::Reflected);
         } else {
             let rng = &mut self.rng;
             let tr = match system {
@@ -152,7 +166,11 @@ impl Flight {
             };
             self.ray = tr.ray;
             self.depth += tr.bounces;
-            self.family = family_of(s.index, false);
+            // A lens's way out counts its surfaces and reflections inside
+            // (`Transmitted::bounces`: 2 straight through), a solid's
+            // refraction 1.
+            let ghost = tr.bounces > 2;
+            self.family = family_of(s.index, if ghost { Sent::Ghost } else { Sent::Through });
         }
         self.bounced = true;
         self.flies(scene)

@@ -86,9 +86,9 @@ pub const ALPHA: f64 = 2.0 / 3.0;
 
 /// One photon where it landed: its position, the unit direction it arrived
 /// along, the power it carries (scene units of light: a pass's photons
-/// sum to the power the pass delivers) and its family: the specular event
-/// that last sent it, `2·i + 1` for a reflection off object `i`, `2·i`
-/// for a way through it (the caustic it belongs to: `family`).
+/// sum to the power the pass delivers) and its family: the object that
+/// last sent it and how (through it, reflected, or out of a lens after
+/// reflecting inside: the caustic it belongs to, [`family`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Photon {
     pub p: DVec3,
