@@ -364,4 +364,52 @@ mod tests {
             assert!(got == want, "{} against {} photons", got.len(), want.len());
         }
     }
+
+    /// Each photon's family names the object that last sent it: from where
+    /// it landed, back along the way it came, that object is the first
+    /// hit. Direct light, reflections and ghosts all show: through and off
+    /// the lens in rim-lens, and inside it; through the glass ball and off
+    /// the mirror ball in primitives.
+    #[test]
+    fn a_photons_family_is_the_object_it_came_from() {
+        use crate::trace::closest_hit_skip;
+        use glam::DVec3;
+        let parse = |name, text| Scene::parse(name, text).unwrap().1;
+        let cases = [
+            (parse("rim-lens", include_str!("../../../scenes/rim-lens.toml")), 3),
+            (parse("primitives", include_str!("../../../scenes/primitives.toml")), 2),
+        ];
+        for (scene, kinds) in &cases {
+            let targets = Targets::of(scene);
+            let photons = photon_pass(scene, &targets, 1, 20_000, 3);
+            let mut agree = 0;
+            let mut seen: Vec<(usize, u32)> = Vec::new();
+            for ph in &photons {
+                let dir = DVec3::from_array(ph.dir.map(f64::from)).normalize();
+                let back = Ray {
+                    origin: ph.p - dir * 1e-6 * (1.0 + ph.p.length()),
+                    dir: -dir,
+                };
+                let from = closest_hit_skip(scene, &back, f64::INFINITY, usize::MAX).map(|h| h.0);
+                let (object, kind) = ((ph.family / 4) as usize, ph.family % 4);
+                agree += usize::from(from == Some(object));
+                if !seen.contains(&(object, kind)) {
+                    seen.push((object, kind));
+                }
+            }
+            let n = photons.len();
+            assert!(
+                agree * 100 >= n * 99,
+                "{agree} of {n} photons came from their family's object"
+            );
+            let kinds_seen = (0..3).filter(|k| seen.iter().any(|s| s.1 == *k)).count();
+            assert!(kinds_seen >= *kinds, "families {seen:?}");
+            assert!(
+                seen.iter().all(|s| scene.objects[s.0].material.transparency > 0.0
+                    || scene.objects[s.0].material.reflectivity > 0.0
+                    || scene.objects[s.0].lens().is_some()),
+                "{seen:?}"
+            );
+        }
+    }
 }
