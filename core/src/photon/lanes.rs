@@ -106,8 +106,9 @@ fn estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb> {
         }
     }
     let mut clock = None;
+    let (lo, hi) = packet_box(q.x, q.live);
     for g in &map.groups {
-        if g.packet_far(q.x, q.live) {
+        if g.packet_far(lo, hi) {
             continue;
         }
         let cells = g.reach_lanes(q.x, q.live);
@@ -134,8 +135,26 @@ crate::simd::with_avx2! {
     fn estimate_lanes / estimate_lanes_avx2 => estimate_lanes_impl(map: &PhotonMap, q: Queries) -> Lanes<Rgb>
 }
 
+/// The box of the points `x` of lanes `live` (a lane at NaN left out; an
+/// empty box, low corner above high, where none is left), worked out once
+/// a packet for every group's [`Group::packet_far`].
+#[inline(always)]
+fn packet_box(x: &[Lanes<f64>; 3], live: u32) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for c in 0..3 {
+        for l in live_lanes(live) {
+            // A lane at NaN is left out (it finds nothing).
+            let v = x[c][l];
+            lo[c] = if v < lo[c] { v } else { lo[c] };
+            hi[c] = if v > hi[c] { v } else { hi[c] };
+        }
+    }
+    (DVec3::from_array(lo), DVec3::from_array(hi))
+}
+
 impl Group {
-    /// Whether no lane of `live` at `x` can reach a photon of the group,
+    /// Whether no lane whose point lies in the box `lo ..= hi`
+    /// ([`packet_box`]) can reach a photon of the group,
     /// told for the lanes together: their points' box lies beyond the
     /// photons' box by more than the radius on some axis, or the cells
     /// from its low corner less the radius to its high corner plus the
@@ -146,17 +165,7 @@ impl Group {
     /// were most of a gather in scenes whose queries mostly find nothing
     /// (focal-spot, cubes; `perf`). Lanes at NaN find nothing either way.
     #[inline(always)]
-    fn packet_far(&self, x: &[Lanes<f64>; 3], live: u32) -> bool {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for c in 0..3 {
-            for l in live_lanes(live) {
-                // A lane at NaN is left out (it finds nothing).
-                let v = x[c][l];
-                lo[c] = if v < lo[c] { v } else { lo[c] };
-                hi[c] = if v > hi[c] { v } else { hi[c] };
-            }
-        }
-        let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+    fn packet_far(&self, lo: DVec3, hi: DVec3) -> bool {
         if self.beyond(lo, hi) {
             return true;
         }
@@ -462,7 +471,8 @@ mod tests {
             let live = if t % 5 == 0 { 0b0110_1101 } else { 0xff };
             let e = m.irradiance_lanes(Queries { x: &x, n: &nv, live });
             let nothing = (0..LANES).all(|l| e[l] == Rgb::ZERO);
-            let far = g.packet_far(&x, live);
+            let (lo, hi) = packet_box(&x, live);
+            let far = g.packet_far(lo, hi);
             assert!(!far || nothing, "packet {t} turned away with photons in reach");
             empty += usize::from(nothing);
             turned_away += usize::from(far);
