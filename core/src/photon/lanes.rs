@@ -390,6 +390,18 @@ mod tests {
         assert!((60..200).contains(&walked), "{walked} of 240 packets walked in lanes");
     }
 
+    /// The irradiance of a packet of 8 live lanes at `x` (normals `nv`),
+    /// having checked that each lane's is its own, bit for bit.
+    fn all_lanes_are_each_lanes(m: &PhotonMap, x: &[Lanes<f64>; 3], nv: &[Lanes<f64>; 3]) -> Lanes<Rgb> {
+        let got = m.irradiance_lanes(Queries { x, n: nv, live: 0xff });
+        for l in 0..LANES {
+            let want = m.irradiance(lane(x, l), lane(nv, l));
+            let bits = |c: Rgb| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()];
+            assert_eq!(bits(got[l]), bits(want), "lane {l} at {}", lane(x, l));
+        }
+        got
+    }
+
     /// With families gathered within radii of their own (layers of groups
     /// at four scales), each lane still gets its own irradiance, bit for
     /// bit.
@@ -419,16 +431,8 @@ mod tests {
                         x[c][l] = p[c];
                     }
                 }
-                let got = m.irradiance_lanes(Queries {
-                    x: &x,
-                    n: &nv,
-                    live: 0xff,
-                });
-                for l in 0..LANES {
-                    let want = m.irradiance(lane(&x, l), lane(&nv, l));
-                    assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "spread {spread}, lane {l}");
-                    found += usize::from(want.x > 0.0);
-                }
+                let got = all_lanes_are_each_lanes(&m, &x, &nv);
+                found += got.iter().filter(|e| e.x > 0.0).count();
             }
         }
         assert!(found > 1000, "{found} lanes find photons");
@@ -504,15 +508,7 @@ mod tests {
                 (x[c][l], nv[c][l]) = (p[c], DVec3::Z[c]);
             }
         }
-        let got = m.irradiance_lanes(Queries {
-            x: &x,
-            n: &nv,
-            live: 0xff,
-        });
-        for l in 0..LANES {
-            let want = m.irradiance(lane(&x, l), lane(&nv, l));
-            assert_eq!(got[l].x.to_bits(), want.x.to_bits(), "lane {l}");
-        }
+        let got = all_lanes_are_each_lanes(&m, &x, &nv);
         assert!(got[2].x > 0.0, "the photons at zero are found");
     }
 }
