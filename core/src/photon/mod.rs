@@ -13,8 +13,9 @@
 //! bias (∝ r²) and the variance (∝ 1/(K·N·r²)) of the mean both go to zero
 //! (Hachisuka & Jensen 2009; Knaus & Zwicker 2011).
 //!
-//! A caustic family (the photons last sent by one object's reflection or
-//! transmission, [`family`]) may gather within `s·r_k`, `s` a power of √2
+//! A caustic family (the photons last sent by one object, one way: through
+//! it, reflected off it, or out of a lens as a ghost, [`family`]) may
+//! gather within `s·r_k`, `s` a power of √2
 //! of its own: its photons are kept in a layer of groups of that scale, so
 //! the sum above runs over each photon's own family radius. The map's
 //! `r_0` and radius (`PhotonMap::radius`) are those of the families not
