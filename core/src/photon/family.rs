@@ -32,9 +32,10 @@ use super::radius::initial_radius;
 /// extent, not its spacing).
 pub const MIN_FAMILY_PHOTONS_PER_NEIGHBOUR: usize = 4;
 
-/// The fewest photons a family needs, as a share of the first pass's:
-/// one in this many. A layer costs a walk of its cells for every query
-/// near its photons; a family with fewer adds little light for that (the
+/// The fewest photons a family needs for a layer of its own, as a share
+/// of the first pass's: one in this many (a smaller one joins the nearest
+/// layer: [`family_scales`]). A layer costs a walk of its cells for every
+/// query near its photons; a family with fewer adds little light for that (the
 /// lens's surface reflection in rim-lens, 6 % of the photons, was 6–10 %
 /// more time in `render` for no change in the error; optical-bench's
 /// ghosts, 1 %, spread 79 times as widely as its direct light, 6–9 % for
@@ -80,12 +81,14 @@ fn half_octaves(ratio: f64) -> i32 {
 
 /// The families of a first pass's `photons` that get a radius of their
 /// own, in order of family, each with its radius over `r0` in half
-/// octaves ([`scale_of`]): those with at least
-/// [`MIN_FAMILY_PHOTONS_PER_NEIGHBOUR`]` · k` photons and one in
-/// [`MIN_FAMILY_SHARE`] of the pass's, whose median
-/// distance to their `k`-th nearest photon of the family
-/// ([`initial_radius`]) lies a half octave or more from `r0`. A pass of
-/// one family gives none (its radius is the map's).
+/// octaves ([`scale_of`]). A family with at least
+/// [`MIN_FAMILY_PHOTONS_PER_NEIGHBOUR`]` · k` photons has its spacing told
+/// (the median distance to its `k`-th nearest photon of the family,
+/// [`initial_radius`], over `r0`, rounded to half octaves); with one in
+/// [`MIN_FAMILY_SHARE`] of the pass's photons too it gets that scale,
+/// otherwise the nearest of those scales and the map's (no layer of its
+/// own). Those whose scale is the map's are not listed; nor is any of a
+/// pass of one family.
 pub fn family_scales(photons: &[Photon], k: usize, r0: f64) -> Vec<(u32, i32)> {
     let mut families: Vec<u32> = photons.iter().map(|p| p.family).collect();
     families.sort_unstable();
@@ -93,16 +96,31 @@ pub fn family_scales(photons: &[Photon], k: usize, r0: f64) -> Vec<(u32, i32)> {
     if families.len() < 2 || !(r0 > 0.0) {
         return Vec::new();
     }
-    families
+    // Each family whose spacing can be told: its half octaves, and whether
+    // it is big enough for a layer of its own.
+    let told: Vec<(u32, i32, bool)> = families
         .into_iter()
         .filter_map(|f| {
             let of: Vec<Photon> = photons.iter().filter(|p| p.family == f).copied().collect();
-            if of.len() < MIN_FAMILY_PHOTONS_PER_NEIGHBOUR * k || of.len() * MIN_FAMILY_SHARE < photons.len() {
+            if of.len() < MIN_FAMILY_PHOTONS_PER_NEIGHBOUR * k {
                 return None;
             }
             let h = half_octaves(initial_radius(&of, k, 0.0)? / r0);
-            (h != 0).then_some((f, h))
+            Some((f, h, of.len() * MIN_FAMILY_SHARE >= photons.len()))
         })
+        .collect();
+    // The layers: the map's own and the big families'. A smaller family
+    // joins the layer nearest its own scale (the nearer to the map's on a
+    // tie), so that it costs no walk of its own.
+    let mut layers: Vec<i32> = told.iter().filter(|t| t.2).map(|t| t.1).collect();
+    layers.push(0);
+    let nearest = |h: i32| {
+        let key = |&c: &i32| ((c - h).abs(), c.abs());
+        layers.iter().copied().min_by_key(key).unwrap_or(0)
+    };
+    told.iter()
+        .map(|&(f, h, big)| (f, if big { h } else { nearest(h) }))
+        .filter(|&(_, h)| h != 0)
         .collect()
 }
 
@@ -196,14 +214,22 @@ mod tests {
         let dense = lattice(7, DVec3::ZERO, 0.01, 40);
         let sparse = lattice(3, DVec3::new(5.0, 0.0, 0.0), 0.04, 20);
         let few = lattice(9, DVec3::new(-5.0, 0.0, 0.0), 0.5, 4);
-        let all: Vec<Photon> = [dense.clone(), sparse, few].concat();
+        // Two families too small for a layer of their own: one spaced 3
+        // times as widely as the dense one joins the sparse one's layer,
+        // one spaced 1.2 times stays in the map's.
+        let wide = lattice(10, DVec3::new(10.0, 0.0, 0.0), 0.03, 15);
+        let near = lattice(11, DVec3::new(20.0, 0.0, 0.0), 0.012, 12);
+        let all: Vec<Photon> = [dense.clone(), sparse, few, wide, near].concat();
         let r0 = initial_radius(&dense, 24, 0.0).unwrap();
-        assert_eq!(family_scales(&all, 24, r0), vec![(3, 4)]);
+        assert_eq!(family_scales(&all, 24, r0), vec![(3, 4), (10, 4)]);
         assert!(family_scales(&dense, 24, r0).is_empty(), "one family: none");
         let layers = Layers::of(&[(3, 4), (5, -2), (8, 4)]);
         assert_eq!(layers.scales, vec![1.0, 0.5, 4.0]);
         assert_eq!([3, 5, 8, 7].map(|f| layers.of_family(f)), [2, 1, 2, 0]);
         let parts = layers.split(&all);
-        assert_eq!(parts.iter().map(Vec::len).collect::<Vec<_>>(), vec![1600 + 16, 0, 400]);
+        assert_eq!(
+            parts.iter().map(Vec::len).collect::<Vec<_>>(),
+            vec![1600 + 16 + 225 + 144, 0, 400]
+        );
     }
 }
