@@ -90,9 +90,11 @@ fn half_octaves(ratio: f64) -> i32 {
 /// own). Those whose scale is the map's are not listed; nor is any of a
 /// pass of one family.
 pub fn family_scales(photons: &[Photon], k: usize, r0: f64) -> Vec<(u32, i32)> {
-    let mut families: Vec<u32> = photons.iter().map(|p| p.family).collect();
-    families.sort_unstable();
-    families.dedup();
+    // The photons by family, each family's in their order (a stable sort:
+    // one pass over them however many families there are).
+    let mut by_family = photons.to_vec();
+    by_family.sort_by_key(|p| p.family);
+    let families: Vec<&[Photon]> = by_family.chunk_by(|a, b| a.family == b.family).collect();
     if families.len() < 2 || !(r0 > 0.0) {
         return Vec::new();
     }
@@ -100,13 +102,12 @@ pub fn family_scales(photons: &[Photon], k: usize, r0: f64) -> Vec<(u32, i32)> {
     // it is big enough for a layer of its own.
     let told: Vec<(u32, i32, bool)> = families
         .into_iter()
-        .filter_map(|f| {
-            let of: Vec<Photon> = photons.iter().filter(|p| p.family == f).copied().collect();
+        .filter_map(|of| {
             if of.len() < MIN_FAMILY_PHOTONS_PER_NEIGHBOUR * k {
                 return None;
             }
-            let h = half_octaves(initial_radius(&of, k, 0.0)? / r0);
-            Some((f, h, of.len() * MIN_FAMILY_SHARE >= photons.len()))
+            let h = half_octaves(initial_radius(of, k, 0.0)? / r0);
+            Some((of[0].family, h, of.len() * MIN_FAMILY_SHARE >= photons.len()))
         })
         .collect();
     // The layers: the map's own and the big families'. A smaller family
