@@ -7,7 +7,7 @@
 //!
 //!     cargo run --release -p lensview-core --example caustic_families -- scenes/primitives.toml
 
-use lensview_core::integrator::{Targets, photon_pass};
+use lensview_core::integrator::{Targets, family_source, photon_pass};
 use lensview_core::photon::{Photon, family_scales, initial_radius};
 use lensview_core::render::caustics::{FIRST_PASS_NEIGHBOURS, PHOTONS_PER_PASS};
 use lensview_core::scene::Scene;
@@ -42,11 +42,10 @@ fn main() {
     families.dedup();
     for f in families {
         let of: Vec<Photon> = photons.iter().filter(|p| p.family == f).copied().collect();
-        let how = ["through", "reflected", "ghost", "?"][(f % 4) as usize];
-        let name = scene.objects.get((f / 4) as usize).map_or("?", |o| o.name.as_str());
         let own = initial_radius(&of, k, 0.0).map_or("-".to_string(), |r| format!("{:.2} r0", r / r0));
         println!(
-            "  {name} ({how}): {:.1} % of the photons, {:.1} % of the power, spacing {own}",
+            "  {}: {:.1} % of the photons, {:.1} % of the power, spacing {own}",
+            named(&scene, f),
             100.0 * of.len() as f64 / n,
             100.0 * power(&of) / all
         );
@@ -54,13 +53,7 @@ fn main() {
     let listed = family_scales(&photons, k, r0);
     let named: Vec<String> = listed
         .iter()
-        .map(|&(f, h)| {
-            let name = scene.objects.get((f / 4) as usize).map_or("?", |o| o.name.as_str());
-            format!(
-                "{name} ({}) at 2^({h}/2) r0",
-                ["through", "reflected", "ghost", "?"][(f % 4) as usize]
-            )
-        })
+        .map(|&(f, h)| format!("{} at 2^({h}/2) r0", named(&scene, f)))
         .collect();
     println!(
         "  own radii: {}",
@@ -70,4 +63,15 @@ fn main() {
             named.join(", ")
         }
     );
+}
+
+/// A family as its object's name and the way its photons left it.
+fn named(scene: &Scene, family: u32) -> String {
+    match family_source(family) {
+        Some((i, sent)) => {
+            let name = scene.objects.get(i).map_or("?", |o| o.name.as_str());
+            format!("{name} ({})", sent.name())
+        }
+        None => format!("family {family}"),
+    }
 }

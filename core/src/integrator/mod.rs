@@ -67,7 +67,7 @@ pub use emission::{Targets, photons_per_light};
 pub use lens_pass::Transmitted;
 pub use lit::Lit;
 pub use packet::PacketScratch;
-pub use photons::photon_pass;
+pub use photons::{Sent, family_source, photon_pass};
 pub use refraction::{transmitted_ray, transmitted_rays};
 pub use shade::{GHOST_ROULETTE, LENS_MIN_WEIGHT, MIN_WEIGHT, Secondary, light_at};
 pub use surface::{Surface, shadow_ray, spawn_ray, surface};

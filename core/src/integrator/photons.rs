@@ -35,8 +35,8 @@ use std::ops::Range;
 const CHUNK: usize = 1024;
 
 /// How a photon left the object that last sent it ([`family_of`]).
-#[derive(Clone, Copy)]
-enum Sent {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sent {
     /// Through it: refracted (out of a lens or lens system, straight
     /// through, without reflecting inside).
     Through = 0,
@@ -48,10 +48,33 @@ enum Sent {
     Ghost = 2,
 }
 
+impl Sent {
+    /// The word for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sent::Through => "through",
+            Sent::Reflected => "reflected",
+            Sent::Ghost => "ghost",
+        }
+    }
+}
+
 /// The family of a photon last sent by object `index` ([`Photon::family`],
 /// `photon::family`): how it left it, 4 families an object.
 fn family_of(index: usize, sent: Sent) -> u32 {
     (index as u32).wrapping_mul(4) | sent as u32
+}
+
+/// The object and the way of `family` ([`family_of`]'s inverse); `None`
+/// for a family no photon is given.
+pub fn family_source(family: u32) -> Option<(usize, Sent)> {
+    let sent = match family % 4 {
+        0 => Sent::Through,
+        1 => Sent::Reflected,
+        2 => Sent::Ghost,
+        _ => return None,
+    };
+    Some(((family / 4) as usize, sent))
 }
 
 /// One photon in flight, at wavelength `lambda` (µm): the ray it travels,
@@ -383,7 +406,7 @@ mod tests {
             let targets = Targets::of(scene);
             let photons = photon_pass(scene, &targets, 1, 20_000, 3);
             let mut agree = 0;
-            let mut seen: Vec<(usize, u32)> = Vec::new();
+            let mut seen: Vec<(usize, Sent)> = Vec::new();
             for ph in &photons {
                 let dir = DVec3::from_array(ph.dir.map(f64::from)).normalize();
                 let back = Ray {
@@ -391,7 +414,7 @@ mod tests {
                     dir: -dir,
                 };
                 let from = closest_hit_skip(scene, &back, f64::INFINITY, usize::MAX).map(|h| h.0);
-                let (object, kind) = ((ph.family / 4) as usize, ph.family % 4);
+                let (object, kind) = family_source(ph.family).expect("a family photons are given");
                 agree += usize::from(from == Some(object));
                 if !seen.contains(&(object, kind)) {
                     seen.push((object, kind));
@@ -402,7 +425,12 @@ mod tests {
                 agree * 100 >= n * 99,
                 "{agree} of {n} photons came from their family's object"
             );
-            let kinds_seen = (0..3).filter(|k| seen.iter().any(|s| s.1 == *k)).count();
+            let all = [Sent::Through, Sent::Reflected, Sent::Ghost];
+            for sent in all {
+                assert_eq!(family_source(family_of(7, sent)), Some((7, sent)));
+            }
+            assert_eq!(family_source(3), None);
+            let kinds_seen = all.iter().filter(|k| seen.iter().any(|s| s.1 == **k)).count();
             assert!(kinds_seen >= *kinds, "families {seen:?}");
             assert!(
                 seen.iter().all(|s| scene.objects[s.0].material.transparency > 0.0
