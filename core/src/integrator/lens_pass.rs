@@ -213,6 +213,9 @@ impl<F: FnMut(Transmitted)> Sink for F {
 
 /// The rays out of `lens` (index `ior`) from the light inside `on` on, by
 /// the scalar chain ([`Lens::branch_chain`]), handed to `emit` in order.
+/// Inlined, so that it is compiled into the build of its caller
+/// (`lens_send::chain_on`'s).
+#[inline(always)]
 pub(super) fn chain(lens: &Lens, on: Inside, ior: f64, prune: &Pruning, mut emit: impl FnMut(Transmitted)) {
     lens.branch_chain(on, ior, prune, &mut |b| emit(out_of(lens, &b)));
 }

@@ -131,7 +131,7 @@ impl Lens {
     }
 
     /// [`Lens::branches_inside`] from a point of the chain.
-    #[inline]
+    #[inline(always)]
     pub fn branch_chain(&self, mut s: Inside, n: f64, prune: &Pruning, emit: &mut impl FnMut(LensBranch)) -> f64 {
         let mut dropped = 0.0;
         loop {
