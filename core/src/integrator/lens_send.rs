@@ -207,45 +207,40 @@ fn chain_on<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SP
     chain_on_portable::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
 }
 
-/// [`chain_on`]'s portable build.
-#[inline(never)]
-fn chain_on_portable<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    lane: &LensLane,
-    lambda_um: f64,
-    within: (&Lens, Inside, &Pruning),
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    chain_on_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
+/// One build of [`chain_on`]: its steps ([`chain_on_impl`]) under the
+/// attributes given (the build's target features), out of line.
+macro_rules! chain_on_build {
+    ($(#[$attr:meta])* $name:ident) => {
+        $(#[$attr])*
+        #[inline(never)]
+        fn $name<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+            lane: &LensLane,
+            lambda_um: f64,
+            within: (&Lens, Inside, &Pruning),
+            onward: &mut [Onward; 3],
+            extra: &mut Vec<Extra>,
+        ) {
+            chain_on_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
+        }
+    };
 }
 
-/// [`chain_on`]'s AVX2 build.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-fn chain_on_avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    lane: &LensLane,
-    lambda_um: f64,
-    within: (&Lens, Inside, &Pruning),
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    chain_on_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
-}
-
-/// [`chain_on`]'s AVX-512 build.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-#[inline(never)]
-fn chain_on_avx512<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    lane: &LensLane,
-    lambda_um: f64,
-    within: (&Lens, Inside, &Pruning),
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    chain_on_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
-}
+chain_on_build!(
+    /// [`chain_on`]'s portable build.
+    chain_on_portable
+);
+chain_on_build!(
+    /// [`chain_on`]'s AVX2 build.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    chain_on_avx2
+);
+chain_on_build!(
+    /// [`chain_on`]'s AVX-512 build.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+    chain_on_avx512
+);
 
 /// [`chain_on`]'s steps, compiled into each build.
 #[inline(always)]
