@@ -171,76 +171,23 @@ impl LensLane<'_, '_> {
     }
 }
 
-/// The rays out of a lens past the first two exits of lane `lane` (the
-/// light inside `on` in `lens`, pruned by `prune`), by the scalar
-/// [`chain`], gathered as [`Gather`] does. Out of line, so that the
-/// lanes' common path keeps its values in registers; in the best build
-/// this CPU runs, as the kernels are: compiled for the baseline x86-64
-/// alone (SSE2), it was 39 % of rim-lens's frame (`perf`, round 30),
-/// where a lens seen near its rim sends many rays on past the first two.
-#[inline(always)]
-fn chain_on<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    lane: &LensLane,
-    lambda_um: f64,
-    within: (&Lens, Inside, &Pruning),
-    onward: &mut [Onward; 3],
-    extra: &mut Vec<Extra>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    match crate::simd::isa() {
-        // SAFETY: each build differs from the portable one only in being
-        // compiled with more instructions, and `isa` picks only a build
-        // whose instructions this CPU has (`Isa::detected`).
-        crate::simd::Isa::Avx512 => {
-            return unsafe {
-                chain_on_avx512::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra)
-            };
-        }
-        // SAFETY: as above.
-        crate::simd::Isa::Avx2 => {
-            return unsafe {
-                chain_on_avx2::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra)
-            };
-        }
-        crate::simd::Isa::Portable => {}
-    }
-    chain_on_portable::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
+kernel_builds! {
+    /// The rays out of a lens past the first two exits of lane `lane` (the
+    /// light inside `on` in `lens`, pruned by `prune`), by the scalar
+    /// [`chain`], gathered as [`Gather`] does. Out of line, so that the
+    /// lanes' common path keeps its values in registers; in the best build
+    /// this CPU runs, as the kernels are: compiled for the baseline x86-64
+    /// alone (SSE2), it was 39 % of rim-lens's frame (`perf`, round 30),
+    /// where a lens seen near its rim sends many rays on past the first two.
+    #[inline(always)]
+    fn chain_on => chain_on_impl(
+        lane: &LensLane,
+        lambda_um: f64,
+        within: (&Lens, Inside, &Pruning),
+        onward: &mut [Onward; 3],
+        extra: &mut Vec<Extra>,
+    )
 }
-
-/// One build of [`chain_on`]: its steps ([`chain_on_impl`]) under the
-/// attributes given (the build's target features), out of line.
-macro_rules! chain_on_build {
-    ($(#[$attr:meta])* $name:ident) => {
-        $(#[$attr])*
-        #[inline(never)]
-        fn $name<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-            lane: &LensLane,
-            lambda_um: f64,
-            within: (&Lens, Inside, &Pruning),
-            onward: &mut [Onward; 3],
-            extra: &mut Vec<Extra>,
-        ) {
-            chain_on_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(lane, lambda_um, within, onward, extra);
-        }
-    };
-}
-
-chain_on_build!(
-    /// [`chain_on`]'s portable build.
-    chain_on_portable
-);
-chain_on_build!(
-    /// [`chain_on`]'s AVX2 build.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    chain_on_avx2
-);
-chain_on_build!(
-    /// [`chain_on`]'s AVX-512 build.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-    chain_on_avx512
-);
 
 /// [`chain_on`]'s steps, compiled into each build.
 #[inline(always)]

@@ -50,6 +50,61 @@ macro_rules! with_features {
     };
 }
 
+/// A kernel step generic over the four shading switches (`SHADOWS`,
+/// `GLASS`, `MIRROR`, `SPECULAR`), compiled three times (portable, AVX2,
+/// AVX-512: `simd::with_avx2!`, which takes no generics, does the same for
+/// plain functions) and picked at run time by [`crate::simd::isa`]: `$name`
+/// calls the build of `$imp` (its steps, `#[inline(always)]`) for this CPU.
+/// The builds stay out of line, so that the dispatcher is a few
+/// instructions; each gives the same bits (no fused operations).
+macro_rules! kernel_builds {
+    ($(#[$attr:meta])* $vis:vis fn $name:ident => $imp:ident ($($arg:ident: $ty:ty),* $(,)?)) => {
+        $(#[$attr])*
+        $vis fn $name<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+            $($arg: $ty),*
+        ) {
+            /// The portable build.
+            #[inline(never)]
+            fn portable<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+                $($arg: $ty),*
+            ) {
+                $imp::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*)
+            }
+            /// The AVX2 build.
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2")]
+            #[inline(never)]
+            fn avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+                $($arg: $ty),*
+            ) {
+                $imp::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*)
+            }
+            /// The AVX-512 build.
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
+            #[inline(never)]
+            fn avx512<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
+                $($arg: $ty),*
+            ) {
+                $imp::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*)
+            }
+            #[cfg(target_arch = "x86_64")]
+            match crate::simd::isa() {
+                // SAFETY: each build differs from the portable one only in
+                // being compiled with more instructions, and `isa` picks
+                // only a build whose instructions this CPU has
+                // (`Isa::detected`). Calling a `target_feature` function
+                // needs `unsafe` in Rust; nothing else here is unchecked.
+                crate::simd::Isa::Avx512 => return unsafe { avx512::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*) },
+                // SAFETY: as above.
+                crate::simd::Isa::Avx2 => return unsafe { avx2::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*) },
+                crate::simd::Isa::Portable => {}
+            }
+            portable::<SHADOWS, GLASS, MIRROR, SPECULAR>($($arg),*)
+        }
+    };
+}
+
 mod emission;
 mod lens_pass;
 mod lens_send;

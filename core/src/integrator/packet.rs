@@ -236,83 +236,25 @@ impl Onward {
     }
 }
 
-/// The radiance of each live lane of `paths` (the others are zero), written
-/// to `out`: the local shading of every lane, each light's shadow rays as
-/// one packet, then the refracted and reflected rays as a packet each.
-///
-/// Compiled three times, like the walks of `crate::trace` ([`crate::simd`]'s
-/// `with_avx2!`, by hand for the const parameters): the AVX-512 or AVX2
-/// build runs where the CPU has it ([`crate::simd::isa`]). The lanes' shading is scalar arithmetic either
-/// way (no FMA is enabled, and Rust never contracts a multiply and an add),
-/// so both builds give the same bits; AVX2's three-operand instructions
-/// save the register copies of the SSE2 build, and the lane loops run four
-/// lanes to an instruction instead of two.
-pub(super) fn packet_kernel<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: Lit,
-    paths: &PacketPaths,
-    lambda_um: f64,
-    scratch: &mut PacketScratch,
-    out: &mut Lanes<Rgb>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    match crate::simd::isa() {
-        // SAFETY: each build differs from the portable one only in being
-        // compiled with more instructions, and `isa` picks only a build
-        // whose instructions this CPU has (`Isa::detected`).
-        crate::simd::Isa::Avx512 => {
-            return unsafe {
-                packet_kernel_avx512::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out)
-            };
-        }
-        // SAFETY: as above.
-        crate::simd::Isa::Avx2 => {
-            return unsafe {
-                packet_kernel_avx2::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out)
-            };
-        }
-        crate::simd::Isa::Portable => {}
-    }
-    packet_kernel_portable::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
-}
-
-/// [`packet_kernel`]'s portable build, out of line: the dispatcher, which
-/// every depth of the recursion passes, stays a few instructions, with no
-/// stack frame of the kernel's size.
-#[inline(never)]
-fn packet_kernel_portable<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: Lit,
-    paths: &PacketPaths,
-    lambda_um: f64,
-    scratch: &mut PacketScratch,
-    out: &mut Lanes<Rgb>,
-) {
-    packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
-}
-
-/// [`packet_kernel`]'s AVX2 build.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn packet_kernel_avx2<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: Lit,
-    paths: &PacketPaths,
-    lambda_um: f64,
-    scratch: &mut PacketScratch,
-    out: &mut Lanes<Rgb>,
-) {
-    packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
-}
-
-/// [`packet_kernel`]'s AVX-512 build.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2")]
-fn packet_kernel_avx512<const SHADOWS: bool, const GLASS: bool, const MIRROR: bool, const SPECULAR: bool>(
-    scene: Lit,
-    paths: &PacketPaths,
-    lambda_um: f64,
-    scratch: &mut PacketScratch,
-    out: &mut Lanes<Rgb>,
-) {
-    packet_kernel_impl::<SHADOWS, GLASS, MIRROR, SPECULAR>(scene, paths, lambda_um, scratch, out);
+kernel_builds! {
+    /// The radiance of each live lane of `paths` (the others are zero), written
+    /// to `out`: the local shading of every lane, each light's shadow rays as
+    /// one packet, then the refracted and reflected rays as a packet each.
+    ///
+    /// Compiled three times, like the walks of `crate::trace` ([`crate::simd`]'s
+    /// `with_avx2!`; `kernel_builds!` for the const parameters): the AVX-512 or AVX2
+    /// build runs where the CPU has it ([`crate::simd::isa`]). The lanes' shading is scalar arithmetic either
+    /// way (no FMA is enabled, and Rust never contracts a multiply and an add),
+    /// so both builds give the same bits; AVX2's three-operand instructions
+    /// save the register copies of the SSE2 build, and the lane loops run four
+    /// lanes to an instruction instead of two.
+    pub(super) fn packet_kernel => packet_kernel_impl(
+        scene: Lit,
+        paths: &PacketPaths,
+        lambda_um: f64,
+        scratch: &mut PacketScratch,
+        out: &mut Lanes<Rgb>,
+    )
 }
 
 /// [`packet_kernel`]'s steps, compiled into each build.
