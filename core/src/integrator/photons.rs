@@ -49,6 +49,10 @@ pub enum Sent {
 }
 
 impl Sent {
+    /// Every way, in the order of their numbers (`Sent::Through as usize`
+    /// is its place).
+    pub const ALL: [Sent; 3] = [Sent::Through, Sent::Reflected, Sent::Ghost];
+
     /// The word for it.
     pub fn name(self) -> &'static str {
         match self {
@@ -68,12 +72,7 @@ fn family_of(index: usize, sent: Sent) -> u32 {
 /// The object and the way of `family` ([`family_of`]'s inverse); `None`
 /// for a family no photon is given.
 pub fn family_source(family: u32) -> Option<(usize, Sent)> {
-    let sent = match family % 4 {
-        0 => Sent::Through,
-        1 => Sent::Reflected,
-        2 => Sent::Ghost,
-        _ => return None,
-    };
+    let sent = *Sent::ALL.get((family % 4) as usize)?;
     Some(((family / 4) as usize, sent))
 }
 
@@ -398,6 +397,11 @@ mod tests {
         use crate::trace::closest_hit_skip;
         use glam::DVec3;
         let parse = |name, text| Scene::parse(name, text).unwrap().1;
+        for sent in Sent::ALL {
+            assert_eq!(Sent::ALL[sent as usize], sent);
+            assert_eq!(family_source(family_of(7, sent)), Some((7, sent)));
+        }
+        assert_eq!(family_source(3), None);
         let cases = [
             (parse("rim-lens", include_str!("../../../scenes/rim-lens.toml")), 3),
             (parse("primitives", include_str!("../../../scenes/primitives.toml")), 2),
@@ -425,12 +429,7 @@ mod tests {
                 agree * 100 >= n * 99,
                 "{agree} of {n} photons came from their family's object"
             );
-            let all = [Sent::Through, Sent::Reflected, Sent::Ghost];
-            for sent in all {
-                assert_eq!(family_source(family_of(7, sent)), Some((7, sent)));
-            }
-            assert_eq!(family_source(3), None);
-            let kinds_seen = all.iter().filter(|k| seen.iter().any(|s| s.1 == **k)).count();
+            let kinds_seen = Sent::ALL.iter().filter(|k| seen.iter().any(|s| s.1 == **k)).count();
             assert!(kinds_seen >= *kinds, "families {seen:?}");
             assert!(
                 seen.iter().all(|s| scene.objects[s.0].material.transparency > 0.0
